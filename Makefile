@@ -1,0 +1,28 @@
+# Thin wrapper so the README's two commands do everything on a fresh Debian
+# machine: install what is missing, configure, build, then render or test.
+BUILD ?= build
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?=
+
+.PHONY: all deps configure build demo test fuzz sanitize clean
+
+all: build
+
+deps:
+	@bash ci/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD).configure.log 2>&1 || (cat $(BUILD).configure.log; exit 1)
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	./$(BUILD)/cli/rtt render scenes/demo.json -o demo.png -o demo.exr
+	@echo "demo: wrote demo.png and demo.exr"
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+clean:
+	rm -rf $(BUILD) $(BUILD).configure.log

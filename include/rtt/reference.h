@@ -1,0 +1,23 @@
+/* The scalar reference (reference/): written for obviousness, it is what the
+ * optimized path and Embree are checked against. */
+#ifndef RTT_REFERENCE_H
+#define RTT_REFERENCE_H
+
+#include "rtt/engine.h"
+#include "rtt/image.h"
+#include "rtt/render.h"
+
+/* SAH kd-tree with perfect splits, recursive traversal (Thesis Listing 2.1),
+ * watertight triangle test (Woop, Benthin, Wald 2013). */
+rtt_engine *rtt_reference_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err);
+
+/* Whitted renderer of shade.h.  Traces every ray through `tracer`, which is
+ * normally the reference engine but may be any engine (Embree renders this
+ * way).  Shadows: none, hard, multi:N; other methods belong to the optimized
+ * renderer and are refused with a message.  Deterministic for any thread
+ * count.  `out` must have the options' size (or the scene's) and the AOV
+ * planes the options ask for.  stats may be NULL. */
+bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_render_options *opt,
+                          rtt_image *out, rtt_render_stats *stats, rtt_error *err);
+
+#endif

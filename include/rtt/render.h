@@ -1,0 +1,58 @@
+/* Render options and statistics shared by the renderers (reference,
+ * optimized, and the reference renderer driven by Embree). */
+#ifndef RTT_RENDER_H
+#define RTT_RENDER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "rtt/engine.h"
+
+typedef enum rtt_shadow_method {
+    RTT_SHADOWS_NONE = 0,
+    RTT_SHADOWS_HARD,       /* one ray to each light's centre */
+    RTT_SHADOWS_MULTI,      /* N samples on each sphere light (reference ground truth) */
+    RTT_SHADOWS_CONE,       /* N samples traced under one cone (thesis 4.1.6-4.1.9) */
+    RTT_SHADOWS_PYRAMID,    /* the same samples under a pyramid frustum (Table 4.6) */
+    RTT_SHADOWS_EDGEWIDTH   /* Edge Width Soft Shadows (thesis chapter 5) */
+} rtt_shadow_method;
+
+#define RTT_MAX_SHADOW_SAMPLES 256u
+
+typedef enum rtt_aov {
+    RTT_AOV_DEPTH = 1 << 0,
+    RTT_AOV_PRIM = 1 << 1,
+    RTT_AOV_NORMAL = 1 << 2
+} rtt_aov;
+
+typedef struct rtt_render_options {
+    uint32_t width, height;          /* 0 → the scene's */
+    uint32_t threads;                /* 0 → one per core */
+    rtt_shadow_method shadows;       /* default hard */
+    uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256 (default 16) */
+    float edge_radius;               /* edgewidth: R, early-exit width (0 → default) */
+    bool edge_leak_fix;              /* edgewidth: entry/exit must share a vertex */
+    uint32_t max_bounces;            /* 0 → the scene's */
+    uint32_t aovs;                   /* rtt_aov bits */
+    bool stats;                      /* gather counters (never changes results) */
+    rtt_engine_options engine;       /* traversal, tile, leaf culling */
+} rtt_render_options;
+
+/* Counters of the thesis' tables.  N = traversal steps per 2x2 packet,
+ * I = intersection tests per 2x2 packet (Tables 4.1 to 4.5); stage times as
+ * in Table 3.1. */
+typedef struct rtt_render_stats {
+    uint64_t primary_rays, shadow_rays, secondary_rays;
+    uint64_t packets;                /* 2x2 packets traced */
+    uint64_t traversal_steps;        /* summed over packets */
+    uint64_t intersection_tests;     /* summed over packets */
+    double seconds_total;
+    double seconds_primary_traversal, seconds_primary_intersection;
+    double seconds_shading, seconds_secondary;
+} rtt_render_stats;
+
+void rtt_render_options_default(rtt_render_options *opt);
+/* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]". */
+bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err);
+
+#endif

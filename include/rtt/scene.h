@@ -1,0 +1,146 @@
+/* The scene model shared by every engine ("model only what a scene requires").
+ *
+ * A scene is geometry in the global triangle order of DESIGN.md (meshes in
+ * file order, faces in file order, polygons fan-triangulated in order) plus
+ * whatever else the scene file names; everything else takes the defaults
+ * below.  Engines read the struct directly and never modify it.  */
+#ifndef RTT_SCENE_H
+#define RTT_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rtt/error.h"
+#include "rtt/vec3.h"
+
+/* Defaults for what a scene file leaves out. */
+#define RTT_DEFAULT_WIDTH 512u
+#define RTT_DEFAULT_HEIGHT 512u
+#define RTT_DEFAULT_FOV_DEG 60.0f
+#define RTT_DEFAULT_MAX_BOUNCES 3u      /* reflection/refraction depth */
+#define RTT_DEFAULT_BEZIER_LEVEL 4u     /* Quake III patch subdivisions per side */
+#define RTT_DEFAULT_AMBIENT 0.05f
+
+/* The thesis' five fixed-function shader types (Listing 4.7). */
+typedef enum rtt_material_type {
+    RTT_MATERIAL_DIFFUSE = 0,               /* M_D  */
+    RTT_MATERIAL_SPECULAR = 1,              /* M_S  diffuse + Phong specular */
+    RTT_MATERIAL_REFLECTIVE = 2,            /* M_R  + reflective */
+    RTT_MATERIAL_TRANSPARENT = 3,           /* M_T  diffuse + transparent */
+    RTT_MATERIAL_TRANSPARENT_REFLECTIVE = 4 /* M_TR all four */
+} rtt_material_type;
+
+/* Every field is present for every type; the type says which ones the shader
+ * reads (unused ones stay at their defaults).  Defaults: grey diffuse 0.7,
+ * specular 0.5 with exponent 32, reflection 0.5, transparency 0.8, ior 1.5,
+ * edge width scale 1. */
+typedef struct rtt_material {
+    char name[64];
+    rtt_material_type type;
+    rtt_vec3 diffuse;          /* base colour */
+    float specular;            /* s_info.blend: Phong highlight intensity */
+    float shininess;           /* s_info.exp: Phong exponent */
+    float reflection;          /* r_info.blend: weight of the reflected ray */
+    float transparency;        /* t_info.blend: weight of the refracted ray */
+    float ior;                 /* t_info.refract_index */
+    float edge_width_scale;    /* Edge Width Soft Shadows: scales widths of thin occluders */
+} rtt_material;
+
+typedef enum rtt_light_type {
+    RTT_LIGHT_POINT = 0,
+    RTT_LIGHT_SPHERE = 1 /* spherical area light: soft shadows */
+} rtt_light_type;
+
+/* Irradiance at distance d: colour * intensity / (c + l*d + q*d*d). */
+typedef struct rtt_light {
+    rtt_light_type type;
+    rtt_vec3 position;
+    rtt_vec3 color;
+    float intensity;
+    float attenuation[3]; /* constant, linear, quadratic; default {1, 0, 0} */
+    float radius;         /* sphere lights only; 0 for point lights */
+} rtt_light;
+
+typedef struct rtt_camera {
+    rtt_vec3 eye, look_at, up;
+    float fov_deg; /* vertical field of view */
+} rtt_camera;
+
+/* One imported mesh: a run of triangles in the global order. */
+typedef struct rtt_mesh {
+    char name[64];
+    uint32_t first_triangle, triangle_count;
+    uint32_t material;
+    bool closed; /* every edge shared by exactly two of its triangles (edge width needs it) */
+} rtt_mesh;
+
+typedef struct rtt_triangle {
+    uint32_t v[3]; /* indices into rtt_scene.vertices */
+} rtt_triangle;
+
+/* Opaque tree carried by a scene loaded from a baked .kdt (see optimized/). */
+typedef struct rtt_baked_tree rtt_baked_tree;
+
+typedef struct rtt_scene {
+    char path[512];                   /* the file it came from, for messages */
+
+    /* geometry */
+    uint32_t vertex_count, triangle_count, mesh_count;
+    rtt_vec3 *vertices;
+    rtt_vec3 *normals;                /* per vertex, or NULL when no mesh supplies them */
+    rtt_triangle *triangles;          /* global triangle order */
+    uint32_t *triangle_material;      /* material index per triangle */
+    uint32_t *triangle_mesh;          /* mesh index per triangle */
+    rtt_mesh *meshes;
+    uint32_t degenerate_count;        /* zero-area triangles (kept, never hit) */
+    rtt_bounds bounds;                /* of all vertices used by triangles */
+
+    /* shading; always at least one material and one light after loading */
+    uint32_t material_count, light_count;
+    rtt_material *materials;
+    rtt_light *lights;
+    rtt_camera camera;
+    uint32_t width, height;
+    rtt_vec3 background;
+    float ambient;
+    uint32_t max_bounces;
+
+    rtt_baked_tree *baked;            /* non-NULL for scenes loaded from .kdt */
+    void (*baked_free)(rtt_baked_tree *);
+} rtt_scene;
+
+typedef struct rtt_scene_load_options {
+    uint32_t bezier_level;            /* 0 → RTT_DEFAULT_BEZIER_LEVEL */
+} rtt_scene_load_options;
+
+/* Loads a scene file (.json), a bare mesh (anything Assimp reads), a Quake III
+ * map (.bsp) or a baked tree (.kdt), picked by extension, and fills in every
+ * default.  opt may be NULL.  Returns NULL and fills err on failure. */
+rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err);
+void rtt_scene_free(rtt_scene *scene);
+
+/* Builds a scene from raw triangles (9 floats each, global order) with every
+ * default applied: used by tests, fuzzers and `rtt trace` on tris.bin. */
+rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, rtt_error *err);
+
+/* Fills in defaults (camera framing the bounds, point light at the camera,
+ * grey diffuse material), computes bounds, degenerate count and mesh
+ * closedness.  Loaders call it last; tests that assemble scenes by hand too. */
+bool rtt_scene_finish(rtt_scene *scene, rtt_error *err);
+
+/* Corner positions of triangle i. */
+static inline void rtt_scene_triangle(const rtt_scene *s, uint32_t i, rtt_vec3 out[3])
+{
+    const rtt_triangle *t = &s->triangles[i];
+    out[0] = s->vertices[t->v[0]];
+    out[1] = s->vertices[t->v[1]];
+    out[2] = s->vertices[t->v[2]];
+}
+
+/* The offset, in world units, that secondary rays start past a surface:
+ * relative to the scene's size so scaled scenes behave alike.  Both
+ * renderers use it so their images agree. */
+float rtt_scene_ray_epsilon(const rtt_scene *scene);
+
+#endif

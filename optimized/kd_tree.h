@@ -1,0 +1,69 @@
+/* The optimized engine's kd-tree in memory: the layout every traversal
+ * kernel reads and the .kdt file stores.  Built by kd_build_sah.c.
+ *
+ * Nodes are 8 bytes and children are adjacent (right = left + 1), so one
+ * 64-byte cache line holds eight nodes and a node needs one index (Thesis
+ * 3.2.1; the compact 8-byte form the thesis cites but did not use).
+ * Leaves hold their triangle records contiguously, duplicated across
+ * leaves (Thesis 3.2.2: records are read in sequence during intersection),
+ * and their bounds for packet/leaf culling (4.1.4). */
+#ifndef RTT_KD_TREE_H
+#define RTT_KD_TREE_H
+
+#include <stdint.h>
+
+#include "rtt/engine.h"
+#include "rtt/vec3.h"
+
+#define KD_AXIS_LEAF 3u
+
+/* 8 bytes.  bits = (index << 2) | axis.  Internal node (axis 0..2): `split`
+ * is the plane, index is the left child, index + 1 the right child.  Leaf
+ * (axis 3): `leaf` is its index into kd_tree.leaves; index is unused (0). */
+typedef struct kd_node {
+    union {
+        float split;
+        uint32_t leaf;
+    };
+    uint32_t bits;
+} kd_node;
+_Static_assert(sizeof(kd_node) == 8, "kd_node is 8 bytes: eight to a cache line");
+
+static inline uint32_t kd_node_axis(const kd_node *n) { return n->bits & 3u; }
+static inline uint32_t kd_node_child(const kd_node *n) { return n->bits >> 2; }
+static inline int kd_node_is_leaf(const kd_node *n) { return (n->bits & 3u) == KD_AXIS_LEAF; }
+
+/* Wald's projected barycentric triangle record (Wald 2004, thesis 4.2),
+ * 48 bytes so that records stay 16-byte aligned in leaves.  Projection axis
+ * k is the dominant normal axis, u, v the other two (u = (k+1)%3, v = (k+2)%3):
+ *   plane:        n_u * p_u + n_v * p_v + p_k = n_d   (normal scaled so n_k = 1)
+ *   barycentric:  beta  = b_nu * (h_u) + b_nv * (h_v),  gamma = c_nu * h_u + c_nv * h_v
+ *   with h = hit - vertex0 projected; beta, gamma weight vertices 1, 2. */
+typedef struct kd_triangle {
+    float n_u, n_v, n_d;
+    float a_u, a_v;             /* vertex 0 projected */
+    float b_nu, b_nv;           /* beta edge equation */
+    float c_nu, c_nv;           /* gamma edge equation */
+    uint32_t k;                 /* projection axis 0..2 */
+    uint32_t prim;              /* global triangle index */
+    uint32_t pad;
+} kd_triangle;
+_Static_assert(sizeof(kd_triangle) == 48, "kd_triangle is 48 bytes, 16-byte aligned in leaves");
+
+/* 32 bytes: the leaf's triangle records and its box (for leaf culling). */
+typedef struct kd_leaf {
+    uint32_t first, count;      /* range in kd_tree.triangles */
+    float lo[3], hi[3];
+} kd_leaf;
+_Static_assert(sizeof(kd_leaf) == 32, "kd_leaf is 32 bytes");
+
+typedef struct kd_tree {
+    kd_node *nodes;             /* nodes[0] is the root */
+    kd_leaf *leaves;
+    kd_triangle *triangles;     /* 16-byte aligned, leaf order, duplicated across leaves */
+    uint32_t node_count, leaf_count, triangle_count;
+    rtt_bounds bounds;          /* the root's box */
+    rtt_tree_info info;
+} kd_tree;
+
+#endif

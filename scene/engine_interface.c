@@ -1,0 +1,102 @@
+/* The engine-independent half of the engine interface: dispatch through the
+ * vtable, option defaults and names.  Engine construction by name lives in
+ * conformance/engine_registry.c, the only layer that sees every engine. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rtt/engine.h"
+#include "rtt/render.h"
+
+static const char *const traversal_names[RTT_TRAVERSAL_COUNT] = {
+    "mono", "packet", "omni", "frustum", "mft", "cone", "mft-cone",
+};
+
+void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n)
+{
+    engine->vt->intersect(engine, rays, hits, n);
+}
+
+void rtt_engine_occluded(rtt_engine *engine, const rtt_ray *rays, uint8_t *occluded, size_t n)
+{
+    engine->vt->occluded(engine, rays, occluded, n);
+}
+
+void rtt_engine_destroy(rtt_engine *engine)
+{
+    if (engine) engine->vt->destroy(engine);
+}
+
+bool rtt_engine_tree_info(rtt_engine *engine, rtt_tree_info *info)
+{
+    memset(info, 0, sizeof *info);
+    return engine->vt->tree_info ? engine->vt->tree_info(engine, info) : false;
+}
+
+void rtt_engine_options_default(rtt_engine_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->traversal = RTT_TRAVERSAL_MONO;
+    opt->tile = 8;
+    opt->leaf_culling = 1;
+}
+
+const char *rtt_traversal_name(rtt_traversal t)
+{
+    return (unsigned)t < RTT_TRAVERSAL_COUNT ? traversal_names[t] : "unknown";
+}
+
+int rtt_traversal_parse(const char *name)
+{
+    for (int i = 0; i < RTT_TRAVERSAL_COUNT; i++)
+        if (strcmp(name, traversal_names[i]) == 0) return i;
+    return -1;
+}
+
+void rtt_render_options_default(rtt_render_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->shadows = RTT_SHADOWS_HARD;
+    opt->shadow_samples = 16;
+    rtt_engine_options_default(&opt->engine);
+}
+
+/* Parses the count after "method:" into 1..RTT_MAX_SHADOW_SAMPLES. */
+static bool parse_sample_count(const char *text, const char *count, rtt_render_options *opt, rtt_error *err)
+{
+    char *end = NULL;
+    long n = strtol(count, &end, 10);
+    if (*count == '\0' || *end != '\0' || n < 1 || n > (long)RTT_MAX_SHADOW_SAMPLES)
+        return rtt_error_set(err, "--shadows %s: the sample count must be a whole number from 1 to %u", text,
+                             RTT_MAX_SHADOW_SAMPLES);
+    opt->shadow_samples = (uint32_t)n;
+    return true;
+}
+
+bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err)
+{
+    static const struct { const char *name; rtt_shadow_method method; } counted[] = {
+        {"multi:", RTT_SHADOWS_MULTI}, {"cone:", RTT_SHADOWS_CONE}, {"pyramid:", RTT_SHADOWS_PYRAMID},
+    };
+    if (strcmp(text, "none") == 0) { opt->shadows = RTT_SHADOWS_NONE; return true; }
+    if (strcmp(text, "hard") == 0) { opt->shadows = RTT_SHADOWS_HARD; return true; }
+    for (size_t i = 0; i < sizeof counted / sizeof counted[0]; i++) {
+        size_t len = strlen(counted[i].name);
+        if (strncmp(text, counted[i].name, len) == 0) {
+            opt->shadows = counted[i].method;
+            return parse_sample_count(text, text + len, opt, err);
+        }
+    }
+    if (strcmp(text, "edgewidth") == 0) { opt->shadows = RTT_SHADOWS_EDGEWIDTH; return true; }
+    if (strncmp(text, "edgewidth:", 10) == 0) {
+        char *end = NULL;
+        float r = strtof(text + 10, &end);
+        if (text[10] == '\0' || *end != '\0' || !(r > 0.0f) || r > 1e30f)
+            return rtt_error_set(err, "--shadows %s: the radius R must be a positive number", text);
+        opt->shadows = RTT_SHADOWS_EDGEWIDTH;
+        opt->edge_radius = r;
+        return true;
+    }
+    return rtt_error_set(err, "--shadows %s: expected none, hard, multi:N, cone:N, pyramid:N or edgewidth[:R]",
+                         text);
+}

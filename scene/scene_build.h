@@ -1,0 +1,38 @@
+/* Internal API the loaders use to append geometry and materials to a scene
+ * under construction (not part of include/: only scene/ and its tests use it). */
+#ifndef RTT_SCENE_BUILD_H
+#define RTT_SCENE_BUILD_H
+
+#include "rtt/scene.h"
+
+/* An empty scene with no geometry, materials or lights; path is kept for messages. */
+rtt_scene *rtt_scene_new(const char *path, rtt_error *err);
+
+/* Appends a material and returns its index, or UINT32_MAX when out of memory. */
+uint32_t rtt_scene_add_material(rtt_scene *scene, const rtt_material *material);
+bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *err);
+/* The default material: grey diffuse (see rtt_material in scene.h). */
+rtt_material rtt_material_default(void);
+
+/* Appends one mesh: vertex positions (and optional normals, NULL when the
+ * file has none), triangles as index triples into these vertices, one
+ * material per triangle (or NULL to use `material` for all).  Transform is a
+ * row-major 4x4 applied to positions (and its inverse transpose to normals),
+ * or NULL.  Validates: NaN or infinite coordinates and out-of-range indices
+ * are errors naming `source` and the place ("vertex 12", "face 7").  */
+bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, const rtt_vec3 *positions,
+                        const rtt_vec3 *normals, uint32_t vertex_count, const uint32_t *indices,
+                        uint32_t triangle_count, const uint32_t *triangle_materials, uint32_t material,
+                        const float transform[16], rtt_error *err);
+
+/* Importers: each appends the meshes of one file to `scene`.
+ * material_override: index of a scene material to use instead of the file's
+ * own, or UINT32_MAX to map the file's materials (MTL/3DS) onto the five types. */
+bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
+                       rtt_error *err);
+bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
+                      uint32_t bezier_level, rtt_error *err);
+/* The JSON scene file (scene_json.c). */
+bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err);
+
+#endif
