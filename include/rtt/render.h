@@ -36,6 +36,10 @@ typedef struct rtt_render_options {
     uint32_t aovs;                   /* rtt_aov bits */
     bool stats;                      /* gather counters (never changes results) */
     rtt_engine_options engine;       /* traversal, tile, leaf culling */
+    /* Optional progress report, passed on to rtt_tiles_run (called from
+     * worker threads with tiles done / total). */
+    void (*progress)(void *context, uint32_t done, uint32_t total);
+    void *progress_context;
 } rtt_render_options;
 
 /* Counters of the thesis' tables.  N = traversal steps per 2x2 packet,
