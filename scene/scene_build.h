@@ -32,6 +32,9 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
                        rtt_error *err);
 bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
                       uint32_t bezier_level, rtt_error *err);
+/* The baked kd-tree file (kdt_file.c): the whole scene plus the optimized
+ * engine's tree, validated section by section; scene->baked carries the tree. */
+rtt_scene *rtt_kdt_read_scene(const char *path, rtt_error *err);
 /* The JSON scene file (scene_json.c). */
 bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err);
 

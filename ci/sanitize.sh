@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Sanitizer runs:
+#  1. -DRTT_SANITIZE=address,undefined in build-asan, then every ctest test
+#     (except the fuzz-smoke and sanitize wrappers, which would recurse);
+#  2. -DRTT_SANITIZE=thread in build-tsan, then the threaded tests (the tile
+#     scheduler and the renderers), selected by TSAN_TESTS.
+# Any report fails the run (-fno-sanitize-recover=all is set by the top-level
+# CMake).  Environment: SANITIZE_BUILD_PREFIX (default <root>/build), JOBS
+# (default 2), CC (default: the system compiler), TSAN_TESTS (ctest regex),
+# SANITIZE_STEPS ("asan tsan" by default).
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+prefix=${SANITIZE_BUILD_PREFIX:-$root/build}
+jobs=${JOBS:-2}
+steps=(${SANITIZE_STEPS:-asan tsan})
+tsan_tests=${TSAN_TESTS:-'^test_image_tiles$|render|^test_optimized'}
+
+configure_and_build() {   # build-dir sanitizers
+  local build=$1 sanitizers=$2
+  echo "sanitize: building $build with -fsanitize=$sanitizers"
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTT_SANITIZE="$sanitizers" \
+    > "$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
+  cmake --build "$build" -j "$jobs"
+}
+
+for step in "${steps[@]}"; do
+  case $step in
+    asan)
+      configure_and_build "$prefix-asan" address,undefined
+      ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1} \
+      UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+        ctest --test-dir "$prefix-asan" --output-on-failure -j "$jobs" -E '^(fuzz_smoke|sanitize)$'
+      ;;
+    tsan)
+      configure_and_build "$prefix-tsan" thread
+      TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1} \
+        ctest --test-dir "$prefix-tsan" --output-on-failure -R "$tsan_tests" -E '^(fuzz_smoke|sanitize)$'
+      ;;
+    *) echo "sanitize: unknown step $step (asan or tsan)" >&2; exit 2 ;;
+  esac
+done
+echo "sanitize: ${steps[*]} clean"

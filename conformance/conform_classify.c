@@ -1,0 +1,185 @@
+/* The comparison of one engine's hits with the oracle's: the tolerance on t,
+ * the per-ray categories (agree, tie, boundary, t-mismatch, grazing and
+ * other hit/miss) and the pass/fail judgement of a row.  The rules are
+ * stated in conformance/README.md; change both together. */
+#include <math.h>
+#include <string.h>
+
+#include "conform.h"
+#include "rtt/reference.h"
+
+/* Relative precision the tolerance allows: about 170 float ulps. */
+#define T_RELATIVE 1e-5
+/* A hit/miss is grazing when the hit lies this many t-tolerances (in world
+ * units) from an edge of its triangle, or the ray is this close to parallel
+ * to the triangle's plane (|cos| of the angle to the plane's normal). */
+#define GRAZING_FACTOR 10.0
+#define GRAZING_COSINE 1e-4
+
+static const char *const category_names[RTT_CONFORM_CATEGORY_COUNT] = {
+    "agree", "tie", "boundary", "t-mismatch", "hit/miss grazing", "hit/miss other",
+};
+
+const char *rtt_conform_category_name(rtt_conform_category c)
+{
+    return (unsigned)c < RTT_CONFORM_CATEGORY_COUNT ? category_names[c] : "unknown";
+}
+
+float rtt_conform_scene_magnitude(const rtt_scene *scene)
+{
+    if (rtt_bounds_is_empty(scene->bounds)) return 0.0f;
+    float m = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        m = fmaxf(m, fabsf(rtt_v3_get(scene->bounds.lo, a)));
+        m = fmaxf(m, fabsf(rtt_v3_get(scene->bounds.hi, a)));
+    }
+    return m;
+}
+
+static double dir_length(const rtt_ray *r)
+{
+    double x = r->dir[0], y = r->dir[1], z = r->dir[2];
+    return sqrt(x * x + y * y + z * z);
+}
+
+static double org_magnitude(const rtt_ray *r)
+{
+    return fmax(fabs((double)r->org[0]), fmax(fabs((double)r->org[1]), fabs((double)r->org[2])));
+}
+
+double rtt_conform_t_tolerance(const rtt_ray *r, double t, double magnitude)
+{
+    double len = dir_length(r);
+    return T_RELATIVE * (fabs(t) + (org_magnitude(r) + magnitude) / len);
+}
+
+/* The ray against the plane of triangle prim in double precision: plane t,
+ * barycentrics of the plane point, distance from it to the nearest edge
+ * (negative outside), and |cos| between ray and normal.  False for a
+ * degenerate triangle or a ray parallel to it. */
+typedef struct plane_hit {
+    double t, b[3], edge_distance, cosine;
+} plane_hit;
+
+static bool plane_intersect(const rtt_scene *scene, const rtt_ray *r, uint32_t prim, plane_hit *out)
+{
+    if (prim >= scene->triangle_count) return false;
+    rtt_vec3 tri[3];
+    rtt_scene_triangle(scene, prim, tri);
+    double p[3][3] = {{tri[0].x, tri[0].y, tri[0].z}, {tri[1].x, tri[1].y, tri[1].z}, {tri[2].x, tri[2].y, tri[2].z}};
+    double e1[3], e2[3], o[3], d[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = p[1][k] - p[0][k];
+        e2[k] = p[2][k] - p[0][k];
+        o[k] = r->org[k];
+        d[k] = r->dir[k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double area2 = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+    double dlen = dir_length(r);
+    if (!(area2 > 0.0) || dn == 0.0 || !(dlen > 0.0) || !isfinite(dn)) return false;
+    out->cosine = fabs(dn) / (area2 * dlen);
+    double x[3];
+    out->t = ((p[0][0] - o[0]) * n[0] + (p[0][1] - o[1]) * n[1] + (p[0][2] - o[2]) * n[2]) / dn;
+    for (int k = 0; k < 3; k++) x[k] = o[k] + out->t * d[k];
+    /* barycentrics from sub-triangle areas signed along n */
+    double min_distance = INFINITY;
+    for (int i = 0; i < 3; i++) {
+        const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
+        double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ax[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+        double c[3] = {ab[1] * ax[2] - ab[2] * ax[1], ab[2] * ax[0] - ab[0] * ax[2], ab[0] * ax[1] - ab[1] * ax[0]};
+        double signed_area2 = (c[0] * n[0] + c[1] * n[1] + c[2] * n[2]) / area2;
+        out->b[i] = signed_area2 / area2;
+        double edge = sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+        double distance = edge > 0.0 ? signed_area2 / edge : -INFINITY;
+        if (distance < min_distance) min_distance = distance;
+    }
+    out->edge_distance = min_distance;
+    return isfinite(out->t);
+}
+
+/* World-space tolerance around a hit at t (the t tolerance times |dir|). */
+static double position_tolerance(const rtt_ray *r, double t, double magnitude)
+{
+    return rtt_conform_t_tolerance(r, t, magnitude) * dir_length(r);
+}
+
+static bool is_hit(const rtt_hit *h) { return h->prim != RTT_MISS; }
+
+static bool at_boundary(const rtt_ray *r, const rtt_hit *h, double magnitude)
+{
+    if (!is_hit(h)) return false;
+    double tol = rtt_conform_t_tolerance(r, h->t, magnitude);
+    if ((double)h->t - r->tnear <= tol) return true;
+    return isfinite(r->tfar) && (double)r->tfar - h->t <= tol;
+}
+
+/* Is prim really hit near t?  Either the watertight test hits it within
+ * tolerance of t, or the double-precision plane point at t lies inside the
+ * triangle or within the grazing distance of an edge. */
+static bool verified_hit(const rtt_scene *scene, double magnitude, const rtt_ray *r, uint32_t prim, double t)
+{
+    if (prim >= scene->triangle_count) return false;
+    double tol = rtt_conform_t_tolerance(r, t, magnitude);
+    rtt_vec3 tri[3];
+    rtt_scene_triangle(scene, prim, tri);
+    rtt_ray wide = *r;
+    wide.tnear = -INFINITY;
+    wide.tfar = INFINITY;
+    float wt, wu, wv;
+    if (rtt_reference_intersect_triangle(&wide, tri, &wt, &wu, &wv) && fabs(wt - t) <= tol) return true;
+    plane_hit ph;
+    if (!plane_intersect(scene, r, prim, &ph)) return false;
+    return fabs(ph.t - t) <= tol && ph.edge_distance >= -GRAZING_FACTOR * position_tolerance(r, t, magnitude);
+}
+
+static bool grazing_hit(const rtt_scene *scene, double magnitude, const rtt_ray *r, const rtt_hit *h)
+{
+    plane_hit ph;
+    if (!plane_intersect(scene, r, h->prim, &ph)) return h->prim < scene->triangle_count && isfinite(h->t);
+    if (ph.cosine < GRAZING_COSINE) return true;
+    return fabs(ph.edge_distance) <= GRAZING_FACTOR * position_tolerance(r, ph.t, magnitude);
+}
+
+rtt_conform_category rtt_conform_classify(const rtt_scene *scene, double magnitude, const rtt_ray *r,
+                                          const rtt_hit *test, const rtt_hit *oracle)
+{
+    bool th = is_hit(test), oh = is_hit(oracle);
+    if (!th && !oh) return RTT_CONFORM_AGREE;
+    if (at_boundary(r, test, magnitude) || at_boundary(r, oracle, magnitude)) return RTT_CONFORM_BOUNDARY;
+    if (th && oh) {
+        double tol = rtt_conform_t_tolerance(r, fmax(fabs((double)test->t), fabs((double)oracle->t)), magnitude);
+        bool same_t = fabs((double)test->t - oracle->t) <= tol;
+        if (test->prim == oracle->prim) return same_t ? RTT_CONFORM_AGREE : RTT_CONFORM_T_MISMATCH;
+        if (same_t && verified_hit(scene, magnitude, r, test->prim, test->t) &&
+            verified_hit(scene, magnitude, r, oracle->prim, oracle->t))
+            return RTT_CONFORM_TIE;
+        return RTT_CONFORM_T_MISMATCH;
+    }
+    const rtt_hit *h = th ? test : oracle;
+    return grazing_hit(scene, magnitude, r, h) ? RTT_CONFORM_GRAZING : RTT_CONFORM_HITMISS_OTHER;
+}
+
+void rtt_conform_compare(const rtt_scene *scene, const rtt_ray *rays, const rtt_hit *test, const uint8_t *test_occluded,
+                         const rtt_hit *oracle, size_t n, rtt_conform_row *row)
+{
+    double magnitude = rtt_conform_scene_magnitude(scene);
+    row->rays += n;
+    for (size_t i = 0; i < n; i++) {
+        rtt_conform_category c = rtt_conform_classify(scene, magnitude, &rays[i], &test[i], &oracle[i]);
+        row->count[c]++;
+        bool agreed = c == RTT_CONFORM_AGREE || c == RTT_CONFORM_TIE;
+        if (test_occluded && agreed && (test_occluded[i] != 0) != is_hit(&oracle[i])) row->occluded_mismatch++;
+    }
+}
+
+void rtt_conform_row_judge(rtt_conform_row *row)
+{
+    double grazing = row->rays ? (double)row->count[RTT_CONFORM_GRAZING] / (double)row->rays : 0.0;
+    row->pass = row->error[0] == '\0' && row->count[RTT_CONFORM_T_MISMATCH] == 0 &&
+                row->count[RTT_CONFORM_HITMISS_OTHER] == 0 && row->occluded_mismatch == 0 &&
+                grazing <= row->grazing_limit;
+}

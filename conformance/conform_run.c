@@ -1,0 +1,186 @@
+/* Running the conformance suite on one scene: the engine list, every engine
+ * on every selected ray set, each compared with the reference. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "conform.h"
+
+void rtt_conform_config_default(rtt_conform_config *config)
+{
+    memset(config, 0, sizeof *config);
+    for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) config->sets[i] = true;
+    config->engines = NULL;
+    config->max_rays = 0;
+    config->seed = 0x5EED0001ull;
+}
+
+const char *rtt_conform_default_engines(void)
+{
+#ifdef RTT_HAVE_EMBREE
+    return "optimized,embree";
+#else
+    return "optimized";
+#endif
+}
+
+int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs, int cap, rtt_error *err)
+{
+    char buffer[512];
+    if (strlen(list) >= sizeof buffer) return rtt_error_set(err, "--engines: list too long"), -1;
+    strcpy(buffer, list);
+    int n = 0;
+    char *save = NULL;
+    for (char *item = strtok_r(buffer, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        if (strcmp(item, "optimized") == 0) {
+            for (int t = 0; t < RTT_TRAVERSAL_COUNT && n < cap; t++, n++) {
+                specs[n].name = "optimized";
+                rtt_engine_options_default(&specs[n].opt);
+                specs[n].opt.traversal = (rtt_traversal)t;
+                specs[n].opt.tile = 8;
+                snprintf(specs[n].label, sizeof specs[n].label, "optimized/%s", rtt_traversal_name((rtt_traversal)t));
+            }
+            continue;
+        }
+        if (n >= cap) return rtt_error_set(err, "--engines: too many engines"), -1;
+        rtt_engine_options_default(&specs[n].opt);
+        if (strncmp(item, "optimized/", 10) == 0) {
+            int t = rtt_traversal_parse(item + 10);
+            if (t < 0) {
+                rtt_error_set(err, "--engines: unknown traversal \"%s\" (mono, packet, omni, frustum, mft, cone, mft-cone)",
+                              item + 10);
+                return -1;
+            }
+            specs[n].name = "optimized";
+            specs[n].opt.traversal = (rtt_traversal)t;
+        } else if (strcmp(item, "embree") == 0) {
+            specs[n].name = "embree";
+        } else if (strcmp(item, "reference") == 0) {
+            specs[n].name = "reference";
+        } else {
+            rtt_error_set(err, "--engines: unknown engine \"%s\" (reference, optimized, optimized/MODE, embree)", item);
+            return -1;
+        }
+        snprintf(specs[n].label, sizeof specs[n].label, "%.39s", item);
+        n++;
+    }
+    if (n == 0) return rtt_error_set(err, "--engines: no engine named"), -1;
+    return n;
+}
+
+bool rtt_conform_engines_valid(const char *engines, rtt_error *err)
+{
+    rtt_conform_engine_spec specs[64];
+    return rtt_conform_expand_engines(engines, specs, 64, err) > 0;
+}
+
+static rtt_conform_row *add_row(rtt_conform_report *report, const char *engine, rtt_conform_ray_set set,
+                                rtt_error *err)
+{
+    if (report->row_count == report->row_cap) {
+        size_t cap = report->row_cap ? report->row_cap * 2 : 16;
+        rtt_conform_row *rows = realloc(report->rows, cap * sizeof *rows);
+        if (!rows) return rtt_error_set(err, "out of memory for the report"), NULL;
+        report->rows = rows;
+        report->row_cap = cap;
+    }
+    rtt_conform_row *row = &report->rows[report->row_count++];
+    memset(row, 0, sizeof *row);
+    snprintf(row->engine, sizeof row->engine, "%.39s", engine);
+    snprintf(row->oracle, sizeof row->oracle, "reference");
+    row->set = set;
+    row->grazing_limit = strcmp(engine, "embree") == 0 ? RTT_CONFORM_GRAZING_SHARE_EMBREE
+                                                       : RTT_CONFORM_GRAZING_SHARE_OPTIMIZED;
+    return row;
+}
+
+/* Rays, the reference's hits on them, per set. */
+typedef struct ray_set_data {
+    rtt_ray *rays;
+    rtt_hit *oracle;
+    size_t count;
+} ray_set_data;
+
+static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, const rtt_conform_config *config,
+                       const ray_set_data *data, rtt_conform_report *report, rtt_error *err, bool *ok)
+{
+    rtt_error engine_err = {{0}};
+    rtt_engine *engine = rtt_engine_create(spec->name, scene, &spec->opt, &engine_err);
+    for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && *ok; s++) {
+        if (!config->sets[s]) continue;
+        rtt_conform_row *row = add_row(report, spec->label, (rtt_conform_ray_set)s, err);
+        if (!row) {
+            *ok = false;
+            break;
+        }
+        if (!engine) {
+            snprintf(row->error, sizeof row->error, "cannot create: %.230s",
+                     engine_err.message[0] ? engine_err.message : "(no message)");
+            rtt_conform_row_judge(row);
+            continue;
+        }
+        size_t n = data[s].count;
+        rtt_hit *hits = malloc((n ? n : 1) * sizeof *hits);
+        uint8_t *occluded = malloc(n ? n : 1);
+        if (!hits || !occluded) {
+            snprintf(row->error, sizeof row->error, "out of memory");
+        } else {
+            rtt_engine_intersect(engine, data[s].rays, hits, n);
+            rtt_engine_occluded(engine, data[s].rays, occluded, n);
+            rtt_conform_compare(scene, data[s].rays, hits, occluded, data[s].oracle, n, row);
+        }
+        free(hits);
+        free(occluded);
+        rtt_conform_row_judge(row);
+    }
+    rtt_engine_destroy(engine);
+}
+
+bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, rtt_conform_report *report,
+                     rtt_error *err)
+{
+    memset(report, 0, sizeof *report);
+    snprintf(report->scene, sizeof report->scene, "%s", scene->path);
+    report->triangles = scene->triangle_count;
+    report->magnitude = rtt_conform_scene_magnitude(scene);
+    rtt_conform_engine_spec specs[64];
+    int n_specs = rtt_conform_expand_engines(config->engines ? config->engines : rtt_conform_default_engines(), specs, 64, err);
+    if (n_specs < 0) return false;
+
+    rtt_engine *reference = rtt_engine_create("reference", scene, NULL, err);
+    if (!reference) return false;
+    ray_set_data data[RTT_CONFORM_RAY_SET_COUNT] = {{0}};
+    bool ok = true;
+    for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && ok; s++) {
+        if (!config->sets[s]) continue;
+        ok = rtt_conform_make_rays(scene, (rtt_conform_ray_set)s, reference, config->max_rays, config->seed + (uint64_t)s,
+                                   &data[s].rays, &data[s].count, err);
+        if (!ok) break;
+        data[s].oracle = malloc((data[s].count ? data[s].count : 1) * sizeof *data[s].oracle);
+        if (!data[s].oracle) {
+            ok = rtt_error_set(err, "%s: out of memory", scene->path);
+            break;
+        }
+        rtt_engine_intersect(reference, data[s].rays, data[s].oracle, data[s].count);
+    }
+    for (int e = 0; e < n_specs && ok; e++) run_engine(scene, &specs[e], config, data, report, err, &ok);
+    for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT; s++) {
+        free(data[s].rays);
+        free(data[s].oracle);
+    }
+    rtt_engine_destroy(reference);
+    if (!ok) {
+        rtt_conform_report_free(report);
+        return false;
+    }
+    report->pass = true;
+    for (size_t i = 0; i < report->row_count; i++) report->pass = report->pass && report->rows[i].pass;
+    return true;
+}
+
+void rtt_conform_report_free(rtt_conform_report *report)
+{
+    free(report->rows);
+    report->rows = NULL;
+    report->row_count = report->row_cap = 0;
+}

@@ -1,0 +1,258 @@
+/* Fuzz target: the kd-tree builders and every traversal kernel.
+ *
+ * Bytes become triangles and rays at the numerical extremes (DESIGN.md
+ * "Extremes"): NaN, inf, denormals, huge, tiny, degenerate and duplicate
+ * triangles, meshes far from the origin, rays aimed exactly at vertices and
+ * edges, axis-parallel rays with -0.0.  Then:
+ *
+ *  1. rtt_scene_from_triangles must refuse non-finite input with one line
+ *     and accept finite input;
+ *  2. the reference and the optimized engine are built; their tree info must
+ *     hold its bounds (depth <= max_depth, references <= reference_cap);
+ *  3. the rays go through the reference and every optimized traversal mode
+ *     and each answer is checked against brute force (fuzz_oracle.h: strict
+ *     for the reference, lenient near edges for the optimized kernels).
+ *
+ * Layout of an input (missing bytes read as 0):
+ *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
+ *   [2] offset choice                 [3] max tree depth (0 = default), [4] flags
+ *   triangles: per vertex 1 control byte (< 48 and a vertex exists: repeat
+ *     vertex ctrl % count) then 3 coordinates (1 palette byte each, or 4 raw
+ *     bytes in raw mode)
+ *   rays: per ray 1 control byte then its operands (see decode_ray). */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz_common.h"
+#include "fuzz_oracle.h"
+#include "rtt/engine.h"
+
+#define MAX_TRIANGLES 48u
+#define MAX_RAYS 48u
+#define GRID 8u   /* a coherent GRID x GRID pinhole bundle for the packet kernels */
+
+typedef struct byte_reader {
+    const uint8_t *data;
+    size_t size, at;
+} byte_reader;
+
+static uint8_t next_byte(byte_reader *in)
+{
+    return in->at < in->size ? in->data[in->at++] : 0;
+}
+
+static float next_raw_float(byte_reader *in)
+{
+    uint32_t bits = 0;
+    for (int k = 0; k < 4; k++)
+        bits |= (uint32_t)next_byte(in) << (8 * k);
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+/* Coordinates worth trying: small integers and halves (shared edges, split
+ * planes on vertices), signed zeros, tiny, denormal and huge values. */
+static float palette_float(uint8_t b)
+{
+    static const float specials[] = { 0.0f, -0.0f, 0.5f, -0.5f, 0.25f, 1e-3f, 1e-20f, -1e-20f,
+                                      1e-40f /* denormal */, FLT_MIN, 1e10f, -1e10f, 1e20f, 3.3e6f, 0.1f, 0.3f };
+    if (b < 16)
+        return specials[b];
+    if (b < 16 + 33)
+        return (float)((int)b - 16 - 16);   /* -16 .. 16 */
+    return (float)((int)b - 152) / 8.0f;    /* eighths in [-13, 12.9] */
+}
+
+static const float scales[8] = { 1.0f, 1e-20f, 1e20f, 1e-6f, 1e6f, 1.0f, 1e-3f, 1e3f };
+static const float offsets[4] = { 0.0f, 1e4f, -1e7f, 3e5f };
+
+static float coordinate(byte_reader *in, bool raw, float scale, float offset)
+{
+    if (raw)
+        return next_raw_float(in);
+    return palette_float(next_byte(in)) * scale + offset;
+}
+
+static uint32_t decode_triangles(byte_reader *in, float *xyz, uint32_t count, bool raw, float scale, float offset)
+{
+    uint32_t vertices = 0;
+    for (uint32_t v = 0; v < count * 3; v++) {
+        uint8_t control = next_byte(in);
+        if (control < 48 && vertices > 0) {
+            memcpy(&xyz[v * 3], &xyz[(control % vertices) * 3], 3 * sizeof(float));   /* shared/duplicate */
+        } else {
+            for (int k = 0; k < 3; k++)
+                xyz[v * 3 + k] = coordinate(in, raw, scale, offset);
+        }
+        vertices++;
+    }
+    return count;
+}
+
+static rtt_vec3 scene_vertex(const rtt_scene *scene, uint8_t b)
+{
+    return scene->vertex_count ? scene->vertices[b % scene->vertex_count] : rtt_v3(0, 0, 0);
+}
+
+static rtt_vec3 palette_point(byte_reader *in, float scale, float offset)
+{
+    float x = palette_float(next_byte(in)) * scale + offset;
+    float y = palette_float(next_byte(in)) * scale + offset;
+    float z = palette_float(next_byte(in)) * scale + offset;
+    return rtt_v3(x, y, z);
+}
+
+static void aim(rtt_ray *ray, rtt_vec3 org, rtt_vec3 target)
+{
+    rtt_vec3 d = rtt_v3_sub(target, org);
+    *ray = (rtt_ray){ { org.x, org.y, org.z }, { d.x, d.y, d.z }, 0.0f, INFINITY };
+}
+
+/* One ray: control % 5 picks the kind, control / 5 the [tnear, tfar]. */
+static rtt_ray decode_ray(byte_reader *in, const rtt_scene *scene, float scale, float offset)
+{
+    uint8_t control = next_byte(in);
+    rtt_ray ray;
+    rtt_vec3 org = palette_point(in, scale, offset);
+    switch (control % 5) {
+    case 0:   /* exactly at a vertex */
+        aim(&ray, org, scene_vertex(scene, next_byte(in)));
+        break;
+    case 1: { /* at a point of an edge */
+        rtt_vec3 a = scene_vertex(scene, next_byte(in)), b = scene_vertex(scene, next_byte(in));
+        float s = (float)next_byte(in) / 255.0f;
+        aim(&ray, org, rtt_v3_add(rtt_v3_scale(a, 1.0f - s), rtt_v3_scale(b, s)));
+        break;
+    }
+    case 2: { /* axis-parallel, other components +0 or -0 */
+        uint8_t b = next_byte(in);
+        float d[3] = { (b & 8) ? -0.0f : 0.0f, (b & 16) ? -0.0f : 0.0f, (b & 32) ? -0.0f : 0.0f };
+        d[b % 3] = (b & 64) ? -1.0f : 1.0f;
+        ray = (rtt_ray){ { org.x, org.y, org.z }, { d[0], d[1], d[2] }, 0.0f, INFINITY };
+        break;
+    }
+    case 3: { /* anything, including NaN and inf from raw bits */
+        ray.org[0] = org.x, ray.org[1] = org.y, ray.org[2] = org.z;
+        for (int k = 0; k < 3; k++)
+            ray.dir[k] = next_raw_float(in);
+        ray.tnear = 0.0f;
+        ray.tfar = INFINITY;
+        break;
+    }
+    default: { /* from a vertex along a palette direction (origins on surfaces) */
+        rtt_vec3 from = scene_vertex(scene, next_byte(in));
+        rtt_vec3 d = palette_point(in, 1.0f, 0.0f);
+        ray = (rtt_ray){ { from.x, from.y, from.z }, { d.x, d.y, d.z }, 0.0f, INFINITY };
+        break;
+    }
+    }
+    switch ((control / 5) % 6) {
+    case 1: ray.tfar = 1.0f; break;            /* ends exactly at the target */
+    case 2: ray.tnear = 1e-3f; break;
+    case 3: ray.tnear = 0.5f; ray.tfar = 2.0f; break;
+    case 4: ray.tnear = -INFINITY; break;
+    default: break;
+    }
+    return ray;
+}
+
+/* A pinhole bundle aimed at the scene's centre: coherent packets, so the
+ * frustum, MFT and cone kernels take their fast paths. */
+static void camera_grid(const rtt_scene *scene, rtt_vec3 eye, rtt_ray *rays)
+{
+    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(scene->bounds.lo, scene->bounds.hi), 0.5f);
+    rtt_vec3 extent = rtt_v3_sub(scene->bounds.hi, scene->bounds.lo);
+    float size = fmaxf(extent.x, fmaxf(extent.y, extent.z));
+    for (uint32_t y = 0; y < GRID; y++)
+        for (uint32_t x = 0; x < GRID; x++) {
+            float sx = ((float)x + 0.5f) / GRID - 0.5f, sy = ((float)y + 0.5f) / GRID - 0.5f;
+            rtt_vec3 target = rtt_v3_add(centre, rtt_v3(sx * size, sy * size, 0.0f));
+            aim(&rays[y * GRID + x], eye, target);
+        }
+}
+
+static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ray_count, uint8_t depth_byte,
+                          uint8_t flags)
+{
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.threads = 1;
+    opt.max_tree_depth = depth_byte % 40;   /* 0: builder default; 1.. tiny trees */
+    opt.leaf_culling = flags & 1;
+    static const uint32_t tiles[4] = { 4, 8, 16, 32 };
+    opt.tile = tiles[(flags >> 1) % 4];
+    fuzz_oracle *oracle = fuzz_oracle_create(scene, rays, ray_count);
+    rtt_error err = { "" };
+
+    rtt_engine *reference = rtt_engine_create("reference", scene, &opt, &err);
+    if (!reference)
+        fuzz_fail("reference engine refused a valid scene: %s", err.message);
+    fuzz_check_tree_info(reference, "reference", scene);
+    fuzz_oracle_check(oracle, reference, "reference", false);
+    rtt_engine_destroy(reference);
+
+    for (int mode = 0; mode < RTT_TRAVERSAL_COUNT; mode++) {
+        opt.traversal = (rtt_traversal)mode;
+        rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
+        if (!optimized)
+            fuzz_fail("optimized engine (%s) refused a valid scene: %s", rtt_traversal_name(opt.traversal),
+                      err.message);
+        char label[64];
+        snprintf(label, sizeof label, "optimized/%s", rtt_traversal_name(opt.traversal));
+        if (mode == 0)
+            fuzz_check_tree_info(optimized, label, scene);
+        fuzz_oracle_check(oracle, optimized, label, true);
+        rtt_engine_destroy(optimized);
+    }
+    fuzz_oracle_free(oracle);
+}
+
+static bool all_finite(const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return false;
+    return true;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    byte_reader in = { data, size, 0 };
+    uint32_t triangle_count = 1 + next_byte(&in) % MAX_TRIANGLES;
+    uint8_t mode = next_byte(&in);
+    bool raw = mode & 1;
+    float scale = scales[(mode >> 1) % 8];
+    float offset = offsets[next_byte(&in) % 4];
+    uint8_t depth_byte = next_byte(&in);
+    uint8_t flags = next_byte(&in);
+    float xyz[MAX_TRIANGLES * 9];
+    decode_triangles(&in, xyz, triangle_count, raw, scale, offset);
+
+    rtt_error err = { "" };
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, triangle_count, &err);
+    bool finite = all_finite(xyz, (size_t)triangle_count * 9);
+    if (!finite) {
+        if (scene)
+            fuzz_fail("rtt_scene_from_triangles accepted a non-finite vertex");
+        if (!err.message[0] || strchr(err.message, '\n'))
+            fuzz_fail("non-finite input refused without a one-line message");
+        return 0;
+    }
+    if (!scene)
+        fuzz_fail("rtt_scene_from_triangles refused finite input: %s", err.message);
+    fuzz_check_scene(scene);
+
+    rtt_ray rays[MAX_RAYS + GRID * GRID];
+    size_t ray_count = 0;
+    camera_grid(scene, palette_point(&in, scale, offset), rays);
+    ray_count = GRID * GRID;
+    while (in.at < in.size && ray_count < MAX_RAYS + GRID * GRID)
+        rays[ray_count++] = decode_ray(&in, scene, scale, offset);
+    check_engines(scene, rays, ray_count, depth_byte, flags);
+    rtt_scene_free(scene);
+    return 0;
+}

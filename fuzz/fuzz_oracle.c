@@ -1,0 +1,265 @@
+/* Brute-force oracle: every ray against every triangle, and the rules an
+ * engine's answer must satisfy (see fuzz_oracle.h for the tolerances). */
+#include "fuzz_oracle.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "fuzz_common.h"
+#include "rtt/reference.h"
+
+#define T_TOLERANCE 1e-4
+#define EDGE_TOLERANCE 1e-4
+#define EXACT_EDGE_TOLERANCE 1e-6
+#define GRAZING_TOLERANCE 1e-5
+#define CHECKED_MAGNITUDE 1e30f
+
+typedef struct ray_triangle {
+    bool hit;           /* the watertight test's verdict */
+    float t;            /* its t when hit */
+    bool near_inside;   /* double-precision plane hit within EDGE_TOLERANCE of the triangle */
+    bool near_edge;     /* ... and within it of an edge (or grazing / degenerate) */
+    bool on_edge;       /* within EXACT_EDGE_TOLERANCE of an edge or vertex */
+    double plane_t;     /* double-precision distance to the triangle's plane */
+} ray_triangle;
+
+struct fuzz_oracle {
+    const rtt_scene *scene;
+    const rtt_ray *rays;
+    size_t ray_count;
+    uint32_t triangle_count;
+    double scene_scale;
+    ray_triangle *table;   /* ray_count x triangle_count */
+};
+
+static double max_abs3(const float v[3])
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; k++)
+        if (fabs((double)v[k]) > m)
+            m = fabs((double)v[k]);
+    return m;
+}
+
+static double tolerance(const fuzz_oracle *o, const rtt_ray *ray, double t)
+{
+    double s = fmax(o->scene_scale, max_abs3(ray->org));
+    double d = sqrt((double)ray->dir[0] * ray->dir[0] + (double)ray->dir[1] * ray->dir[1] +
+                    (double)ray->dir[2] * ray->dir[2]);
+    double scale = d > 0.0 && isfinite(s / d) ? s / d : 0.0;
+    return T_TOLERANCE * ((isfinite(t) ? fabs(t) : 0.0) + scale);
+}
+
+/* Moeller-Trumbore in double, without rejecting anything: where the ray
+ * meets the triangle's plane, and how close to the triangle that is. */
+static void plane_test(const rtt_ray *ray, const rtt_vec3 tri[3], ray_triangle *out)
+{
+    double o[3] = { ray->org[0], ray->org[1], ray->org[2] };
+    double d[3] = { ray->dir[0], ray->dir[1], ray->dir[2] };
+    double p0[3] = { tri[0].x, tri[0].y, tri[0].z };
+    double e1[3] = { tri[1].x - p0[0], tri[1].y - p0[1], tri[1].z - p0[2] };
+    double e2[3] = { tri[2].x - p0[0], tri[2].y - p0[1], tri[2].z - p0[2] };
+    double pv[3] = { d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0] };
+    double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+    double norms = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
+                   sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]) *
+                   sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    out->near_inside = false;
+    out->near_edge = false;
+    out->on_edge = false;
+    out->plane_t = NAN;
+    if (!isfinite(det) || !isfinite(norms))
+        return;
+    if (fabs(det) <= GRAZING_TOLERANCE * norms) {
+        out->near_inside = out->near_edge = true;   /* edge-on or degenerate: unspecified */
+        return;
+    }
+    double tv[3] = { o[0] - p0[0], o[1] - p0[1], o[2] - p0[2] };
+    double qv[3] = { tv[1] * e1[2] - tv[2] * e1[1], tv[2] * e1[0] - tv[0] * e1[2], tv[0] * e1[1] - tv[1] * e1[0] };
+    double b1 = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) / det;
+    double b2 = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) / det;
+    double b0 = 1.0 - b1 - b2;
+    double lowest = fmin(b0, fmin(b1, b2));
+    out->plane_t = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det;
+    out->near_inside = lowest >= -EDGE_TOLERANCE;
+    out->near_edge = out->near_inside && lowest <= EDGE_TOLERANCE;
+    out->on_edge = fabs(lowest) <= EXACT_EDGE_TOLERANCE;
+}
+
+fuzz_oracle *fuzz_oracle_create(const rtt_scene *scene, const rtt_ray *rays, size_t ray_count)
+{
+    fuzz_oracle *o = calloc(1, sizeof *o);
+    if (!o)
+        fuzz_fail("out of memory");
+    *o = (fuzz_oracle){ scene, rays, ray_count, scene->triangle_count, 0.0, NULL };
+    o->table = calloc(ray_count * (size_t)o->triangle_count + 1, sizeof *o->table);
+    if (!o->table)
+        fuzz_fail("out of memory");
+    for (uint32_t i = 0; i < scene->vertex_count; i++) {
+        float v[3] = { scene->vertices[i].x, scene->vertices[i].y, scene->vertices[i].z };
+        o->scene_scale = fmax(o->scene_scale, max_abs3(v));
+    }
+    for (size_t r = 0; r < ray_count; r++) {
+        for (uint32_t i = 0; i < o->triangle_count; i++) {
+            rtt_vec3 tri[3];
+            rtt_scene_triangle(scene, i, tri);
+            ray_triangle *e = &o->table[r * o->triangle_count + i];
+            float t, u, v;
+            e->hit = rtt_reference_intersect_triangle(&rays[r], tri, &t, &u, &v);
+            e->t = e->hit ? t : INFINITY;
+            plane_test(&rays[r], tri, e);
+        }
+    }
+    return o;
+}
+
+void fuzz_oracle_free(fuzz_oracle *oracle)
+{
+    if (oracle)
+        free(oracle->table);
+    free(oracle);
+}
+
+/* A watertight hit the engine may leave out. */
+static bool optional_hit(const fuzz_oracle *o, const rtt_ray *ray, const ray_triangle *e, bool lenient)
+{
+    double tol = tolerance(o, ray, e->t);
+    if (fabs((double)e->t - ray->tnear) <= tol || fabs((double)e->t - ray->tfar) <= tol)
+        return true;
+    return lenient ? e->near_edge : e->on_edge;
+}
+
+/* Whether the engine may report prim p at distance t. */
+static bool acceptable_hit(const fuzz_oracle *o, const rtt_ray *ray, const ray_triangle *e, double t, bool lenient)
+{
+    double tol = tolerance(o, ray, t);
+    if (e->hit && fabs((double)e->t - t) <= tol)
+        return true;
+    if (!lenient || !e->near_inside || !(t >= (double)ray->tnear - tol && t <= (double)ray->tfar + tol))
+        return false;
+    return isnan(e->plane_t) || fabs(e->plane_t - t) <= tol;   /* grazing: no usable plane t */
+}
+
+/* Before failing: the ray and the triangles involved, as exact hex floats,
+ * so a report can be turned into a unit test. */
+static void describe(const fuzz_oracle *o, size_t r, uint32_t prim_a, uint32_t prim_b)
+{
+    const rtt_ray *ray = &o->rays[r];
+    fprintf(stderr, "ray %zu: org %a %a %a dir %a %a %a tnear %a tfar %a\n", r, ray->org[0], ray->org[1],
+            ray->org[2], ray->dir[0], ray->dir[1], ray->dir[2], ray->tnear, ray->tfar);
+    uint32_t prims[2] = { prim_a, prim_b };
+    for (int k = 0; k < 2; k++) {
+        if (prims[k] >= o->triangle_count)
+            continue;
+        rtt_vec3 tri[3];
+        rtt_scene_triangle(o->scene, prims[k], tri);
+        fprintf(stderr, "prim %u: %a %a %a / %a %a %a / %a %a %a\n", prims[k], tri[0].x, tri[0].y, tri[0].z,
+                tri[1].x, tri[1].y, tri[1].z, tri[2].x, tri[2].y, tri[2].z);
+    }
+}
+
+/* Rays whose answer is specified: finite, magnitudes within 1e30 (beyond the
+ * 1e-20 .. 1e20 extremes of DESIGN.md, where 1/dir and t overflow or go
+ * denormal), tnear and tfar not NaN.  Others must only not crash and report
+ * a prim in range. */
+static bool answer_is_specified(const rtt_ray *ray)
+{
+    for (int k = 0; k < 3; k++)
+        if (!(fabsf(ray->org[k]) <= CHECKED_MAGNITUDE) || !(fabsf(ray->dir[k]) <= CHECKED_MAGNITUDE))
+            return false;
+    return !isnan(ray->tnear) && !isnan(ray->tfar);
+}
+
+static void check_intersect(const fuzz_oracle *o, size_t r, const rtt_hit *hit, const char *label, bool lenient)
+{
+    const rtt_ray *ray = &o->rays[r];
+    const ray_triangle *row = &o->table[r * o->triangle_count];
+    double t = hit->prim == RTT_MISS ? INFINITY : hit->t;
+    if (hit->prim != RTT_MISS && hit->prim >= o->triangle_count)
+        fuzz_fail("%s: ray %zu hit prim %u of %u", label, r, hit->prim, o->triangle_count);
+    if (!answer_is_specified(ray))
+        return;
+    if (hit->prim != RTT_MISS) {
+        if (!isfinite(hit->t))
+            fuzz_fail("%s: ray %zu hit prim %u at t = %g", label, r, hit->prim, hit->t);
+        if (!acceptable_hit(o, ray, &row[hit->prim], t, lenient)) {
+            describe(o, r, hit->prim, RTT_MISS);
+            fuzz_fail("%s: ray %zu hit prim %u at t = %.9g, brute force: %s t = %.9g", label, r, hit->prim,
+                      hit->t, row[hit->prim].hit ? "hit at" : "miss, plane", row[hit->prim].hit ? row[hit->prim].t
+                                                                                          : row[hit->prim].plane_t);
+        }
+    }
+    for (uint32_t i = 0; i < o->triangle_count; i++) {
+        const ray_triangle *e = &row[i];
+        if (!e->hit || optional_hit(o, ray, e, lenient))
+            continue;
+        if ((double)e->t < t - tolerance(o, ray, e->t)) {
+            describe(o, r, i, hit->prim);
+            fuzz_fail("%s: ray %zu missed prim %u at t = %.9g (reported %s %u at t = %.9g)", label, r, i, e->t,
+                      hit->prim == RTT_MISS ? "miss" : "prim", hit->prim, hit->t);
+        }
+    }
+}
+
+static void check_occluded(const fuzz_oracle *o, size_t r, uint8_t occluded, const char *label, bool lenient)
+{
+    const rtt_ray *ray = &o->rays[r];
+    const ray_triangle *row = &o->table[r * o->triangle_count];
+    if (!answer_is_specified(ray))
+        return;
+    bool possible = false, required = false;
+    for (uint32_t i = 0; i < o->triangle_count; i++) {
+        const ray_triangle *e = &row[i];
+        if (e->hit && !optional_hit(o, ray, e, lenient))
+            required = true;
+        if (e->hit || (lenient && e->near_inside))
+            possible = true;
+        if (e->hit && optional_hit(o, ray, e, false))
+            possible = true;
+    }
+    if (occluded && !possible) {
+        describe(o, r, RTT_MISS, RTT_MISS);
+        fuzz_fail("%s: ray %zu occluded, brute force finds nothing", label, r);
+    }
+    if (!occluded && required) {
+        describe(o, r, RTT_MISS, RTT_MISS);
+        fuzz_fail("%s: ray %zu not occluded, brute force finds a hit", label, r);
+    }
+}
+
+void fuzz_oracle_check(const fuzz_oracle *oracle, rtt_engine *engine, const char *label, bool lenient)
+{
+    size_t n = oracle->ray_count;
+    rtt_hit *hits = calloc(n + 1, sizeof *hits);
+    uint8_t *occluded = calloc(n + 1, 1);
+    if (!hits || !occluded)
+        fuzz_fail("out of memory");
+    rtt_engine_intersect(engine, oracle->rays, hits, n);
+    rtt_engine_occluded(engine, oracle->rays, occluded, n);
+    for (size_t r = 0; r < n; r++) {
+        check_intersect(oracle, r, &hits[r], label, lenient);
+        check_occluded(oracle, r, occluded[r], label, lenient);
+    }
+    free(hits);
+    free(occluded);
+}
+
+void fuzz_check_tree_info(rtt_engine *engine, const char *label, const rtt_scene *scene)
+{
+    rtt_tree_info info;
+    if (!rtt_engine_tree_info(engine, &info))
+        fuzz_fail("%s: no tree info", label);
+    if (info.depth > info.max_depth)
+        fuzz_fail("%s: tree depth %u exceeds its bound %u", label, info.depth, info.max_depth);
+    if (info.references > info.reference_cap)
+        fuzz_fail("%s: %llu references exceed the cap %llu", label, (unsigned long long)info.references,
+                  (unsigned long long)info.reference_cap);
+    if (info.leaf_count > info.node_count || info.empty_leaf_count > info.leaf_count)
+        fuzz_fail("%s: %u leaves (%u empty) of %u nodes", label, info.leaf_count, info.empty_leaf_count,
+                  info.node_count);
+    /* every triangle that can be hit is in at least one leaf */
+    if (info.references < (uint64_t)(scene->triangle_count - scene->degenerate_count))
+        fuzz_fail("%s: %llu references for %u hittable triangles", label, (unsigned long long)info.references,
+                  scene->triangle_count - scene->degenerate_count);
+}

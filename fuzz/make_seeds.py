@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seed inputs of fuzz/corpus/ (run from anywhere).
+
+The seeds are committed; this script documents how each was made and
+regenerates them.  Seeds are small valid (or nearly valid) inputs that reach
+deep into each parser quickly: the fuzzer mutates from there.  The .kdt seed
+is made with `rtt bake` instead (see README.md)."""
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(harness, name, data):
+    path = os.path.join(HERE, "corpus", harness, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+# --- assimp: first byte picks obj/ply/off/stl/gltf (index mod 5) -----------
+OBJ = """# unit cube, quads and a triangle, one normal set
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+v 1 0 1
+v 1 1 1
+v 0 1 1
+vn 0 0 -1
+f 1//1 2//1 3//1 4//1
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7
+"""
+PLY = """ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 2
+property list uchar int vertex_indices
+end_header
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+3 0 1 2
+4 0 1 2 3
+"""
+OFF = """OFF
+4 2 0
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+3 0 1 2
+3 0 2 3
+"""
+STL = """solid t
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 0 1 0
+ endloop
+endfacet
+endsolid t
+"""
+
+
+def gltf():
+    import base64
+    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    indices = struct.pack("<3H", 0, 1, 2) + b"\0\0"
+    blob = positions + indices
+    uri = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
+    return ('{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],'
+            '"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],'
+            '"buffers":[{"byteLength":%d,"uri":"%s"}],'
+            '"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},'
+            '{"buffer":0,"byteOffset":36,"byteLength":6}],'
+            '"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",'
+            '"min":[0,0,0],"max":[1,1,0]},'
+            '{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]}' % (len(blob), uri))
+
+
+for index, (name, text) in enumerate([("cube.obj", OBJ), ("quad.ply", PLY), ("tet.off", OFF),
+                                      ("tri.stl", STL), ("tri.gltf", gltf())]):
+    write("assimp", name, bytes([index]) + text.encode())
+
+
+# --- q3bsp: IBSP 46 with one polygon face, one mesh face, one 3x3 patch -----
+def ibsp():
+    lumps = [b""] * 17
+    lumps[1] = struct.pack("<64sii", b"textures/base/floor", 0, 1)          # texture
+    verts = []
+    def vert(x, y, z):
+        return struct.pack("<3f2f2f3f4B", x, y, z, 0, 0, 0, 0, 0, 0, 1, 255, 255, 255, 255)
+    quad = [(0, 0, 0), (64, 0, 0), (64, 64, 0), (0, 64, 0)]
+    patch = [(x * 32, y * 32, (16 if (x == 1 and y == 1) else 0) + 32) for y in range(3) for x in range(3)]
+    for p in quad + patch:
+        verts.append(vert(*p))
+    lumps[10] = b"".join(verts)                                              # drawVerts
+    lumps[11] = struct.pack("<6i", 0, 1, 2, 0, 2, 3)                           # meshVerts
+    def face(kind, first_vertex, n_vertexes, first_meshvert, n_meshverts, size=(0, 0)):
+        return struct.pack("<12i12f2i", 0, -1, kind, first_vertex, n_vertexes, first_meshvert, n_meshverts,
+                           -1, 0, 0, 0, 0, *([0.0] * 9), 0, 0, 1, *size)
+    faces = [face(1, 0, 4, 0, 6), face(3, 0, 4, 0, 6), face(2, 4, 9, 0, 0, (3, 3))]
+    lumps[13] = b"".join(faces)                                              # faces
+    lumps[7] = struct.pack("<6f4i", 0, 0, 0, 64, 64, 64, 0, len(faces), 0, 0)  # models: world
+    header_size = 8 + 17 * 8
+    offset = header_size
+    directory = b""
+    body = b""
+    for lump in lumps:
+        directory += struct.pack("<ii", offset, len(lump))
+        body += lump
+        offset += len(lump)
+    return b"IBSP" + struct.pack("<i", 46) + directory + body
+
+
+write("q3bsp", "three_faces.bsp", ibsp())
+
+
+# --- kd_build: see the layout comment in fuzz_kd_build.c ------------------------
+def kd_input(triangles, header, rays=b""):
+    out = bytes(header)
+    for tri in triangles:
+        for v in tri:
+            if isinstance(v, int):
+                out += bytes([v])                      # repeat vertex v (< 48)
+            else:
+                out += bytes([0xFF]) + bytes(v)        # three palette bytes
+    return out + rays
+
+
+def p(n):  # palette byte of the integer n in -16..16
+    return 16 + 16 + n
+
+
+cube = []
+corners = [(p(x), p(y), p(z)) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+for a, b, c in [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+                (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]:
+    cube.append([corners[a], corners[b], corners[c]])
+eye = bytes([p(3), p(2), p(5)])
+vertex_rays = b"".join(bytes([0, p(3), p(2), p(5), k]) for k in range(8))        # at vertices
+edge_rays = b"".join(bytes([1, p(-2), p(1), p(3), k, k + 1, 128]) for k in range(6))
+axis_rays = b"".join(bytes([2, p(0), p(0), p(-3), b]) for b in (2, 2 | 8, 2 | 8 | 16, 66))
+write("kd_build", "cube_rays", kd_input(cube, [len(cube) - 1, 0, 0, 0, 3], eye + vertex_rays + edge_rays + axis_rays))
+write("kd_build", "cube_far_huge", kd_input(cube, [len(cube) - 1, 2 << 1, 2, 5, 0], eye + vertex_rays))
+write("kd_build", "cube_far", kd_input(cube, [len(cube) - 1, 0, 3, 0, 2], eye + vertex_rays + axis_rays))
+write("kd_build", "cube_tiny", kd_input(cube, [len(cube) - 1, 1 << 1, 0, 1, 1], eye + edge_rays))
+degenerate = [[(p(0), p(0), p(0)), (p(1), p(0), p(0)), (p(2), p(0), p(0))],   # collinear
+              [(p(0), p(0), p(0)), 0, 0],                                     # a point
+              [(p(0), p(0), p(0)), (p(1), p(0), p(0)), (p(0), p(1), p(0))],   # duplicate pair
+              [(p(0), p(0), p(0)), (p(1), p(0), p(0)), (p(0), p(1), p(0))],
+              [(8, 8, 8), (9, 9, 9), (p(0), p(1), p(0))]]                     # denormal, FLT_MIN
+write("kd_build", "degenerate", kd_input(degenerate, [len(degenerate) - 1, 0, 0, 0, 0], eye + vertex_rays))
+nan = struct.pack("<f", float("nan"))
+raw = bytes([0, 1, 0, 0, 0]) + (bytes([0xFF]) + nan + struct.pack("<2f", 0, 0)) + bytes([0xFF]) + struct.pack("<3f", 1, 0, 0) + bytes([0xFF]) + struct.pack("<3f", 0, 1, 0)
+write("kd_build", "raw_nan", raw)

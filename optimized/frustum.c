@@ -1,0 +1,381 @@
+/* Blocks, frusta and leaf visits shared by the frustum, MFT and cone kernels
+ * (Thesis 2.3.2 frustums, 4.1.3 - 4.1.5, Figure 3.2 "cull packets against
+ * the leaf box, intersect the rest").  See frustum.h for the exactness
+ * argument.
+ *
+ * Frustum construction, generalised from the thesis' corner rays: the
+ * thesis builds the interval frustum from the four corner rays of a primary
+ * tile, which assumes one origin.  Here a group of arbitrary rays is bounded
+ * by interval arithmetic instead: the origin box and, per axis, the ranges
+ * of positive and of negative reciprocal directions.  For a common origin
+ * and equal signs this gives exactly the corner-ray distances; for mixed
+ * signs it gives the omni-directional rule of Listing 4.2 (a ray going away
+ * from the plane never crosses it: distance +inf). */
+#include <float.h>
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "frustum.h"
+/* GCC 12 at -O3 cannot see that isect4_projected_bary only reads t, beta
+ * and gamma when some lane is valid (they are then written). */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "isect_projected_bary.h"
+
+static inline float hmin4(__m128 v)
+{
+    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(v);
+}
+
+static inline float hmax4(__m128 v)
+{
+    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(v);
+}
+
+static inline __m128 is_finite4(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
+
+/* Lanes carrying a ray that can hit: finite origin and direction, nonzero
+ * direction, tnear < tfar (both not NaN). */
+static __m128 valid_lanes(const ray_packet4 *r)
+{
+    __m128 ok = _mm_cmplt_ps(r->tnear, r->tfar);
+    __m128 nonzero = _mm_setzero_ps();
+    for (int a = 0; a < 3; a++) {
+        ok = _mm_and_ps(ok, _mm_and_ps(is_finite4(r->org[a]), is_finite4(r->dir[a])));
+        nonzero = _mm_or_ps(nonzero, _mm_cmpneq_ps(r->dir[a], _mm_setzero_ps()));
+    }
+    return _mm_and_ps(ok, nonzero);
+}
+
+/* Slab test of a packet against box [lo - margin, hi + margin]: per-lane
+ * entry and exit clipped to [tnear, tfar], widened relatively (which also
+ * covers an inv_dir that is a refined reciprocal rather than 1/dir).  A NaN slab
+ * (a ray parallel to a face, its origin exactly on it) drops that axis. */
+static void slab4(const ray_packet4 *r, const float lo[3], const float hi[3], float margin, __m128 tfar,
+                  __m128 *entry, __m128 *exit)
+{
+    __m128 t0 = r->tnear, t1 = tfar;
+    for (int a = 0; a < 3; a++) {
+        __m128 inv = r->inv_dir[a];
+        __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(lo[a] - margin), r->org[a]), inv);
+        __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(hi[a] + margin), r->org[a]), inv);
+        t0 = _mm_max_ps(_mm_min_ps(ta, tb), t0);
+        t1 = _mm_min_ps(_mm_max_ps(ta, tb), t1);
+    }
+    *entry = kd_widen_lo4(t0);
+    *exit = kd_widen_hi4(t1);
+}
+
+uint32_t kd_block_init(kd_block *b, const kd_tree *tree, const ray_packet4 *packets, uint32_t packet_count,
+                       hit_packet4 *hits, uint8_t *occluded, int leaf_culling, kd_counters *counters)
+{
+    b->tree = tree;
+    b->packets = packets;
+    b->hits = hits;
+    b->occluded = occluded;
+    b->counters = counters;
+    b->leaf_culling = leaf_culling;
+    b->packet_count = packet_count;
+    b->lane_groups = 0;
+    b->lane_packet = 0;
+    b->units = KD_UNITS_RAY;
+    b->isect_ns = NULL;
+    const rtt_bounds *bb = &tree->bounds;
+    float scale = fmaxf(fmaxf(fmaxf(fabsf(bb->lo.x), fabsf(bb->hi.x)), fmaxf(fabsf(bb->lo.y), fabsf(bb->hi.y))),
+                        fmaxf(fabsf(bb->lo.z), fabsf(bb->hi.z)));
+    b->margin = isfinite(scale) ? scale * 1e-5f + FLT_MIN : 0.0f;
+    float lo[3] = {bb->lo.x, bb->lo.y, bb->lo.z}, hi[3] = {bb->hi.x, bb->hi.y, bb->hi.z};
+
+    uint32_t traced = 0;
+    for (uint32_t p = 0; p < packet_count; p++) {
+        if (occluded) occluded[p] = 0;
+        __m128 valid = valid_lanes(&packets[p]);
+        if (_mm_movemask_ps(valid)) traced++;
+        __m128 entry, exit;
+        slab4(&packets[p], lo, hi, b->margin, packets[p].tfar, &entry, &exit);
+        b->live[p] = _mm_and_ps(valid, _mm_cmple_ps(entry, exit));
+        b->order[p] = (uint16_t)p;
+    }
+    b->group_count = 1;
+    b->group_first[0] = 0;
+    b->group_first[1] = (uint16_t)packet_count;
+    if (counters) counters->packets += traced;
+    return traced;
+}
+
+void kd_block_group_quadrants(kd_block *b)
+{
+    uint32_t n = b->packet_count, side = (uint32_t)sqrtf((float)n);
+    uint32_t count[4] = {0, 0, 0, 0};
+    uint8_t quadrant[KD_BLOCK_MAX_PACKETS];
+    int square = side * side == n && side % 2 == 0;
+    for (uint32_t p = 0; p < n; p++) {
+        uint32_t q;
+        if (square) {
+            uint32_t x = p % side, y = p / side;
+            q = (y >= side / 2 ? 2u : 0u) + (x >= side / 2 ? 1u : 0u);
+        } else {
+            q = (uint32_t)(((uint64_t)p * 4u) / n);
+        }
+        quadrant[p] = (uint8_t)q;
+        count[q]++;
+    }
+    uint32_t next[4];
+    b->group_first[0] = 0;
+    for (uint32_t g = 0; g < 4; g++) {
+        b->group_first[g + 1] = (uint16_t)(b->group_first[g] + count[g]);
+        next[g] = b->group_first[g];
+    }
+    for (uint32_t p = 0; p < n; p++) b->order[next[quadrant[p]]++] = (uint16_t)p;
+    b->group_count = 4;
+}
+
+void kd_block_group_lanes(kd_block *b, uint32_t index)
+{
+    b->lane_groups = 1;
+    b->lane_packet = index;
+    b->group_count = 4;
+    b->units = KD_UNITS_RAY;
+}
+
+void kd_block_root_interval(const kd_block *b, uint32_t p, __m128 *entry, __m128 *exit)
+{
+    const rtt_bounds *bb = &b->tree->bounds;
+    float lo[3] = {bb->lo.x, bb->lo.y, bb->lo.z}, hi[3] = {bb->hi.x, bb->hi.y, bb->hi.z};
+    slab4(&b->packets[p], lo, hi, b->margin, b->packets[p].tfar, entry, exit);
+}
+
+int kd_frustum_build(const kd_block *b, uint32_t g, kd_frustum *f)
+{
+    const __m128 pinf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
+    __m128 olo[3], ohi[3], plo[3], phi[3], nlo[3], nhi[3], hpos[3], hneg[3];
+    for (int a = 0; a < 3; a++) {
+        olo[a] = plo[a] = nlo[a] = pinf;
+        ohi[a] = phi[a] = nhi[a] = ninf;
+        hpos[a] = hneg[a] = _mm_setzero_ps();
+    }
+    __m128 near = pinf, far = ninf;
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
+        uint32_t p = b->order[i];
+        __m128 live = b->live[p];
+        if (!_mm_movemask_ps(live)) continue;
+        const ray_packet4 *r = &b->packets[p];
+        for (int a = 0; a < 3; a++) {
+            olo[a] = _mm_min_ps(olo[a], _mm_blendv_ps(pinf, r->org[a], live));
+            ohi[a] = _mm_max_ps(ohi[a], _mm_blendv_ps(ninf, r->org[a], live));
+            __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), r->dir[a]);
+            __m128 neg = _mm_and_ps(_mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(r->dir[a]), 31)), live);
+            __m128 pos = _mm_andnot_ps(neg, live);
+            __m128 mag = _mm_andnot_ps(sign, inv);
+            plo[a] = _mm_min_ps(plo[a], _mm_blendv_ps(pinf, mag, pos));
+            phi[a] = _mm_max_ps(phi[a], _mm_blendv_ps(ninf, mag, pos));
+            nlo[a] = _mm_min_ps(nlo[a], _mm_blendv_ps(pinf, mag, neg));
+            nhi[a] = _mm_max_ps(nhi[a], _mm_blendv_ps(ninf, mag, neg));
+            hpos[a] = _mm_or_ps(hpos[a], pos);
+            hneg[a] = _mm_or_ps(hneg[a], neg);
+        }
+        __m128 entry, exit;
+        kd_block_root_interval(b, p, &entry, &exit);
+        near = _mm_min_ps(near, _mm_blendv_ps(pinf, entry, live));
+        far = _mm_max_ps(far, _mm_blendv_ps(ninf, exit, live));
+    }
+    f->near = hmin4(near);
+    f->far = hmax4(far);
+    for (int a = 0; a < 3; a++) {
+        f->org_lo[a] = hmin4(olo[a]);
+        f->org_hi[a] = hmax4(ohi[a]);
+        f->pos_lo[a] = hmin4(plo[a]);
+        f->pos_hi[a] = hmax4(phi[a]);
+        f->neg_lo[a] = hmin4(nlo[a]);
+        f->neg_hi[a] = hmax4(nhi[a]);
+        f->has_pos[a] = _mm_movemask_ps(hpos[a]) != 0;
+        f->has_neg[a] = _mm_movemask_ps(hneg[a]) != 0;
+    }
+    return f->near <= f->far;
+}
+
+int kd_frustum_is_incoherent(const kd_block *b, const kd_frustum *f)
+{
+    rtt_vec3 e = rtt_v3_sub(b->tree->bounds.hi, b->tree->bounds.lo);
+    float scene = fmaxf(e.x, fmaxf(e.y, e.z));
+    int mixed = 0;
+    for (int a = 0; a < 3; a++) {
+        if (f->org_hi[a] - f->org_lo[a] > 0.01f * scene) return 1;
+        mixed += f->has_pos[a] && f->has_neg[a];
+    }
+    return mixed == 3;
+}
+
+void kd_frustum4_pack(const kd_frustum f[4], const int present[4], kd_frustum4 *out)
+{
+    float v[4];
+#define KD_PACK(field, idle)                                                  \
+    do {                                                                      \
+        for (int l = 0; l < 4; l++) v[l] = present[l] ? (field) : (idle);     \
+    } while (0)
+    for (int a = 0; a < 3; a++) {
+        KD_PACK(f[l].org_lo[a], 0.0f);
+        out->org_lo[a] = _mm_loadu_ps(v);
+        KD_PACK(f[l].org_hi[a], 0.0f);
+        out->org_hi[a] = _mm_loadu_ps(v);
+        KD_PACK(f[l].pos_lo[a], 1.0f);
+        out->pos_lo[a] = _mm_loadu_ps(v);
+        KD_PACK(f[l].pos_hi[a], 1.0f);
+        out->pos_hi[a] = _mm_loadu_ps(v);
+        KD_PACK(f[l].neg_lo[a], 1.0f);
+        out->neg_lo[a] = _mm_loadu_ps(v);
+        KD_PACK(f[l].neg_hi[a], 1.0f);
+        out->neg_hi[a] = _mm_loadu_ps(v);
+        int32_t m[4];
+        for (int l = 0; l < 4; l++) m[l] = present[l] && f[l].has_pos[a] ? -1 : 0;
+        out->has_pos[a] = _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)m));
+        for (int l = 0; l < 4; l++) m[l] = present[l] && f[l].has_neg[a] ? -1 : 0;
+        out->has_neg[a] = _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)m));
+    }
+    KD_PACK(f[l].near, INFINITY);
+    out->near = _mm_loadu_ps(v);
+    KD_PACK(f[l].far, -INFINITY);
+    out->far = _mm_loadu_ps(v);
+#undef KD_PACK
+}
+
+/* Lanes of packet r that may meet the leaf box before their current best:
+ * packet/leaf culling (4.1.4). */
+static __m128 leaf_overlap(const kd_block *b, const ray_packet4 *r, const kd_leaf *leaf, __m128 best)
+{
+    __m128 entry, exit;
+    slab4(r, leaf->lo, leaf->hi, b->margin, best, &entry, &exit);
+    return _mm_cmple_ps(entry, exit);
+}
+
+/* The best (upper end of the search) of each lane in the block's units. */
+static __m128 lane_best(const kd_block *b, uint32_t g, uint32_t p)
+{
+    const ray_packet4 *r = &b->packets[p];
+    __m128 t = b->hits ? _mm_min_ps(b->hits[p].t, r->tfar) : r->tfar;
+    if (b->units == KD_UNITS_RAY) return t;
+    const float *apex = b->cone_apex[g], *axis = b->cone_axis[g];
+    __m128 offset = _mm_setzero_ps(), speed = _mm_setzero_ps();
+    for (int a = 0; a < 3; a++) {
+        offset = _mm_add_ps(offset, _mm_mul_ps(_mm_sub_ps(r->org[a], _mm_set1_ps(apex[a])), _mm_set1_ps(axis[a])));
+        speed = _mm_add_ps(speed, _mm_mul_ps(r->dir[a], _mm_set1_ps(axis[a])));
+    }
+    /* speed > 0 for every live ray of a cone; t = +inf gives +inf */
+    return _mm_add_ps(offset, _mm_mul_ps(t, speed));
+}
+
+static void visit_packet(kd_block *b, const kd_leaf *leaf, uint32_t p, __m128 mask)
+{
+    const ray_packet4 *r = &b->packets[p];
+    if (b->leaf_culling) {
+        __m128 best = b->hits ? _mm_min_ps(b->hits[p].t, r->tfar) : r->tfar;
+        mask = _mm_and_ps(mask, leaf_overlap(b, r, leaf, best));
+        if (!_mm_movemask_ps(mask)) return;
+    }
+    if (b->hits) {
+        isect4_leaf(b->tree, leaf, r, &b->hits[p], mask, b->counters);
+    } else {
+        __m128 hit = occluded4_leaf(b->tree, leaf, r, mask, b->counters);
+        hit = _mm_and_ps(hit, mask);
+        b->occluded[p] |= (uint8_t)_mm_movemask_ps(hit);
+        b->live[p] = _mm_andnot_ps(hit, b->live[p]);
+    }
+}
+
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+#pragma GCC diagnostic pop
+
+void kd_block_visit_leaf(kd_block *b, const kd_leaf *leaf, uint32_t lane_mask, float max_best[4])
+{
+    if (leaf->count == 0) return;
+    uint64_t start = b->isect_ns ? now_ns() : 0;
+    const __m128 ninf = _mm_set1_ps(-INFINITY);
+    for (uint32_t g = 0; g < b->group_count; g++) {
+        if (!(lane_mask >> g & 1u)) continue;
+        __m128 group_best = ninf;
+        if (b->lane_groups) {
+            uint32_t p = b->lane_packet;
+            int32_t bits[4] = {0, 0, 0, 0};
+            bits[g] = -1;
+            __m128 lane = _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)bits));
+            __m128 mask = _mm_and_ps(b->live[p], lane);
+            if (_mm_movemask_ps(mask)) {
+                visit_packet(b, leaf, p, mask);
+                group_best = _mm_blendv_ps(ninf, lane_best(b, g, p), _mm_and_ps(b->live[p], lane));
+            }
+        } else {
+            for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
+                uint32_t p = b->order[i];
+                if (!_mm_movemask_ps(b->live[p])) continue;
+                visit_packet(b, leaf, p, b->live[p]);
+                group_best = _mm_max_ps(group_best, _mm_blendv_ps(ninf, lane_best(b, g, p), b->live[p]));
+            }
+        }
+        max_best[g] = kd_widen_hi(hmax4(group_best));
+    }
+    if (b->isect_ns) *b->isect_ns += now_ns() - start;
+}
+
+void kd_block_trace_packets(kd_block *b)
+{
+    const __m128 pinf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
+    const __m128 sign = _mm_set1_ps(-0.0f), one = _mm_set1_ps(1.0f);
+    for (uint32_t p = 0; p < b->packet_count; p++) {
+        __m128 live = b->live[p];
+        if (!_mm_movemask_ps(live)) continue;
+        kd_block_group_lanes(b, p);
+        const ray_packet4 *r = &b->packets[p];
+        kd_frustum4 f;
+        for (int a = 0; a < 3; a++) {
+            __m128 org = _mm_and_ps(r->org[a], live);
+            __m128 inv = _mm_div_ps(one, r->dir[a]);
+            __m128 mag = _mm_blendv_ps(one, _mm_andnot_ps(sign, inv), live);
+            __m128 neg = _mm_and_ps(_mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(r->dir[a]), 31)), live);
+            __m128 pos = _mm_andnot_ps(neg, live);
+            f.org_lo[a] = f.org_hi[a] = org;
+            f.pos_lo[a] = _mm_blendv_ps(pinf, mag, pos);
+            f.pos_hi[a] = _mm_blendv_ps(ninf, mag, pos);
+            f.neg_lo[a] = _mm_blendv_ps(pinf, mag, neg);
+            f.neg_hi[a] = _mm_blendv_ps(ninf, mag, neg);
+            f.has_pos[a] = pos;
+            f.has_neg[a] = neg;
+        }
+        __m128 entry, exit;
+        kd_block_root_interval(b, p, &entry, &exit);
+        f.near = _mm_blendv_ps(pinf, entry, live);
+        f.far = _mm_blendv_ps(ninf, exit, live);
+        kd_traverse4_frusta(b, &f);
+    }
+    b->lane_groups = 0;
+}
+
+void kd_traverse_proxy(rtt_traversal traversal, const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits,
+                       uint8_t *occluded, uint32_t packet_count, int leaf_culling, kd_counters *counters,
+                       uint64_t *isect_ns)
+{
+    void (*trace)(kd_block *) = traversal == RTT_TRAVERSAL_MFT       ? kd_block_trace_mft
+                                : traversal == RTT_TRAVERSAL_CONE    ? kd_block_trace_cone
+                                : traversal == RTT_TRAVERSAL_MFT_CONE ? kd_block_trace_mft_cone
+                                                                      : kd_block_trace_frustum;
+    kd_block b;
+    for (uint32_t first = 0; first < packet_count; first += KD_BLOCK_MAX_PACKETS) {
+        uint32_t n = packet_count - first < KD_BLOCK_MAX_PACKETS ? packet_count - first : KD_BLOCK_MAX_PACKETS;
+        if (!kd_block_init(&b, tree, packets + first, n, hits ? hits + first : NULL,
+                           occluded ? occluded + first : NULL, leaf_culling, counters))
+            continue;
+        b.isect_ns = isect_ns;
+        trace(&b);
+    }
+}

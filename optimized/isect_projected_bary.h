@@ -1,0 +1,164 @@
+/* Wald's projected barycentric ray/triangle test (Wald 2004, "Realtime Ray
+ * Tracing and Interactive Global Illumination" 7.1; Thesis 4.2 uses it for
+ * its packet intersection), four rays at once in SSE4.1 and one ray in
+ * scalar code, on the 48-byte records of kd_tree.h.
+ *
+ * The record is projected onto the plane of the dominant normal axis k:
+ *   t     = (n_d - o_k - n_u o_u - n_v o_v) / (d_k + n_u d_u + n_v d_v)
+ *   h     = (o + t d)_{u,v} - a_{u,v}
+ *   beta  = b_nu h_u + b_nv h_v      (weight of vertex 1)
+ *   gamma = c_nu h_u + c_nv h_v      (weight of vertex 2)
+ *   hit   iff tnear < t < tfar, beta >= 0, gamma >= 0, beta + gamma <= 1.
+ *
+ * What it trades: one division and a dozen multiply-adds per ray, no cross
+ * products; but it is NOT watertight: t is computed first and the edge tests
+ * are made on a rounded hit point, so a ray through a shared edge or vertex
+ * can miss both neighbours.  The conformance suite measures the escape rate
+ * against the watertight reference; it is not hidden here.
+ *
+ * Ties: a lane takes a hit when t is strictly closer, or equally close with a
+ * smaller prim, so the result does not depend on the order records are met.
+ * NaN rays never hit (every comparison with NaN is false). */
+#ifndef RTT_ISECT_PROJECTED_BARY_H
+#define RTT_ISECT_PROJECTED_BARY_H
+
+#include <immintrin.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "kd_tree.h"
+#include "packet.h"
+
+/* Fills the record of triangle `prim` with corners p; false (no record) when
+ * the triangle is degenerate or its record would not be finite.  Computed in
+ * double so that scenes at 1e-20 or 1e20 neither underflow nor overflow. */
+bool kd_triangle_record(kd_triangle *rec, const rtt_vec3 p[3], uint32_t prim);
+
+/* The lanes of `rays` that hit `tri` with tnear < t < tfar and t <= tbest;
+ * on return `*t_out`, `*beta_out`, `*gamma_out` hold the lane values. */
+static inline __m128 isect4_projected_bary_mask(const kd_triangle *tri, const ray_packet4 *rays, __m128 tbest,
+                                                __m128 *t_out, __m128 *beta_out, __m128 *gamma_out)
+{
+    const uint32_t k = tri->k, ku = k == 2 ? 0 : k + 1, kv = k == 0 ? 2 : k - 1;
+    const __m128 nu = _mm_set1_ps(tri->n_u), nv = _mm_set1_ps(tri->n_v);
+    __m128 den = _mm_add_ps(rays->dir[k], _mm_add_ps(_mm_mul_ps(nu, rays->dir[ku]), _mm_mul_ps(nv, rays->dir[kv])));
+    __m128 num = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(tri->n_d), rays->org[k]),
+                            _mm_add_ps(_mm_mul_ps(nu, rays->org[ku]), _mm_mul_ps(nv, rays->org[kv])));
+    __m128 t = _mm_div_ps(num, den);
+    __m128 valid = _mm_and_ps(_mm_cmpgt_ps(t, rays->tnear), _mm_cmplt_ps(t, rays->tfar));
+    valid = _mm_and_ps(valid, _mm_cmple_ps(t, tbest));
+    if (_mm_movemask_ps(valid) == 0) return valid;
+    __m128 hu = _mm_sub_ps(_mm_add_ps(rays->org[ku], _mm_mul_ps(t, rays->dir[ku])), _mm_set1_ps(tri->a_u));
+    __m128 hv = _mm_sub_ps(_mm_add_ps(rays->org[kv], _mm_mul_ps(t, rays->dir[kv])), _mm_set1_ps(tri->a_v));
+    __m128 beta = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(tri->b_nu), hu), _mm_mul_ps(_mm_set1_ps(tri->b_nv), hv));
+    __m128 gamma = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(tri->c_nu), hu), _mm_mul_ps(_mm_set1_ps(tri->c_nv), hv));
+    const __m128 zero = _mm_setzero_ps();
+    valid = _mm_and_ps(valid, _mm_cmpge_ps(beta, zero));
+    valid = _mm_and_ps(valid, _mm_cmpge_ps(gamma, zero));
+    valid = _mm_and_ps(valid, _mm_cmple_ps(_mm_add_ps(beta, gamma), _mm_set1_ps(1.0f)));
+    *t_out = t, *beta_out = beta, *gamma_out = gamma;
+    return valid;
+}
+
+/* Closest hit: updates the lanes of `hits` under `active` whose ray hits
+ * `tri` in (tnear, tfar) closer than (or as close with a smaller prim than)
+ * the hit they hold. */
+static inline void isect4_projected_bary(const kd_triangle *tri, const ray_packet4 *rays, hit_packet4 *hits,
+                                         __m128 active)
+{
+    __m128 t, beta, gamma;
+    /* t <= hits->t admits the tie; the prim comparison below settles it. */
+    __m128 valid = _mm_and_ps(active, isect4_projected_bary_mask(tri, rays, hits->t, &t, &beta, &gamma));
+    if (_mm_movemask_ps(valid) == 0) return;
+    const __m128i prim = _mm_set1_epi32((int32_t)tri->prim);
+    /* prims compare unsigned: RTT_MISS (all ones) is the largest. */
+    __m128i smaller = _mm_cmpeq_epi32(_mm_min_epu32(prim, hits->prim), prim);
+    __m128 closer = _mm_or_ps(_mm_cmplt_ps(t, hits->t), _mm_and_ps(_mm_cmpeq_ps(t, hits->t),
+                                                                     _mm_castsi128_ps(smaller)));
+    valid = _mm_and_ps(valid, closer);
+    hits->t = _mm_blendv_ps(hits->t, t, valid);
+    hits->u = _mm_blendv_ps(hits->u, beta, valid);
+    hits->v = _mm_blendv_ps(hits->v, gamma, valid);
+    hits->prim = _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(hits->prim), _mm_castsi128_ps(prim), valid));
+}
+
+/* Occlusion: the lanes under `active` whose ray hits `tri` in (tnear, tfar). */
+static inline __m128 occluded4_projected_bary(const kd_triangle *tri, const ray_packet4 *rays, __m128 active)
+{
+    __m128 t, beta, gamma;
+    const __m128 inf = _mm_set1_ps(INFINITY);
+    return _mm_and_ps(active, isect4_projected_bary_mask(tri, rays, inf, &t, &beta, &gamma));
+}
+
+/* One ray: a scalar twin of the above, same arithmetic in the same order. */
+typedef struct kd_ray1 {
+    float org[3], dir[3], tnear, tfar;
+} kd_ray1;
+
+typedef struct kd_hit1 {
+    float t, u, v;
+    uint32_t prim;
+} kd_hit1;
+
+static inline bool isect1_projected_bary_test(const kd_triangle *tri, const kd_ray1 *ray, float tbest, float *t_out,
+                                              float *beta_out, float *gamma_out)
+{
+    const uint32_t k = tri->k, ku = k == 2 ? 0 : k + 1, kv = k == 0 ? 2 : k - 1;
+    float den = ray->dir[k] + (tri->n_u * ray->dir[ku] + tri->n_v * ray->dir[kv]);
+    float num = (tri->n_d - ray->org[k]) - (tri->n_u * ray->org[ku] + tri->n_v * ray->org[kv]);
+    float t = num / den;
+    if (!(t > ray->tnear && t < ray->tfar && t <= tbest)) return false;
+    float hu = (ray->org[ku] + t * ray->dir[ku]) - tri->a_u;
+    float hv = (ray->org[kv] + t * ray->dir[kv]) - tri->a_v;
+    float beta = tri->b_nu * hu + tri->b_nv * hv;
+    float gamma = tri->c_nu * hu + tri->c_nv * hv;
+    if (!(beta >= 0.0f && gamma >= 0.0f && beta + gamma <= 1.0f)) return false;
+    *t_out = t, *beta_out = beta, *gamma_out = gamma;
+    return true;
+}
+
+static inline void isect1_projected_bary(const kd_triangle *tri, const kd_ray1 *ray, kd_hit1 *hit)
+{
+    float t, beta, gamma;
+    if (!isect1_projected_bary_test(tri, ray, hit->t, &t, &beta, &gamma)) return;
+    if (t < hit->t || (t == hit->t && tri->prim < hit->prim)) {
+        hit->t = t, hit->u = beta, hit->v = gamma;
+        hit->prim = tri->prim;
+    }
+}
+
+static inline bool occluded1_projected_bary(const kd_triangle *tri, const kd_ray1 *ray)
+{
+    float t, beta, gamma;
+    return isect1_projected_bary_test(tri, ray, INFINITY, &t, &beta, &gamma);
+}
+
+/* A leaf's records against a packet.  Counts one intersection test (I) per
+ * record per packet. */
+static inline void isect4_leaf(const kd_tree *tree, const kd_leaf *leaf, const ray_packet4 *rays, hit_packet4 *hits,
+                               __m128 active, kd_counters *counters)
+{
+    const kd_triangle *tri = tree->triangles + leaf->first;
+    for (uint32_t i = 0; i < leaf->count; i++) isect4_projected_bary(&tri[i], rays, hits, active);
+    if (counters) counters->isects += leaf->count;
+}
+
+/* The lanes under `active` occluded by a record of the leaf; stops as soon as
+ * every active lane is.  Counts the records actually tested. */
+static inline __m128 occluded4_leaf(const kd_tree *tree, const kd_leaf *leaf, const ray_packet4 *rays,
+                                    __m128 active, kd_counters *counters)
+{
+    const kd_triangle *tri = tree->triangles + leaf->first;
+    const int want = _mm_movemask_ps(active);
+    __m128 hit = _mm_setzero_ps();
+    uint32_t i = 0;
+    while (i < leaf->count && _mm_movemask_ps(hit) != want) {
+        hit = _mm_or_ps(hit, occluded4_projected_bary(&tri[i], rays, _mm_andnot_ps(hit, active)));
+        i++;
+    }
+    if (counters) counters->isects += i;
+    return hit;
+}
+
+#endif

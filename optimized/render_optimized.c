@@ -1,0 +1,249 @@
+/* Thesis 3.3 and Figure 3.2: the optimized renderer's pipeline.  Tiles go
+ * to threads through rtt_tiles_run; per tile: primary rays in 2x2 packets
+ * (quads in row-major order), traced as one block by the kernel of the
+ * chosen traversal (the frustum kernels bound the tile by its frusta/cones,
+ * cull packets at leaves and intersect the rest), then the shader proxy
+ * (shader_proxy.c): shadow packets, secondary omni packets, colours.
+ *
+ * Primary rays are rtt_camera_ray's, the same as the reference renderer's.
+ * Scratch is per thread (indexed by the tile callback's thread argument) and
+ * a pixel depends only on its own rays, so the image is the same for any
+ * thread count.  Statistics: ray counts per kind; packets, traversal steps
+ * and intersection tests of the primary 2x2 packets (Tables 4.1 - 4.5: N =
+ * steps / packets, I = tests / packets); stage times as Table 3.1 summed
+ * over threads (CPU seconds): primary traversal, primary intersection (leaf
+ * visits, measured inside the proxy kernels only; the mono/packet/omni
+ * kernels report their whole time as traversal), shading (shader proxy
+ * without tracing) and secondary (shadow and secondary ray tracing).
+ * Timers run only when stats are requested and never change results. */
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "frustum.h"
+#include "rtt/optimized.h"
+#include "shader_proxy.h"
+
+#if __has_include("engine_optimized.h")
+#include "engine_optimized.h"
+#else
+const kd_tree *kd_engine_tree(rtt_engine *engine);
+const rtt_engine_options *kd_engine_options(rtt_engine *engine);
+#endif
+
+typedef struct render_job {
+    const rtt_scene *scene;
+    rtt_image *out;
+    rtt_camera_frame frame;
+    uint32_t width, height, tile;
+    sp_shading shading;
+    sp_tracer tracer;
+    sp_scratch *scratch;            /* one per thread */
+    uint32_t threads;
+} render_job;
+
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+/* Primary rays of the tile as quads: packet q holds pixels (x, y), (x+1, y),
+ * (x, y+1), (x+1, y+1) of quad q; lanes off the image are inactive. */
+static uint32_t primary_packets(const render_job *job, sp_scratch *s, uint32_t x0, uint32_t y0, uint32_t x1,
+                                uint32_t y1, int32_t *lane_node)
+{
+    uint32_t side = job->tile / 2u, packets = side * side;
+    for (uint32_t q = 0; q < packets; q++) {
+        uint32_t qx = x0 + 2u * (q % side), qy = y0 + 2u * (q / side);
+        rtt_ray rays[4];
+        int32_t nodes[4] = {-1, -1, -1, -1};
+        uint32_t count = 0;
+        for (uint32_t l = 0; l < 4; l++) {
+            uint32_t px = qx + (l & 1u), py = qy + (l >> 1);
+            if (px >= x1 || py >= y1) continue;
+            rays[count] = rtt_camera_ray(&job->frame, px, py);
+            nodes[count] = sp_level_push(s, 0, &rays[count], py * job->width + px);
+            count++;
+        }
+        ray_packet4_load(&s->packets[q], rays, count);
+        memcpy(&lane_node[4 * q], nodes, sizeof nodes);
+    }
+    return packets;
+}
+
+static void write_pixel(const render_job *job, const sp_scratch *s, const sp_node *n)
+{
+    rtt_image *out = job->out;
+    size_t pixel = n->pixel;
+    out->rgb[3 * pixel + 0] = n->colour.x;
+    out->rgb[3 * pixel + 1] = n->colour.y;
+    out->rgb[3 * pixel + 2] = n->colour.z;
+    if (out->depth) out->depth[pixel] = n->hit.prim == RTT_MISS ? INFINITY : n->hit.t;
+    if (out->prim) out->prim[pixel] = n->hit.prim;
+    if (out->normal) {
+        rtt_vec3 normal = rtt_v3(0.0f, 0.0f, 0.0f);
+        if (n->hit.prim != RTT_MISS) normal = sp_surface_at(job->scene, &n->ray, &n->hit).normal;
+        out->normal[3 * pixel + 0] = normal.x;
+        out->normal[3 * pixel + 1] = normal.y;
+        out->normal[3 * pixel + 2] = normal.z;
+    }
+    (void)s;
+}
+
+static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    render_job *job = context;
+    sp_scratch *s = &job->scratch[thread];
+    if (s->failed) return;
+    uint32_t side = job->tile / 2u, packets = side * side;
+    int32_t lane_node[4 * KD_BLOCK_MAX_PACKETS];
+    s->levels[0].count = 0;
+    if (!sp_ensure_packets(s, packets)) return;
+    primary_packets(job, s, x0, y0, x1, y1, lane_node);
+    if (s->failed) return;
+
+    uint64_t t0 = s->timing ? now_ns() : 0, isect_ns = 0;
+    sp_trace_packets(&job->tracer, job->tracer.traversal, s->packets, s->hits, packets,
+                     s->timing ? &s->stats.primary : NULL, s->timing ? &isect_ns : NULL);
+    if (s->timing) {
+        uint64_t total = now_ns() - t0;
+        s->stats.ns_primary_intersection += isect_ns;
+        s->stats.ns_primary_traversal += total > isect_ns ? total - isect_ns : 0;
+    }
+    sp_level *primary = &s->levels[0];
+    for (uint32_t q = 0; q < packets; q++) {
+        float t[4], u[4], v[4];
+        uint32_t prim[4];
+        _mm_storeu_ps(t, s->hits[q].t), _mm_storeu_ps(u, s->hits[q].u), _mm_storeu_ps(v, s->hits[q].v);
+        _mm_storeu_si128((__m128i *)prim, s->hits[q].prim);
+        for (uint32_t l = 0; l < 4; l++) {
+            int32_t node = lane_node[4 * q + l];
+            if (node < 0) continue;
+            primary->nodes[node].hit = (rtt_hit){prim[l] == RTT_MISS ? INFINITY : t[l], u[l], v[l], prim[l]};
+        }
+    }
+    s->stats.primary_rays += primary->count;
+
+    sp_shade_tree(&job->shading, &job->tracer, s);
+    if (s->failed) return;
+    for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, s, &s->levels[0].nodes[i]);
+}
+
+static const char *refused_method(const rtt_render_options *opt, char *buffer, size_t size)
+{
+    switch (opt->shadows) {
+    case RTT_SHADOWS_CONE: snprintf(buffer, size, "cone:%u", opt->shadow_samples); break;
+    case RTT_SHADOWS_PYRAMID: snprintf(buffer, size, "pyramid:%u", opt->shadow_samples); break;
+    case RTT_SHADOWS_EDGEWIDTH: snprintf(buffer, size, "edgewidth"); break;
+    default: return NULL;
+    }
+    return buffer;
+}
+
+static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
+                          uint32_t width, uint32_t height, uint32_t tile, rtt_error *err)
+{
+    char method[64];
+    if (refused_method(opt, method, sizeof method))
+        return rtt_error_set(err, "--shadows %s is not implemented yet in the optimized renderer (use none, hard or multi:N)",
+                             method);
+    if (opt->shadows == RTT_SHADOWS_MULTI && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
+        return rtt_error_set(err, "--shadows multi:%u: the sample count must be a whole number from 1 to %u",
+                             opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
+    if (tile != 4 && tile != 8 && tile != 16 && tile != 32)
+        return rtt_error_set(err, "--tile %u: the tile side must be 4, 8, 16 or 32", tile);
+    if ((unsigned)opt->engine.traversal >= RTT_TRAVERSAL_COUNT)
+        return rtt_error_set(err, "optimized renderer: unknown traversal %d", (int)opt->engine.traversal);
+    if (width == 0 || height == 0)
+        return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
+    if (out->width != width || out->height != height)
+        return rtt_error_set(err, "%s: the output image is %ux%u but the render is %ux%u", scene->path, out->width,
+                             out->height, width, height);
+    if (!out->rgb) return rtt_error_set(err, "%s: the output image has no colour plane", scene->path);
+    if (((opt->aovs & RTT_AOV_DEPTH) && !out->depth) || ((opt->aovs & RTT_AOV_PRIM) && !out->prim) ||
+        ((opt->aovs & RTT_AOV_NORMAL) && !out->normal))
+        return rtt_error_set(err, "%s: the output image lacks an AOV plane the options ask for", scene->path);
+    if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
+        return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
+    return true;
+}
+
+static void gather_stats(const render_job *job, rtt_render_stats *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    for (uint32_t t = 0; t < job->threads; t++) {
+        const sp_stats *s = &job->scratch[t].stats;
+        stats->primary_rays += s->primary_rays;
+        stats->shadow_rays += s->shadow_rays;
+        stats->secondary_rays += s->secondary_rays;
+        stats->packets += s->primary.packets;
+        stats->traversal_steps += s->primary.steps;
+        stats->intersection_tests += s->primary.isects;
+        stats->seconds_primary_traversal += 1e-9 * (double)s->ns_primary_traversal;
+        stats->seconds_primary_intersection += 1e-9 * (double)s->ns_primary_intersection;
+        stats->seconds_shading += 1e-9 * (double)s->ns_shading;
+        stats->seconds_secondary += 1e-9 * (double)s->ns_secondary;
+    }
+}
+
+bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
+                          rtt_render_stats *stats, rtt_error *err)
+{
+    const uint64_t start = now_ns();
+    rtt_render_options defaults;
+    if (!opt) {
+        rtt_render_options_default(&defaults);
+        opt = &defaults;
+    }
+    if (!engine || !out) return rtt_error_set(err, "optimized renderer: no engine or image given");
+    const rtt_scene *scene = engine->scene;
+    const kd_tree *tree = kd_engine_tree(engine);
+    if (!scene || !tree) return rtt_error_set(err, "optimized renderer: the engine is not an optimized engine");
+    const uint32_t width = opt->width ? opt->width : scene->width;
+    const uint32_t height = opt->height ? opt->height : scene->height;
+    const uint32_t tile = opt->engine.tile ? opt->engine.tile : 8u;
+    if (!check_request(scene, opt, out, width, height, tile, err)) return false;
+
+    render_job job = {
+        .scene = scene,
+        .out = out,
+        .frame = rtt_camera_frame_make(&scene->camera, width, height),
+        .width = width,
+        .height = height,
+        .tile = tile,
+        .shading = {.scene = scene,
+                    .max_bounces = opt->max_bounces ? opt->max_bounces : scene->max_bounces,
+                    .shadows = opt->shadows,
+                    .shadow_samples = opt->shadow_samples,
+                    .epsilon = rtt_scene_ray_epsilon(scene)},
+        .tracer = {.tree = tree,
+                   .traversal = opt->engine.traversal,
+                   .block_packets = (tile / 2u) * (tile / 2u),
+                   .leaf_culling = opt->engine.leaf_culling},
+    };
+    uint32_t threads = opt->threads ? opt->threads : rtt_cpu_count();
+    if (threads == 0) threads = 1;
+    if (threads > 1024u) threads = 1024u;
+    job.threads = threads;
+    job.scratch = calloc(threads, sizeof *job.scratch);
+    bool ok = job.scratch != NULL;
+    for (uint32_t t = 0; ok && t < threads; t++)
+        ok = sp_scratch_init(&job.scratch[t], job.shading.max_bounces + 1, opt->stats || stats != NULL);
+    if (ok) {
+        rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
+        for (uint32_t t = 0; t < threads; t++) ok = ok && !job.scratch[t].failed;
+    }
+    if (ok && stats) {
+        gather_stats(&job, stats);
+        stats->seconds_total = 1e-9 * (double)(now_ns() - start);
+    }
+    if (job.scratch)
+        for (uint32_t t = 0; t < threads; t++) sp_scratch_free(&job.scratch[t]);
+    free(job.scratch);
+    if (!ok) return rtt_error_set(err, "%s: out of memory in the optimized renderer", scene->path);
+    return true;
+}

@@ -1,0 +1,109 @@
+/* The shader proxy (Thesis 4.2.1, Figure 3.2): shades the hits of a tile's
+ * rays, builds and traces their shadow packets, spawns reflection and
+ * refraction rays as omni-directional 2x2 packets, and combines the colours
+ * bottom-up.  The shading model is exactly include/rtt/shade.h as the
+ * reference renderer (reference/render_whitted.c) evaluates it, with the
+ * same arithmetic in the same order, so an optimized image differs from the
+ * reference one only where the engines pick a different hit. */
+#ifndef RTT_OPTIMIZED_SHADER_PROXY_H
+#define RTT_OPTIMIZED_SHADER_PROXY_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "kd_tree.h"
+#include "packet.h"
+#include "rtt/render.h"
+#include "rtt/shade.h"
+
+/* How rays reach the tree: closest-hit and occlusion over blocks of 2x2
+ * packets.  `traversal` picks the kernels (rtt_traversal). */
+typedef struct sp_tracer {
+    const kd_tree *tree;
+    rtt_traversal traversal;        /* primary rays and shadow packets */
+    uint32_t block_packets;         /* tile*tile/4 */
+    int leaf_culling;
+} sp_tracer;
+
+/* One traced ray of a pixel's shading tree (48 + 16 + 32 bytes).  After
+ * shading, `colour` holds (1 - wr - wt) * local; after sp_resolve, the
+ * ray's full colour. */
+typedef struct sp_node {
+    rtt_ray ray;
+    rtt_hit hit;
+    rtt_vec3 colour;
+    float wr, wt;
+    int32_t reflected, refracted;   /* child indices in the next level, -1 none */
+    uint32_t pixel;                 /* py * width + px: seeds the light samples */
+} sp_node;
+
+typedef struct sp_level {
+    sp_node *nodes;
+    uint32_t count, capacity;
+} sp_level;
+
+/* Per-thread timers and counts; only touched when `timing` is on. */
+typedef struct sp_stats {
+    uint64_t primary_rays, shadow_rays, secondary_rays;
+    kd_counters primary;            /* N and I of the primary packets */
+    uint64_t ns_primary_traversal, ns_primary_intersection, ns_shading, ns_secondary;
+} sp_stats;
+
+/* Per-thread scratch: shading trees level by level, packets, shadow rays.
+ * Grown on demand; `failed` is set when an allocation fails. */
+typedef struct sp_scratch {
+    sp_level *levels;               /* max_bounces + 1 */
+    uint32_t level_count;
+    ray_packet4 *packets;
+    hit_packet4 *hits;
+    uint8_t *occluded;
+    uint32_t packet_capacity, hit_capacity, occluded_capacity;
+    rtt_ray *shadow_rays;
+    uint8_t *shadow_clear;
+    uint32_t shadow_capacity, clear_capacity;
+    struct sp_surface *surfaces;
+    struct sp_light_request *requests;
+    uint32_t surface_capacity, request_capacity;
+    bool failed;
+    bool timing;
+    sp_stats stats;
+} sp_scratch;
+
+typedef struct sp_shading {
+    const rtt_scene *scene;
+    uint32_t max_bounces;
+    rtt_shadow_method shadows;
+    uint32_t shadow_samples;
+    float epsilon;
+} sp_shading;
+
+bool sp_scratch_init(sp_scratch *s, uint32_t level_count, bool timing);
+void sp_scratch_free(sp_scratch *s);
+
+/* Appends a node for `ray` to level `level` (hit unset); returns its index
+ * or -1 when out of memory. */
+int32_t sp_level_push(sp_scratch *s, uint32_t level, const rtt_ray *ray, uint32_t pixel);
+
+/* Room for `packets` packets, hits and occlusion masks. */
+bool sp_ensure_packets(sp_scratch *s, uint32_t packets);
+
+/* Traces levels 1..: shades level 0 (whose hits the caller traced), and
+ * every level below, then combines colours so that level 0 nodes hold the
+ * pixel colours. */
+void sp_shade_tree(const sp_shading *shading, const sp_tracer *tracer, sp_scratch *s);
+
+/* The closest-hit and occlusion kernels of a traversal mode. */
+void sp_trace_packets(const sp_tracer *tracer, rtt_traversal traversal, const ray_packet4 *packets,
+                      hit_packet4 *hits, uint32_t packet_count, kd_counters *counters, uint64_t *isect_ns);
+void sp_trace_packets_occluded(const sp_tracer *tracer, rtt_traversal traversal, const ray_packet4 *packets,
+                               uint8_t *occluded, uint32_t packet_count);
+
+/* Surface of a hit exactly as the reference computes it. */
+typedef struct sp_surface {
+    rtt_vec3 point, dir, normal;
+    bool entering;
+    const rtt_material *material;
+} sp_surface;
+sp_surface sp_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit);
+
+#endif

@@ -1,0 +1,292 @@
+/* The reference Whitted renderer: exactly the shading model of
+ * include/rtt/shade.h (Thesis 4.2.1's five fixed-function shader types,
+ * traced one ray at a time), written for obviousness.
+ *
+ * One primary ray per pixel through its centre; at a hit the shading normal
+ * is turned to face the ray, the local colour sums the ambient term and every
+ * light times its visibility, and reflective/transparent materials recurse up
+ * to max_bounces.  Whether a refracted ray enters or leaves the object is
+ * decided by the geometric normal against the ray.  Visibility:
+ *   none      1
+ *   hard      one shadow ray to the light's centre (sphere lights too)
+ *   multi:N   N rays to rtt_light_sample(light, p, i, N, pixel) on sphere
+ *             lights, the unoccluded fraction; one ray for point lights.
+ * A light whose unoccluded contribution is exactly zero casts no shadow rays
+ * (vis would multiply zero).  Every ray goes through the `tracer` engine,
+ * which may be any engine (Embree renders the reference image this way).
+ *
+ * Tiles of 16x16 pixels go to threads through rtt_tiles_run; a pixel depends
+ * on nothing but its own rays, so the image is bit-identical for any thread
+ * count.  Ray counts are summed per tile and added atomically. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "rtt/reference.h"
+#include "rtt/shade.h"
+
+#define REFERENCE_TILE 16u
+
+typedef struct ray_counts {
+    uint64_t primary, shadow, secondary;
+} ray_counts;
+
+typedef struct render_job {
+    const rtt_scene *scene;
+    rtt_engine *tracer;
+    rtt_image *out;
+    rtt_camera_frame frame;
+    uint32_t width, height;
+    uint32_t max_bounces;
+    rtt_shadow_method shadows;
+    uint32_t shadow_samples;
+    float epsilon;
+    _Atomic uint64_t primary, shadow, secondary;
+} render_job;
+
+static rtt_hit trace_closest(const render_job *job, const rtt_ray *ray)
+{
+    rtt_hit hit;
+    rtt_engine_intersect(job->tracer, ray, &hit, 1);
+    return hit;
+}
+
+/* Is the segment from p to target free of geometry (both ends excluded)? */
+static bool segment_clear(const render_job *job, rtt_vec3 p, rtt_vec3 target, ray_counts *counts)
+{
+    rtt_vec3 to_target = rtt_v3_sub(target, p);
+    float distance = rtt_v3_length(to_target);
+    if (!(distance > 2.0f * job->epsilon)) return true; /* nothing fits between */
+    rtt_vec3 dir = rtt_v3_scale(to_target, 1.0f / distance);
+    rtt_ray ray = {{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, job->epsilon, distance - job->epsilon};
+    uint8_t occluded = 0;
+    rtt_engine_occluded(job->tracer, &ray, &occluded, 1);
+    counts->shadow++;
+    return !occluded;
+}
+
+/* vis in [0, 1] of the light from p by the chosen shadow method. */
+static float light_visibility(const render_job *job, const rtt_light *light, rtt_vec3 p, uint32_t pixel,
+                              ray_counts *counts)
+{
+    switch (job->shadows) {
+    case RTT_SHADOWS_NONE:
+        return 1.0f;
+    case RTT_SHADOWS_MULTI:
+        if (light->type == RTT_LIGHT_SPHERE) {
+            uint32_t clear = 0;
+            for (uint32_t i = 0; i < job->shadow_samples; i++)
+                if (segment_clear(job, p, rtt_light_sample(light, p, i, job->shadow_samples, pixel), counts)) clear++;
+            return (float)clear / (float)job->shadow_samples;
+        }
+        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+    default: /* hard */
+        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+    }
+}
+
+static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t depth, uint32_t pixel,
+                             ray_counts *counts);
+
+/* The surface seen by a hit: point, normals, material. */
+typedef struct surface {
+    rtt_vec3 point, dir;     /* dir: the incoming ray's unit direction */
+    rtt_vec3 normal;         /* shading normal, facing the incoming ray */
+    bool entering;           /* geometric normal faces the ray */
+    const rtt_material *material;
+} surface;
+
+static surface surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit)
+{
+    surface s;
+    rtt_vec3 org = rtt_v3(ray->org[0], ray->org[1], ray->org[2]);
+    rtt_vec3 dir = rtt_v3(ray->dir[0], ray->dir[1], ray->dir[2]);
+    s.point = rtt_v3_madd(org, dir, hit->t);
+    s.dir = rtt_v3_normalize(dir);
+    s.normal = rtt_scene_shading_normal(scene, hit->prim, hit->u, hit->v);
+    if (rtt_v3_dot(s.normal, s.dir) > 0.0f) s.normal = rtt_v3_scale(s.normal, -1.0f);
+    s.entering = rtt_v3_dot(rtt_scene_geometric_normal(scene, hit->prim), s.dir) < 0.0f;
+    s.material = &scene->materials[scene->triangle_material[hit->prim]];
+    return s;
+}
+
+static rtt_vec3 local_colour(const render_job *job, const surface *s, uint32_t pixel, ray_counts *counts)
+{
+    const rtt_scene *scene = job->scene;
+    const rtt_material *m = s->material;
+    rtt_vec3 colour = rtt_v3_scale(m->diffuse, scene->ambient);
+    rtt_vec3 to_viewer = rtt_v3_scale(s->dir, -1.0f);
+    for (uint32_t i = 0; i < scene->light_count; i++) {
+        const rtt_light *light = &scene->lights[i];
+        rtt_vec3 to_light = rtt_v3_sub(light->position, s->point);
+        float distance = rtt_v3_length(to_light);
+        if (!(distance > 0.0f)) continue;
+        rtt_vec3 contribution =
+            rtt_shade_light(m, s->normal, to_viewer, rtt_v3_scale(to_light, 1.0f / distance), light, distance);
+        if (contribution.x == 0.0f && contribution.y == 0.0f && contribution.z == 0.0f) continue;
+        float vis = light_visibility(job, light, s->point, pixel, counts);
+        colour = rtt_v3_madd(colour, contribution, vis);
+    }
+    return colour;
+}
+
+static rtt_vec3 secondary_colour(const render_job *job, rtt_vec3 origin, rtt_vec3 dir, uint32_t depth,
+                                 uint32_t pixel, ray_counts *counts)
+{
+    dir = rtt_v3_normalize(dir);
+    rtt_ray ray = {{origin.x, origin.y, origin.z}, {dir.x, dir.y, dir.z}, job->epsilon, INFINITY};
+    counts->secondary++;
+    return trace_colour(job, &ray, depth, pixel, counts);
+}
+
+/* colour = (1 - wr - wt) local + wr reflected + wt refracted (shade.h) */
+static rtt_vec3 shade_hit(const render_job *job, const rtt_ray *ray, const rtt_hit *hit, uint32_t depth,
+                          uint32_t pixel, ray_counts *counts)
+{
+    surface s = surface_at(job->scene, ray, hit);
+    float wr, wt;
+    rtt_shade_weights(s.material, depth, job->max_bounces, &wr, &wt);
+    rtt_vec3 colour = rtt_v3_scale(local_colour(job, &s, pixel, counts), 1.0f - wr - wt);
+    if (wr > 0.0f) {
+        rtt_vec3 reflected = rtt_v3_reflect(s.dir, s.normal);
+        colour = rtt_v3_madd(colour, secondary_colour(job, s.point, reflected, depth + 1, pixel, counts), wr);
+    }
+    if (wt > 0.0f) {
+        const float ior = s.material->ior;
+        const float eta_from = s.entering ? 1.0f : ior, eta_to = s.entering ? ior : 1.0f;
+        rtt_vec3 refracted = rtt_refract(s.dir, s.normal, eta_from, eta_to);
+        colour = rtt_v3_madd(colour, secondary_colour(job, s.point, refracted, depth + 1, pixel, counts), wt);
+    }
+    return colour;
+}
+
+static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t depth, uint32_t pixel,
+                             ray_counts *counts)
+{
+    rtt_hit hit = trace_closest(job, ray);
+    if (hit.prim == RTT_MISS) return job->scene->background;
+    return shade_hit(job, ray, &hit, depth, pixel, counts);
+}
+
+static void render_pixel(render_job *job, uint32_t px, uint32_t py, ray_counts *counts)
+{
+    const uint32_t pixel = py * job->width + px;
+    rtt_ray ray = rtt_camera_ray(&job->frame, px, py);
+    rtt_hit hit = trace_closest(job, &ray);
+    counts->primary++;
+    rtt_vec3 colour = hit.prim == RTT_MISS ? job->scene->background : shade_hit(job, &ray, &hit, 0, pixel, counts);
+
+    rtt_image *out = job->out;
+    out->rgb[3 * (size_t)pixel + 0] = colour.x;
+    out->rgb[3 * (size_t)pixel + 1] = colour.y;
+    out->rgb[3 * (size_t)pixel + 2] = colour.z;
+    if (out->depth) out->depth[pixel] = hit.prim == RTT_MISS ? INFINITY : hit.t;
+    if (out->prim) out->prim[pixel] = hit.prim;
+    if (out->normal) {
+        rtt_vec3 n = rtt_v3(0.0f, 0.0f, 0.0f);
+        if (hit.prim != RTT_MISS) n = surface_at(job->scene, &ray, &hit).normal;
+        out->normal[3 * (size_t)pixel + 0] = n.x;
+        out->normal[3 * (size_t)pixel + 1] = n.y;
+        out->normal[3 * (size_t)pixel + 2] = n.z;
+    }
+}
+
+static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    (void)thread;
+    render_job *job = context;
+    ray_counts counts = {0, 0, 0};
+    for (uint32_t py = y0; py < y1; py++)
+        for (uint32_t px = x0; px < x1; px++) render_pixel(job, px, py, &counts);
+    atomic_fetch_add(&job->primary, counts.primary);
+    atomic_fetch_add(&job->shadow, counts.shadow);
+    atomic_fetch_add(&job->secondary, counts.secondary);
+}
+
+static const char *shadow_method_text(const rtt_render_options *opt, char *buffer, size_t size)
+{
+    switch (opt->shadows) {
+    case RTT_SHADOWS_CONE: snprintf(buffer, size, "cone:%u", opt->shadow_samples); break;
+    case RTT_SHADOWS_PYRAMID: snprintf(buffer, size, "pyramid:%u", opt->shadow_samples); break;
+    case RTT_SHADOWS_EDGEWIDTH: snprintf(buffer, size, "edgewidth"); break;
+    default: snprintf(buffer, size, "method %d", (int)opt->shadows); break;
+    }
+    return buffer;
+}
+
+/* Options and image checked before any ray is traced. */
+static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
+                          uint32_t width, uint32_t height, rtt_error *err)
+{
+    if (opt->shadows != RTT_SHADOWS_NONE && opt->shadows != RTT_SHADOWS_HARD && opt->shadows != RTT_SHADOWS_MULTI) {
+        char method[64];
+        return rtt_error_set(err, "--shadows %s is not available in the reference renderer (use --engine optimized)",
+                             shadow_method_text(opt, method, sizeof method));
+    }
+    if (opt->shadows == RTT_SHADOWS_MULTI && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
+        return rtt_error_set(err, "--shadows multi:%u: the sample count must be a whole number from 1 to %u",
+                             opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
+    if (width == 0 || height == 0)
+        return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
+    if (out->width != width || out->height != height)
+        return rtt_error_set(err, "%s: the output image is %ux%u but the render is %ux%u", scene->path, out->width,
+                             out->height, width, height);
+    if (!out->rgb) return rtt_error_set(err, "%s: the output image has no colour plane", scene->path);
+    if (((opt->aovs & RTT_AOV_DEPTH) && !out->depth) || ((opt->aovs & RTT_AOV_PRIM) && !out->prim) ||
+        ((opt->aovs & RTT_AOV_NORMAL) && !out->normal))
+        return rtt_error_set(err, "%s: the output image lacks an AOV plane the options ask for", scene->path);
+    if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
+        return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
+    return true;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_render_options *opt,
+                          rtt_image *out, rtt_render_stats *stats, rtt_error *err)
+{
+    const double start = seconds_now();
+    rtt_render_options defaults;
+    if (!opt) {
+        rtt_render_options_default(&defaults);
+        opt = &defaults;
+    }
+    if (!scene || !tracer || !out) return rtt_error_set(err, "reference renderer: no scene, engine or image given");
+    const uint32_t width = opt->width ? opt->width : scene->width;
+    const uint32_t height = opt->height ? opt->height : scene->height;
+    if (!check_request(scene, opt, out, width, height, err)) return false;
+
+    render_job job = {
+        .scene = scene,
+        .tracer = tracer,
+        .out = out,
+        .frame = rtt_camera_frame_make(&scene->camera, width, height),
+        .width = width,
+        .height = height,
+        .max_bounces = opt->max_bounces ? opt->max_bounces : scene->max_bounces,
+        .shadows = opt->shadows,
+        .shadow_samples = opt->shadow_samples,
+        .epsilon = rtt_scene_ray_epsilon(scene),
+    };
+    atomic_init(&job.primary, 0);
+    atomic_init(&job.shadow, 0);
+    atomic_init(&job.secondary, 0);
+    rtt_tiles_run(width, height, REFERENCE_TILE, opt->threads, render_tile, &job, opt->progress,
+                  opt->progress_context);
+
+    if (stats) {
+        memset(stats, 0, sizeof *stats);
+        stats->primary_rays = atomic_load(&job.primary);
+        stats->shadow_rays = atomic_load(&job.shadow);
+        stats->secondary_rays = atomic_load(&job.secondary);
+        stats->seconds_total = seconds_now() - start;
+    }
+    return true;
+}

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# ctest wrapper for ci/fuzz-smoke.sh (bash fuzz_smoke.sh <rtt> <source-dir>).
+# The smoke run builds a clang tree and fuzzes for minutes, so it runs only in
+# CI (CI=true) or when asked (RTT_FUZZ_SMOKE=1); developer `make test` stays
+# fast and still replays every corpus and regression input (fuzz_replay_*).
+set -euo pipefail
+source_dir=${2:?usage: fuzz_smoke.sh <rtt> <source-dir>}
+if [ "${CI:-}" != "true" ] && [ "${RTT_FUZZ_SMOKE:-}" != "1" ]; then
+  echo "fuzz_smoke: not run (set RTT_FUZZ_SMOKE=1 or CI=true to build and fuzz each harness)"
+  exit 0
+fi
+# ctest gives shell tests 900 s: keep build + 5 harnesses inside it.
+export FUZZ_SECONDS=${FUZZ_SECONDS:-30}
+exec bash "$source_dir/ci/fuzz-smoke.sh"

@@ -1,0 +1,210 @@
+/* Tests of the tile scheduler (image/tiles.c) and the framebuffer
+ * (image/framebuffer.c). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rtt/engine.h"
+#include "rtt/image.h"
+#include "rtt/render.h"
+
+typedef struct coverage {
+    uint32_t width, height, threads;
+    atomic_uint *visits;      /* per pixel */
+    atomic_uint bad_thread;   /* callbacks with thread >= threads */
+    atomic_uint bad_tile;     /* empty, inverted or out-of-bounds tiles */
+    atomic_uint tiles;
+} coverage;
+
+static void count_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    coverage *c = context;
+    atomic_fetch_add(&c->tiles, 1);
+    if (thread >= c->threads)
+        atomic_fetch_add(&c->bad_thread, 1);
+    if (x0 >= x1 || y0 >= y1 || x1 > c->width || y1 > c->height) {
+        atomic_fetch_add(&c->bad_tile, 1);
+        return;
+    }
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = x0; x < x1; x++)
+            atomic_fetch_add(&c->visits[(size_t)y * c->width + x], 1);
+}
+
+static void check_every_pixel_once(uint32_t width, uint32_t height, uint32_t tile, uint32_t threads)
+{
+    coverage c = { .width = width, .height = height, .threads = threads == 0 ? rtt_cpu_count() : threads };
+    c.visits = calloc((size_t)width * height, sizeof *c.visits);
+    assert_non_null(c.visits);
+    rtt_tiles_run(width, height, tile, threads, count_tile, &c, NULL, NULL);
+    for (size_t i = 0; i < (size_t)width * height; i++)
+        assert_int_equal(atomic_load(&c.visits[i]), 1);
+    assert_int_equal(atomic_load(&c.bad_thread), 0);
+    assert_int_equal(atomic_load(&c.bad_tile), 0);
+    uint32_t t = tile ? tile : 1;
+    if (tile)
+        assert_int_equal(atomic_load(&c.tiles), ((width + t - 1) / t) * ((height + t - 1) / t));
+    free(c.visits);
+}
+
+static void test_tiles_cover_each_pixel_once_for_1_2_3_7_threads(void **state)
+{
+    (void)state;
+    const uint32_t threads[] = { 1, 2, 3, 7 };
+    for (size_t i = 0; i < sizeof threads / sizeof threads[0]; i++) {
+        check_every_pixel_once(64, 48, 16, threads[i]);
+        check_every_pixel_once(67, 41, 8, threads[i]);    /* odd sizes: clipped edge tiles */
+        check_every_pixel_once(1, 1, 16, threads[i]);
+        check_every_pixel_once(5, 300, 7, threads[i]);
+    }
+}
+
+static void test_tiles_cover_each_pixel_once_with_default_threads_and_tile(void **state)
+{
+    (void)state;
+    check_every_pixel_once(33, 17, 0, 0);
+    check_every_pixel_once(33, 17, 1000, 0);   /* one tile larger than the image */
+}
+
+static void test_tiles_empty_image_calls_nothing(void **state)
+{
+    (void)state;
+    coverage c = { .width = 0, .height = 0, .threads = 4 };
+    rtt_tiles_run(0, 10, 4, 4, count_tile, &c, NULL, NULL);
+    rtt_tiles_run(10, 0, 4, 4, count_tile, &c, NULL, NULL);
+    assert_int_equal(atomic_load(&c.tiles), 0);
+}
+
+typedef struct progress_log {
+    pthread_mutex_t lock;
+    uint32_t calls, max_done, total;
+    uint8_t seen[64];
+    bool bad;
+} progress_log;
+
+static void log_progress(void *context, uint32_t done, uint32_t total)
+{
+    progress_log *log = context;
+    pthread_mutex_lock(&log->lock);
+    log->calls++;
+    if (done == 0 || done > total || total != log->total || log->seen[done])
+        log->bad = true;
+    else
+        log->seen[done] = 1;
+    if (done > log->max_done)
+        log->max_done = done;
+    pthread_mutex_unlock(&log->lock);
+}
+
+static void ignore_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    (void)context, (void)thread, (void)x0, (void)y0, (void)x1, (void)y1;
+}
+
+static void test_progress_reports_each_tile_once_with_total(void **state)
+{
+    (void)state;
+    for (uint32_t threads = 1; threads <= 3; threads++) {
+        progress_log log = { .total = 6 * 5 };
+        pthread_mutex_init(&log.lock, NULL);
+        rtt_tiles_run(90, 70, 16, threads, ignore_tile, NULL, log_progress, &log);   /* 6 x 5 tiles */
+        assert_false(log.bad);
+        assert_int_equal(log.calls, 30);
+        assert_int_equal(log.max_done, 30);
+        pthread_mutex_destroy(&log.lock);
+    }
+}
+
+typedef struct thread_record {
+    pthread_t caller;
+    atomic_uint other_thread_tiles;
+} thread_record;
+
+static void record_thread(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    (void)thread, (void)x0, (void)y0, (void)x1, (void)y1;
+    thread_record *r = context;
+    if (!pthread_equal(pthread_self(), r->caller))
+        atomic_fetch_add(&r->other_thread_tiles, 1);
+}
+
+static void test_one_thread_runs_inline_on_the_caller(void **state)
+{
+    (void)state;
+    thread_record r = { .caller = pthread_self() };
+    rtt_tiles_run(100, 100, 8, 1, record_thread, &r, NULL, NULL);
+    assert_int_equal(atomic_load(&r.other_thread_tiles), 0);
+}
+
+static void test_cpu_count_is_at_least_one(void **state)
+{
+    (void)state;
+    assert_true(rtt_cpu_count() >= 1);
+}
+
+static void test_image_create_allocates_only_requested_aovs(void **state)
+{
+    (void)state;
+    rtt_error err = { "" };
+    rtt_image *plain = rtt_image_create(3, 2, 0, &err);
+    assert_non_null(plain);
+    assert_int_equal(plain->width, 3);
+    assert_int_equal(plain->height, 2);
+    assert_non_null(plain->rgb);
+    assert_null(plain->depth);
+    assert_null(plain->prim);
+    assert_null(plain->normal);
+    for (int i = 0; i < 18; i++)
+        assert_true(plain->rgb[i] == 0.0f);
+    rtt_image_free(plain);
+
+    rtt_image *depth_only = rtt_image_create(3, 2, RTT_AOV_DEPTH, &err);
+    assert_non_null(depth_only->depth);
+    assert_null(depth_only->prim);
+    assert_null(depth_only->normal);
+    rtt_image_free(depth_only);
+
+    rtt_image *all = rtt_image_create(3, 2, RTT_AOV_DEPTH | RTT_AOV_PRIM | RTT_AOV_NORMAL, &err);
+    assert_non_null(all);
+    for (int i = 0; i < 6; i++) {
+        assert_true(isinf(all->depth[i]) && all->depth[i] > 0);   /* a miss until rendered */
+        assert_int_equal(all->prim[i], RTT_MISS);
+    }
+    assert_non_null(all->normal);
+    rtt_image_free(all);
+}
+
+static void test_image_create_refuses_empty_and_absurd_sizes(void **state)
+{
+    (void)state;
+    rtt_error err = { "" };
+    assert_null(rtt_image_create(0, 5, 0, &err));
+    assert_non_null(strstr(err.message, "0x5"));
+    assert_null(rtt_image_create(UINT32_MAX, UINT32_MAX, 0, &err));
+    assert_non_null(strstr(err.message, "too large"));
+    assert_null(rtt_image_create(4, 4, 1u << 7, &err));
+    rtt_image_free(NULL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tiles_cover_each_pixel_once_for_1_2_3_7_threads),
+        cmocka_unit_test(test_tiles_cover_each_pixel_once_with_default_threads_and_tile),
+        cmocka_unit_test(test_tiles_empty_image_calls_nothing),
+        cmocka_unit_test(test_progress_reports_each_tile_once_with_total),
+        cmocka_unit_test(test_one_thread_runs_inline_on_the_caller),
+        cmocka_unit_test(test_cpu_count_is_at_least_one),
+        cmocka_unit_test(test_image_create_allocates_only_requested_aovs),
+        cmocka_unit_test(test_image_create_refuses_empty_and_absurd_sizes),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
