@@ -35,20 +35,7 @@ void rtt_watertight_ray_setup(const rtt_ray *ray, rtt_watertight_ray *out)
     out->tfar = ray->tfar;
 }
 
-bool rtt_reference_triangle_is_degenerate(const rtt_vec3 tri[3])
-{
-    for (int i = 0; i < 3; i++)
-        if (!rtt_v3_is_finite(tri[i])) return true;
-    double e1[3], e2[3];
-    for (int a = 0; a < 3; a++) {
-        e1[a] = (double)rtt_v3_get(tri[1], a) - (double)rtt_v3_get(tri[0], a);
-        e2[a] = (double)rtt_v3_get(tri[2], a) - (double)rtt_v3_get(tri[0], a);
-    }
-    double cx = e1[1] * e2[2] - e1[2] * e2[1];
-    double cy = e1[2] * e2[0] - e1[0] * e2[2];
-    double cz = e1[0] * e2[1] - e1[1] * e2[0];
-    return cx == 0.0 && cy == 0.0 && cz == 0.0;
-}
+bool rtt_reference_triangle_is_degenerate(const rtt_vec3 tri[3]) { return rtt_triangle_is_degenerate(tri); }
 
 /* A float that is neither zero, subnormal, infinite nor NaN. */
 static bool float_is_normal(float x)

@@ -129,6 +129,10 @@ rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, 
  * closedness.  Loaders call it last; tests that assemble scenes by hand too. */
 bool rtt_scene_finish(rtt_scene *scene, rtt_error *err);
 
+/* Zero area (cross product of the edges exactly zero in double precision)
+ * or a non-finite corner: such triangles keep their index but never hit. */
+bool rtt_triangle_is_degenerate(const rtt_vec3 tri[3]);
+
 /* Corner positions of triangle i. */
 static inline void rtt_scene_triangle(const rtt_scene *s, uint32_t i, rtt_vec3 out[3])
 {

@@ -1,0 +1,461 @@
+/* The scene model: assembling a scene from what the loaders find, filling in
+ * the defaults of DESIGN.md ("model only what a scene requires"), and
+ * loading any supported file by its extension.
+ *
+ * Geometry is appended mesh by mesh in the global triangle order; every
+ * vertex is validated (finite after the transform) and every index checked
+ * before it is stored, so engines never see a bad index or a NaN. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "rtt/scene.h"
+#include "rtt/shade.h"
+#include "scene_build.h"
+
+/* Scenes larger than this are refused: indices stay far from overflow and a
+ * hostile file cannot ask for unbounded memory through the counts. */
+#define SCENE_MAX_TRIANGLES (1u << 28)
+#define SCENE_MAX_VERTICES (1u << 28)
+
+rtt_material rtt_material_default(void)
+{
+    rtt_material m;
+    memset(&m, 0, sizeof m);
+    strcpy(m.name, "default");
+    m.type = RTT_MATERIAL_DIFFUSE;
+    m.diffuse = rtt_v3(0.7f, 0.7f, 0.7f);
+    m.specular = 0.5f;
+    m.shininess = 32.0f;
+    m.reflection = 0.5f;
+    m.transparency = 0.8f;
+    m.ior = 1.5f;
+    m.edge_width_scale = 1.0f;
+    return m;
+}
+
+rtt_scene *rtt_scene_new(const char *path, rtt_error *err)
+{
+    rtt_scene *scene = calloc(1, sizeof *scene);
+    if (!scene) {
+        rtt_error_set(err, "%s: out of memory", path);
+        return NULL;
+    }
+    snprintf(scene->path, sizeof scene->path, "%s", path);
+    scene->bounds = rtt_bounds_empty();
+    scene->background = rtt_v3(0.0f, 0.0f, 0.0f);
+    scene->ambient = RTT_DEFAULT_AMBIENT;
+    scene->max_bounces = RTT_DEFAULT_MAX_BOUNCES;
+    return scene;
+}
+
+void rtt_scene_free(rtt_scene *scene)
+{
+    if (!scene) return;
+    if (scene->baked && scene->baked_free) scene->baked_free(scene->baked);
+    free(scene->vertices);
+    free(scene->normals);
+    free(scene->triangles);
+    free(scene->triangle_material);
+    free(scene->triangle_mesh);
+    free(scene->meshes);
+    free(scene->materials);
+    free(scene->lights);
+    free(scene);
+}
+
+/* Grows *array (of `size`-byte elements) to hold `needed`; *capacity tracks it. */
+static bool grow(void **array, size_t size, uint32_t *capacity, uint64_t needed)
+{
+    if (needed <= *capacity) return true;
+    uint64_t cap = *capacity ? *capacity : 16;
+    while (cap < needed) cap *= 2;
+    if (cap > UINT32_MAX) cap = UINT32_MAX;
+    void *p = realloc(*array, (size_t)cap * size);
+    if (!p) return false;
+    *array = p;
+    *capacity = (uint32_t)cap;
+    return true;
+}
+
+uint32_t rtt_scene_add_material(rtt_scene *scene, const rtt_material *material)
+{
+    uint32_t cap = scene->material_count;
+    if (!grow((void **)&scene->materials, sizeof *scene->materials, &cap, (uint64_t)scene->material_count + 1))
+        return UINT32_MAX;
+    scene->materials[scene->material_count] = *material;
+    return scene->material_count++;
+}
+
+bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *err)
+{
+    rtt_light *p = realloc(scene->lights, ((size_t)scene->light_count + 1) * sizeof *p);
+    if (!p) return rtt_error_set(err, "%s: out of memory for lights", scene->path);
+    scene->lights = p;
+    scene->lights[scene->light_count++] = *light;
+    return true;
+}
+
+static rtt_vec3 transform_point(const float m[16], rtt_vec3 p)
+{
+    return rtt_v3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+                  m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+/* Normals transform by the inverse transpose of the upper 3x3; the
+ * cofactor matrix is that up to a scale, which normalizing removes. */
+static rtt_vec3 transform_normal(const float m[16], rtt_vec3 n)
+{
+    rtt_vec3 r0 = rtt_v3(m[0], m[1], m[2]), r1 = rtt_v3(m[4], m[5], m[6]), r2 = rtt_v3(m[8], m[9], m[10]);
+    rtt_vec3 c0 = rtt_v3_cross(r1, r2), c1 = rtt_v3_cross(r2, r0), c2 = rtt_v3_cross(r0, r1);
+    rtt_vec3 out = rtt_v3_add(rtt_v3_add(rtt_v3_scale(c0, n.x), rtt_v3_scale(c1, n.y)), rtt_v3_scale(c2, n.z));
+    return rtt_v3_normalize(out);
+}
+
+/* Capacities of the growing geometry arrays live beside the counts: the
+ * arrays are reallocated to exact size per mesh, which keeps the struct free
+ * of bookkeeping fields and costs one realloc per mesh. */
+static bool resize(void **array, size_t count, size_t size)
+{
+    if (count == 0) return true;
+    void *p = realloc(*array, count * size);
+    if (!p) return false;
+    *array = p;
+    return true;
+}
+
+static bool check_mesh_input(const rtt_scene *scene, const char *source, const rtt_vec3 *positions,
+                             uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
+                             const uint32_t *triangle_materials, uint32_t material, rtt_error *err)
+{
+    if ((uint64_t)scene->triangle_count + triangle_count > SCENE_MAX_TRIANGLES)
+        return rtt_error_set(err, "%s: too many triangles (the limit is %u)", source, SCENE_MAX_TRIANGLES);
+    if ((uint64_t)scene->vertex_count + vertex_count > SCENE_MAX_VERTICES)
+        return rtt_error_set(err, "%s: too many vertices (the limit is %u)", source, SCENE_MAX_VERTICES);
+    for (uint32_t i = 0; i < vertex_count; i++)
+        if (!rtt_v3_is_finite(positions[i]))
+            return rtt_error_set(err, "%s: vertex %u has a NaN or infinite coordinate", source, i);
+    for (uint32_t f = 0; f < triangle_count; f++)
+        for (int k = 0; k < 3; k++)
+            if (indices[3 * (size_t)f + k] >= vertex_count)
+                return rtt_error_set(err, "%s: face %u: vertex index %u is out of range (%u vertices)", source, f,
+                                     indices[3 * (size_t)f + k], vertex_count);
+    if (!triangle_materials && material >= scene->material_count)
+        return rtt_error_set(err, "%s: material index %u is out of range", source, material);
+    for (uint32_t f = 0; triangle_materials && f < triangle_count; f++)
+        if (triangle_materials[f] >= scene->material_count)
+            return rtt_error_set(err, "%s: face %u: material index %u is out of range", source, f,
+                                 triangle_materials[f]);
+    return true;
+}
+
+bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, const rtt_vec3 *positions,
+                        const rtt_vec3 *normals, uint32_t vertex_count, const uint32_t *indices,
+                        uint32_t triangle_count, const uint32_t *triangle_materials, uint32_t material,
+                        const float transform[16], rtt_error *err)
+{
+    if (!check_mesh_input(scene, source, positions, vertex_count, indices, triangle_count, triangle_materials,
+                          material, err))
+        return false;
+    const uint32_t v0 = scene->vertex_count, t0 = scene->triangle_count;
+    const size_t vertices = (size_t)v0 + vertex_count, triangles = (size_t)t0 + triangle_count;
+    const bool had_normals = scene->normals != NULL;
+    if (!resize((void **)&scene->vertices, vertices, sizeof *scene->vertices) ||
+        !resize((void **)&scene->triangles, triangles, sizeof *scene->triangles) ||
+        !resize((void **)&scene->triangle_material, triangles, sizeof *scene->triangle_material) ||
+        !resize((void **)&scene->triangle_mesh, triangles, sizeof *scene->triangle_mesh) ||
+        !resize((void **)&scene->meshes, (size_t)scene->mesh_count + 1, sizeof *scene->meshes) ||
+        ((normals || had_normals) && !resize((void **)&scene->normals, vertices, sizeof *scene->normals)))
+        return rtt_error_set(err, "%s: out of memory for %u triangles", source, triangle_count);
+
+    for (uint32_t i = 0; i < vertex_count; i++) {
+        rtt_vec3 p = transform ? transform_point(transform, positions[i]) : positions[i];
+        if (!rtt_v3_is_finite(p))
+            return rtt_error_set(err, "%s: vertex %u is not finite after the transform", source, i);
+        scene->vertices[v0 + i] = p;
+    }
+    if (normals && !had_normals) /* earlier meshes get their geometric normals at finish */
+        for (uint32_t i = 0; i < v0; i++) scene->normals[i] = rtt_v3(0.0f, 0.0f, 0.0f);
+    if (normals || had_normals)
+        for (uint32_t i = 0; i < vertex_count; i++) {
+            rtt_vec3 n = normals ? normals[i] : rtt_v3(0.0f, 0.0f, 0.0f);
+            if (!rtt_v3_is_finite(n)) n = rtt_v3(0.0f, 0.0f, 0.0f);
+            scene->normals[v0 + i] = transform && normals ? transform_normal(transform, n) : rtt_v3_normalize(n);
+        }
+    for (uint32_t f = 0; f < triangle_count; f++) {
+        for (int k = 0; k < 3; k++) scene->triangles[t0 + f].v[k] = v0 + indices[3 * (size_t)f + k];
+        scene->triangle_material[t0 + f] = triangle_materials ? triangle_materials[f] : material;
+        scene->triangle_mesh[t0 + f] = scene->mesh_count;
+    }
+    rtt_mesh *mesh = &scene->meshes[scene->mesh_count++];
+    memset(mesh, 0, sizeof *mesh);
+    snprintf(mesh->name, sizeof mesh->name, "%s", name ? name : "mesh");
+    mesh->first_triangle = t0;
+    mesh->triangle_count = triangle_count;
+    mesh->material = triangle_materials ? (triangle_count ? triangle_materials[0] : 0) : material;
+    scene->vertex_count = (uint32_t)vertices;
+    scene->triangle_count = (uint32_t)triangles;
+    return true;
+}
+
+bool rtt_triangle_is_degenerate(const rtt_vec3 tri[3])
+{
+    for (int i = 0; i < 3; i++)
+        if (!rtt_v3_is_finite(tri[i])) return true;
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)rtt_v3_get(tri[1], a) - (double)rtt_v3_get(tri[0], a);
+        e2[a] = (double)rtt_v3_get(tri[2], a) - (double)rtt_v3_get(tri[0], a);
+    }
+    double cx = e1[1] * e2[2] - e1[2] * e2[1];
+    double cy = e1[2] * e2[0] - e1[0] * e2[2];
+    double cz = e1[0] * e2[1] - e1[1] * e2[0];
+    return cx == 0.0 && cy == 0.0 && cz == 0.0;
+}
+
+/* ---- closedness: every edge of a mesh shared by exactly two of its
+ * non-degenerate triangles, with vertices identified by position (importers
+ * split vertices at normal or uv seams; a seam is not a hole) ---- */
+
+typedef struct position_key {
+    uint32_t bits[3];
+    uint32_t vertex;
+} position_key;
+
+static int compare_position_keys(const void *a, const void *b)
+{
+    const position_key *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x->bits[i] != y->bits[i]) return x->bits[i] < y->bits[i] ? -1 : 1;
+    return (x->vertex > y->vertex) - (x->vertex < y->vertex);
+}
+
+static int compare_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static uint32_t float_bits(float f)
+{
+    if (f == 0.0f) f = 0.0f; /* -0.0 and +0.0 are one position */
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* canonical[v] = the smallest vertex index at v's exact position. */
+static uint32_t *canonical_vertices(const rtt_scene *scene)
+{
+    position_key *keys = malloc((size_t)scene->vertex_count * sizeof *keys + 1);
+    uint32_t *canonical = malloc((size_t)scene->vertex_count * sizeof *canonical + 1);
+    if (!keys || !canonical) {
+        free(keys);
+        free(canonical);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < scene->vertex_count; i++) {
+        rtt_vec3 p = scene->vertices[i];
+        keys[i] = (position_key){{float_bits(p.x), float_bits(p.y), float_bits(p.z)}, i};
+    }
+    qsort(keys, scene->vertex_count, sizeof *keys, compare_position_keys);
+    for (uint32_t i = 0; i < scene->vertex_count; i++) {
+        bool same = i > 0 && memcmp(keys[i].bits, keys[i - 1].bits, sizeof keys[i].bits) == 0;
+        canonical[keys[i].vertex] = same ? canonical[keys[i - 1].vertex] : keys[i].vertex;
+    }
+    free(keys);
+    return canonical;
+}
+
+static bool mesh_is_closed(const rtt_scene *scene, const rtt_mesh *mesh, const uint32_t *canonical,
+                           uint64_t *edges)
+{
+    size_t count = 0;
+    for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
+        rtt_vec3 tri[3];
+        rtt_scene_triangle(scene, t, tri);
+        if (rtt_triangle_is_degenerate(tri)) continue;
+        for (int k = 0; k < 3; k++) {
+            uint64_t a = canonical[scene->triangles[t].v[k]], b = canonical[scene->triangles[t].v[(k + 1) % 3]];
+            edges[count++] = a < b ? (a << 32 | b) : (b << 32 | a);
+        }
+    }
+    if (count == 0) return false;
+    qsort(edges, count, sizeof *edges, compare_u64);
+    for (size_t i = 0; i < count;) {
+        size_t j = i;
+        while (j < count && edges[j] == edges[i]) j++;
+        if (j - i != 2) return false;
+        i = j;
+    }
+    return true;
+}
+
+static bool classify_meshes(rtt_scene *scene, rtt_error *err)
+{
+    uint32_t *canonical = canonical_vertices(scene);
+    uint32_t largest = 0;
+    for (uint32_t m = 0; m < scene->mesh_count; m++)
+        if (scene->meshes[m].triangle_count > largest) largest = scene->meshes[m].triangle_count;
+    uint64_t *edges = malloc((size_t)largest * 3 * sizeof *edges + 1);
+    if (!canonical || !edges) {
+        free(canonical);
+        free(edges);
+        return rtt_error_set(err, "%s: out of memory", scene->path);
+    }
+    for (uint32_t m = 0; m < scene->mesh_count; m++)
+        scene->meshes[m].closed = mesh_is_closed(scene, &scene->meshes[m], canonical, edges);
+    free(canonical);
+    free(edges);
+    return true;
+}
+
+/* ---- defaults ---- */
+
+static void default_camera(rtt_scene *scene)
+{
+    rtt_bounds b = scene->bounds;
+    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(b.lo, b.hi), 0.5f);
+    float radius = 0.5f * rtt_v3_length(rtt_v3_sub(b.hi, b.lo));
+    if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
+    float half_fov = 0.5f * RTT_DEFAULT_FOV_DEG * 3.14159265f / 180.0f;
+    float distance = radius / sinf(half_fov) * 1.05f;
+    /* looking down -z at the centre, from a little above, so that boxes show depth */
+    rtt_vec3 offset = rtt_v3_normalize(rtt_v3(0.35f, 0.3f, 1.0f));
+    scene->camera.eye = rtt_v3_madd(centre, offset, distance);
+    scene->camera.look_at = centre;
+    scene->camera.up = rtt_v3(0.0f, 1.0f, 0.0f);
+    scene->camera.fov_deg = RTT_DEFAULT_FOV_DEG;
+}
+
+static bool has_camera(const rtt_scene *scene) { return scene->camera.fov_deg > 0.0f; }
+
+static void fill_vertex_normals(rtt_scene *scene)
+{
+    /* Vertices of meshes without normals got zero: use the geometric normal
+     * of the first triangle that references them (flat shading). */
+    for (uint32_t t = 0; t < scene->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            rtt_vec3 *n = &scene->normals[scene->triangles[t].v[k]];
+            if (n->x == 0.0f && n->y == 0.0f && n->z == 0.0f) *n = rtt_scene_geometric_normal(scene, t);
+        }
+}
+
+bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
+{
+    if (scene->triangle_count == 0) return rtt_error_set(err, "%s: the scene has no triangles", scene->path);
+    if (scene->material_count == 0) {
+        rtt_material m = rtt_material_default();
+        if (rtt_scene_add_material(scene, &m) == UINT32_MAX)
+            return rtt_error_set(err, "%s: out of memory", scene->path);
+    }
+    scene->bounds = rtt_bounds_empty();
+    scene->degenerate_count = 0;
+    for (uint32_t t = 0; t < scene->triangle_count; t++) {
+        rtt_vec3 tri[3];
+        rtt_scene_triangle(scene, t, tri);
+        for (int k = 0; k < 3; k++) scene->bounds = rtt_bounds_grow(scene->bounds, tri[k]);
+        if (rtt_triangle_is_degenerate(tri)) scene->degenerate_count++;
+    }
+    if (scene->normals) fill_vertex_normals(scene);
+    if (!classify_meshes(scene, err)) return false;
+    if (!has_camera(scene)) default_camera(scene);
+    if (scene->width == 0) scene->width = RTT_DEFAULT_WIDTH;
+    if (scene->height == 0) scene->height = RTT_DEFAULT_HEIGHT;
+    if (scene->light_count == 0) {
+        rtt_light light = {.type = RTT_LIGHT_POINT,
+                           .position = scene->camera.eye,
+                           .color = rtt_v3(1.0f, 1.0f, 1.0f),
+                           .intensity = 1.0f,
+                           .attenuation = {1.0f, 0.0f, 0.0f},
+                           .radius = 0.0f};
+        if (!rtt_scene_add_light(scene, &light, err)) return false;
+    }
+    return true;
+}
+
+rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, rtt_error *err)
+{
+    if (triangle_count > SCENE_MAX_TRIANGLES / 3) {
+        rtt_error_set(err, "triangles: too many triangles (%u)", triangle_count);
+        return NULL;
+    }
+    rtt_scene *scene = rtt_scene_new("triangles", err);
+    uint32_t *indices = malloc((size_t)triangle_count * 3 * sizeof *indices + 1);
+    rtt_material m = rtt_material_default();
+    if (!scene || !indices || rtt_scene_add_material(scene, &m) == UINT32_MAX) {
+        if (scene) rtt_error_set(err, "triangles: out of memory");
+        free(indices);
+        rtt_scene_free(scene);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < triangle_count * 3; i++) indices[i] = i;
+    bool ok = rtt_scene_add_mesh(scene, "triangles", "triangles", (const rtt_vec3 *)xyz9, NULL, triangle_count * 3,
+                                 indices, triangle_count, NULL, 0, NULL, err) &&
+              rtt_scene_finish(scene, err);
+    free(indices);
+    if (!ok) {
+        rtt_scene_free(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+_Static_assert(sizeof(rtt_vec3) == 3 * sizeof(float), "rtt_vec3 is three packed floats");
+
+static const char *extension_of(const char *path)
+{
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    return dot && (!slash || dot > slash) ? dot : "";
+}
+
+rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err)
+{
+    const char *ext = extension_of(path);
+    FILE *probe = fopen(path, "rb");
+    if (!probe) {
+        rtt_error_set(err, "%s: cannot open the file", path);
+        return NULL;
+    }
+    fclose(probe);
+    if (strcasecmp(ext, ".kdt") == 0) return rtt_kdt_read_scene(path, err);
+
+    rtt_scene_load_options defaults = {.bezier_level = RTT_DEFAULT_BEZIER_LEVEL};
+    if (!opt) opt = &defaults;
+    uint32_t level = opt->bezier_level ? opt->bezier_level : RTT_DEFAULT_BEZIER_LEVEL;
+    rtt_scene *scene = rtt_scene_new(path, err);
+    if (!scene) return NULL;
+    bool ok;
+    if (strcasecmp(ext, ".json") == 0) {
+        rtt_scene_load_options json_opt = *opt;
+        json_opt.bezier_level = level;
+        ok = rtt_scene_parse_json(scene, path, &json_opt, err);
+    } else if (strcasecmp(ext, ".bsp") == 0) {
+        ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err);
+    } else {
+        ok = rtt_import_assimp(scene, path, NULL, UINT32_MAX, err);
+    }
+    if (!ok || !rtt_scene_finish(scene, err)) {
+        rtt_scene_free(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+float rtt_scene_ray_epsilon(const rtt_scene *scene)
+{
+    /* Relative to the scene's extent so scaled scenes behave alike; the
+     * magnitude of the coordinates also counts, because far from the origin
+     * a float's spacing grows with |x| however small the scene is. */
+    rtt_bounds b = scene->bounds;
+    float extent = rtt_bounds_is_empty(b) ? 1.0f : rtt_v3_length(rtt_v3_sub(b.hi, b.lo));
+    float magnitude = 0.0f;
+    if (!rtt_bounds_is_empty(b)) {
+        rtt_vec3 lo = b.lo, hi = b.hi;
+        magnitude = fmaxf(fmaxf(fmaxf(fabsf(lo.x), fabsf(hi.x)), fmaxf(fabsf(lo.y), fabsf(hi.y))),
+                          fmaxf(fabsf(lo.z), fabsf(hi.z)));
+    }
+    float eps = fmaxf(1e-5f * extent, 1e-6f * magnitude);
+    return eps > 0.0f && isfinite(eps) ? eps : 1e-5f;
+}

@@ -1,0 +1,163 @@
+/* The shading model of include/rtt/shade.h: camera rays, light samples,
+ * the local illumination of one light, secondary-ray weights, refraction
+ * and surface normals.  Both renderers call these same functions, so their
+ * images differ only where the engines return different hits. */
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "rtt/shade.h"
+
+#define SHADE_PI 3.14159265358979f
+
+rtt_camera_frame rtt_camera_frame_make(const rtt_camera *camera, uint32_t width, uint32_t height)
+{
+    rtt_vec3 forward = rtt_v3_normalize(rtt_v3_sub(camera->look_at, camera->eye));
+    rtt_vec3 right = rtt_v3_cross(forward, camera->up);
+    if (!(rtt_v3_length(right) > 1e-6f)) /* up parallel to the view: any perpendicular will do */
+        right = rtt_v3_cross(forward, fabsf(forward.y) < 0.9f ? rtt_v3(0, 1, 0) : rtt_v3(1, 0, 0));
+    right = rtt_v3_normalize(right);
+    rtt_vec3 up = rtt_v3_cross(right, forward);
+    float half_h = tanf(0.5f * camera->fov_deg * SHADE_PI / 180.0f);
+    float half_w = half_h * (float)width / (float)(height ? height : 1);
+    rtt_camera_frame f;
+    f.eye = camera->eye;
+    f.corner = rtt_v3_add(forward, rtt_v3_sub(rtt_v3_scale(up, half_h), rtt_v3_scale(right, half_w)));
+    f.du = rtt_v3_scale(right, 2.0f * half_w / (float)(width ? width : 1));
+    f.dv = rtt_v3_scale(up, -2.0f * half_h / (float)(height ? height : 1));
+    return f;
+}
+
+rtt_ray rtt_camera_ray(const rtt_camera_frame *frame, uint32_t px, uint32_t py)
+{
+    rtt_vec3 d = rtt_v3_add(frame->corner, rtt_v3_add(rtt_v3_scale(frame->du, (float)px + 0.5f),
+                                                      rtt_v3_scale(frame->dv, (float)py + 0.5f)));
+    d = rtt_v3_normalize(d);
+    return (rtt_ray){{frame->eye.x, frame->eye.y, frame->eye.z}, {d.x, d.y, d.z}, 0.0f, INFINITY};
+}
+
+static float radical_inverse_base2(uint32_t bits)
+{
+    bits = (bits << 16) | (bits >> 16);
+    bits = ((bits & 0x55555555u) << 1) | ((bits & 0xAAAAAAAAu) >> 1);
+    bits = ((bits & 0x33333333u) << 2) | ((bits & 0xCCCCCCCCu) >> 2);
+    bits = ((bits & 0x0F0F0F0Fu) << 4) | ((bits & 0xF0F0F0F0u) >> 4);
+    bits = ((bits & 0x00FF00FFu) << 8) | ((bits & 0xFF00FF00u) >> 8);
+    return (float)(bits >> 8) * (1.0f / 16777216.0f);
+}
+
+void rtt_hammersley(uint32_t i, uint32_t n, float out[2])
+{
+    out[0] = (float)i / (float)(n ? n : 1);
+    out[1] = radical_inverse_base2(i);
+}
+
+/* A 32-bit integer hash (the "lowbias32" finalizer): decorrelates the
+ * per-pixel rotations of neighbouring pixels. */
+static uint32_t hash_u32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+static float wrap_unit(float x) { return x >= 1.0f ? x - 1.0f : x; }
+
+rtt_vec3 rtt_light_sample(const rtt_light *light, rtt_vec3 p, uint32_t i, uint32_t n, uint32_t pixel)
+{
+    if (light->type == RTT_LIGHT_POINT || !(light->radius > 0.0f)) return light->position;
+    float h[2];
+    rtt_hammersley(i, n, h);
+    /* Cranley-Patterson rotation seeded by the pixel */
+    uint32_t seed = hash_u32(pixel * 2u + 1u);
+    float su = wrap_unit(h[0] + (float)(seed >> 8) * (1.0f / 16777216.0f));
+    float sv = wrap_unit(h[1] + (float)(hash_u32(seed) >> 8) * (1.0f / 16777216.0f));
+    /* uniform on the disk of the light's radius, facing p */
+    float r = light->radius * sqrtf(su), phi = 2.0f * SHADE_PI * sv;
+    rtt_vec3 w = rtt_v3_normalize(rtt_v3_sub(p, light->position));
+    if (!(rtt_v3_length(w) > 0.0f)) w = rtt_v3(0, 1, 0);
+    rtt_vec3 a = fabsf(w.x) < 0.9f ? rtt_v3(1, 0, 0) : rtt_v3(0, 1, 0);
+    rtt_vec3 u = rtt_v3_normalize(rtt_v3_cross(a, w));
+    rtt_vec3 v = rtt_v3_cross(w, u);
+    return rtt_v3_add(light->position,
+                      rtt_v3_add(rtt_v3_scale(u, r * cosf(phi)), rtt_v3_scale(v, r * sinf(phi))));
+}
+
+rtt_vec3 rtt_light_irradiance(const rtt_light *light, float distance)
+{
+    float falloff = light->attenuation[0] + light->attenuation[1] * distance +
+                    light->attenuation[2] * distance * distance;
+    if (!(falloff > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f);
+    return rtt_v3_scale(light->color, light->intensity / falloff);
+}
+
+static bool has_specular(rtt_material_type type)
+{
+    return type == RTT_MATERIAL_SPECULAR || type == RTT_MATERIAL_REFLECTIVE ||
+           type == RTT_MATERIAL_TRANSPARENT_REFLECTIVE;
+}
+
+rtt_vec3 rtt_shade_light(const rtt_material *m, rtt_vec3 n, rtt_vec3 to_viewer, rtt_vec3 to_light,
+                         const rtt_light *light, float distance)
+{
+    float n_dot_l = rtt_v3_dot(n, to_light);
+    if (!(n_dot_l > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f); /* the light is behind the surface */
+    rtt_vec3 e = rtt_light_irradiance(light, distance);
+    rtt_vec3 response = rtt_v3_scale(m->diffuse, n_dot_l);
+    if (has_specular(m->type) && m->specular > 0.0f) {
+        rtt_vec3 r = rtt_v3_reflect(rtt_v3_scale(to_light, -1.0f), n);
+        float r_dot_v = rtt_v3_dot(r, to_viewer);
+        if (r_dot_v > 0.0f) {
+            float s = m->specular * powf(r_dot_v, m->shininess);
+            response = rtt_v3_add(response, rtt_v3(s, s, s));
+        }
+    }
+    return rtt_v3_mul(e, response);
+}
+
+void rtt_shade_weights(const rtt_material *m, uint32_t depth, uint32_t max_bounces, float *wr, float *wt)
+{
+    float r = 0.0f, t = 0.0f;
+    if (depth < max_bounces) {
+        if (m->type == RTT_MATERIAL_REFLECTIVE || m->type == RTT_MATERIAL_TRANSPARENT_REFLECTIVE)
+            r = fminf(fmaxf(m->reflection, 0.0f), 1.0f);
+        if (m->type == RTT_MATERIAL_TRANSPARENT || m->type == RTT_MATERIAL_TRANSPARENT_REFLECTIVE)
+            t = fminf(fmaxf(m->transparency, 0.0f), 1.0f);
+        if (r + t > 1.0f) { /* keep their ratio, sum to one */
+            float s = 1.0f / (r + t);
+            r *= s;
+            t *= s;
+        }
+    }
+    *wr = r;
+    *wt = t;
+}
+
+rtt_vec3 rtt_refract(rtt_vec3 d, rtt_vec3 n, float eta_from, float eta_to)
+{
+    float eta = eta_from / eta_to;
+    float cos_i = -rtt_v3_dot(d, n);
+    float k = 1.0f - eta * eta * (1.0f - cos_i * cos_i);
+    if (k < 0.0f) return rtt_v3_reflect(d, n); /* total internal reflection */
+    return rtt_v3_normalize(rtt_v3_add(rtt_v3_scale(d, eta), rtt_v3_scale(n, eta * cos_i - sqrtf(k))));
+}
+
+rtt_vec3 rtt_scene_geometric_normal(const rtt_scene *scene, uint32_t prim)
+{
+    rtt_vec3 tri[3];
+    rtt_scene_triangle(scene, prim, tri);
+    return rtt_v3_normalize(rtt_v3_cross(rtt_v3_sub(tri[1], tri[0]), rtt_v3_sub(tri[2], tri[0])));
+}
+
+rtt_vec3 rtt_scene_shading_normal(const rtt_scene *scene, uint32_t prim, float u, float v)
+{
+    if (!scene->normals) return rtt_scene_geometric_normal(scene, prim);
+    const rtt_triangle *t = &scene->triangles[prim];
+    rtt_vec3 n = rtt_v3_add(rtt_v3_scale(scene->normals[t->v[0]], 1.0f - u - v),
+                            rtt_v3_add(rtt_v3_scale(scene->normals[t->v[1]], u), rtt_v3_scale(scene->normals[t->v[2]], v)));
+    float len = rtt_v3_length(n);
+    return len > 0.0f && isfinite(len) ? rtt_v3_scale(n, 1.0f / len) : rtt_scene_geometric_normal(scene, prim);
+}
