@@ -5,6 +5,7 @@
  * Geometry is appended mesh by mesh in the global triangle order; every
  * vertex is validated (finite after the transform) and every index checked
  * before it is stored, so engines never see a bad index or a NaN. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -415,22 +416,20 @@ rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, r
     const char *ext = extension_of(path);
     FILE *probe = fopen(path, "rb");
     if (!probe) {
-        rtt_error_set(err, "%s: cannot open the file", path);
+        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
         return NULL;
     }
     fclose(probe);
     if (strcasecmp(ext, ".kdt") == 0) return rtt_kdt_read_scene(path, err);
 
-    rtt_scene_load_options defaults = {.bezier_level = RTT_DEFAULT_BEZIER_LEVEL};
+    rtt_scene_load_options defaults = {.bezier_level = 0};
     if (!opt) opt = &defaults;
     uint32_t level = opt->bezier_level ? opt->bezier_level : RTT_DEFAULT_BEZIER_LEVEL;
     rtt_scene *scene = rtt_scene_new(path, err);
     if (!scene) return NULL;
     bool ok;
     if (strcasecmp(ext, ".json") == 0) {
-        rtt_scene_load_options json_opt = *opt;
-        json_opt.bezier_level = level;
-        ok = rtt_scene_parse_json(scene, path, &json_opt, err);
+        ok = rtt_scene_parse_json(scene, path, opt, err); /* bezier_level 0: the file's own, else the default */
     } else if (strcasecmp(ext, ".bsp") == 0) {
         ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err);
     } else {

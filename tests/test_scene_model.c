@@ -184,7 +184,7 @@ static void test_missing_file_is_one_line(void **state)
     (void)state;
     rtt_error err = {{0}};
     assert_null(rtt_scene_load("/nonexistent/scene.json", NULL, &err));
-    assert_string_equal(err.message, "/nonexistent/scene.json: cannot open the file");
+    assert_string_equal(err.message, "/nonexistent/scene.json: cannot open: No such file or directory");
 }
 
 static void test_camera_rays_go_through_pixel_centres(void **state)
