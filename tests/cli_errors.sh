@@ -8,7 +8,7 @@ src="$2"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
-scene="$src/scenes/test/diffuse.json"
+scene="$src/scenes/mat_diffuse.json"
 
 # expect CODE PATTERN -- ARGS...: runs rtt ARGS, checks exit code and that
 # stderr is one line matching PATTERN (grep -E).
@@ -75,7 +75,7 @@ expect 1 "syntax\.json:1" -- render "$work/syntax.json" -o "$work/b.png"
 expect_absent "$work/b.png"
 expect 1 "badindex\.obj.*out of range" -- render "$work/badindex.obj" -o "$work/c.png"
 expect_absent "$work/c.png"
-expect 1 "nan\.obj.*not finite" -- render "$work/nan.obj" -o "$work/d.exr"
+expect 1 "nan\.obj.*NaN or infinite" -- render "$work/nan.obj" -o "$work/d.exr"
 expect_absent "$work/d.exr"
 expect 1 "corrupt\.kdt" -- render "$work/corrupt.kdt" -o "$work/e.png"
 expect_absent "$work/e.png"
