@@ -1,0 +1,196 @@
+/* The optimized engine behind the engine interface (DESIGN.md; issue 3
+ * item 5): the SAH kd-tree of kd_build_sah.c, or the tree of a baked .kdt
+ * adopted as is (scene->baked, validated by scene/kdt_file.c; its arrays
+ * have kd_tree.h's layout, asserted below, so nothing is rebuilt or copied).
+ *
+ * Arbitrary ray streams are cut into 2x2 packets of consecutive rays, and
+ * the packets into blocks of the size the chosen kernel reads (1 packet for
+ * mono/packet/omni, tile*tile/4 for the frustum family).  Every kernel is
+ * exact for any rays, so no kernel needs a fallback here: the packet kernel
+ * splits packets of mixed direction signs itself (Listing 2.4), and the
+ * frustum, MFT and cone kernels trace a block packet by packet, omni-
+ * directionally, when its rays share no useful frustum or cone (origins
+ * spread out, mixed signs on every axis, rays starting behind a cone's apex:
+ * frustum.h, kd_frustum_is_incoherent / kd_cone_build).  What that trades on
+ * incoherent streams: the proxy is built and thrown away per block.
+ *
+ * The engine holds no mutable state after creation, so any number of
+ * threads may trace through it at once (scratch lives on the stack). */
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine_optimized.h"
+#include "kd_build.h"
+#include "kdt_format.h"
+#include "kernels.h"
+#include "rtt/optimized.h"
+
+_Static_assert(sizeof(kd_node) == sizeof(kdt_node) && offsetof(kd_node, bits) == offsetof(kdt_node, bits),
+               "kd_node and the .kdt node agree");
+_Static_assert(sizeof(kd_leaf) == sizeof(kdt_leaf) && offsetof(kd_leaf, first) == offsetof(kdt_leaf, first) &&
+                   offsetof(kd_leaf, count) == offsetof(kdt_leaf, count) &&
+                   offsetof(kd_leaf, lo) == offsetof(kdt_leaf, lo) && offsetof(kd_leaf, hi) == offsetof(kdt_leaf, hi),
+               "kd_leaf and the .kdt leaf agree");
+_Static_assert(sizeof(kd_triangle) == sizeof(kdt_triangle) &&
+                   offsetof(kd_triangle, n_u) == offsetof(kdt_triangle, n_u) &&
+                   offsetof(kd_triangle, c_nv) == offsetof(kdt_triangle, c_nv) &&
+                   offsetof(kd_triangle, k) == offsetof(kdt_triangle, k) &&
+                   offsetof(kd_triangle, prim) == offsetof(kdt_triangle, prim) &&
+                   offsetof(kd_triangle, pad) == offsetof(kdt_triangle, pad),
+               "kd_triangle and the .kdt triangle record agree");
+_Static_assert(KD_DEPTH_LIMIT == KDT_DEPTH_LIMIT, "the builder and the .kdt reader bound depth alike");
+
+#define ENGINE_BLOCK_MAX 256u /* packets of a 32x32 tile: the largest block a kernel reads */
+
+typedef struct optimized_engine {
+    rtt_engine base;
+    kd_tree tree;
+    bool owns_tree;           /* false when the arrays belong to scene->baked */
+    rtt_engine_options opt;
+} optimized_engine;
+
+static void optimized_destroy(rtt_engine *base);
+static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n);
+static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n);
+static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info);
+
+static const rtt_engine_vtable optimized_vtable = {
+    .name = "optimized",
+    .intersect = optimized_intersect,
+    .occluded = optimized_occluded,
+    .destroy = optimized_destroy,
+    .tree_info = optimized_tree_info,
+};
+
+static optimized_engine *as_optimized(rtt_engine *engine)
+{
+    return engine && engine->vt == &optimized_vtable ? (optimized_engine *)engine : NULL;
+}
+
+const kd_tree *kd_engine_tree(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? &e->tree : NULL;
+}
+
+const rtt_engine_options *kd_engine_options(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? &e->opt : NULL;
+}
+
+static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
+{
+    memset(tree, 0, sizeof *tree);
+    tree->nodes = (kd_node *)baked->nodes;
+    tree->leaves = (kd_leaf *)baked->leaves;
+    tree->triangles = (kd_triangle *)baked->records;
+    tree->node_count = baked->node_count;
+    tree->leaf_count = baked->leaf_count;
+    tree->triangle_count = baked->record_count;
+    tree->bounds = baked->bounds;
+    tree->info = baked->info;
+}
+
+rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err)
+{
+    rtt_engine_options defaults;
+    if (!opt) {
+        rtt_engine_options_default(&defaults);
+        opt = &defaults;
+    }
+    if ((unsigned)opt->traversal >= RTT_TRAVERSAL_COUNT)
+        return rtt_error_set(err, "optimized engine: unknown traversal %d", (int)opt->traversal), NULL;
+    if (opt->tile != 0 && opt->tile != 4 && opt->tile != 8 && opt->tile != 16 && opt->tile != 32)
+        return rtt_error_set(err, "optimized engine: tile %u must be 4, 8, 16 or 32", opt->tile), NULL;
+    optimized_engine *e = calloc(1, sizeof *e);
+    if (!e) return rtt_error_set(err, "%s: out of memory creating the optimized engine", scene->path), NULL;
+    e->base.vt = &optimized_vtable;
+    e->base.scene = scene;
+    e->opt = *opt;
+    if (e->opt.tile == 0) e->opt.tile = 8;
+    if (scene->baked) {
+        /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
+        adopt_baked(&e->tree, scene->baked);
+        return &e->base;
+    }
+    kd_build_options build = {.max_depth = opt->max_tree_depth};
+    if (!kd_build_sah(scene, &build, &e->tree, err)) {
+        free(e);
+        return NULL;
+    }
+    e->owns_tree = true;
+    return &e->base;
+}
+
+static void optimized_destroy(rtt_engine *base)
+{
+    optimized_engine *e = as_optimized(base);
+    if (!e) return;
+    if (e->owns_tree) kd_tree_free(&e->tree);
+    free(e);
+}
+
+static void miss_all(rtt_hit *hits, size_t n)
+{
+    for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+}
+
+static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n)
+{
+    optimized_engine *e = (optimized_engine *)base;
+    if (e->tree.triangle_count == 0) {
+        miss_all(hits, n);
+        return;
+    }
+    const uint32_t block = kd_kernel_block_packets(e->opt.traversal, e->opt.tile);
+    const kd_block_kernel kernel = kd_kernel_for(e->opt.traversal);
+    _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
+    _Alignas(16) hit_packet4 out[ENGINE_BLOCK_MAX];
+    for (size_t first = 0; first < n; first += 4u * (size_t)block) {
+        const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
+        const uint32_t packet_count = (uint32_t)((count + 3) / 4);
+        for (uint32_t p = 0; p < packet_count; p++) {
+            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
+            ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
+            hit_packet4_clear(&out[p]);
+        }
+        kernel(&e->tree, packets, out, packet_count, e->opt.leaf_culling, NULL);
+        for (uint32_t p = 0; p < packet_count; p++) {
+            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
+            hit_packet4_store(&out[p], &hits[first + 4u * p], (uint32_t)lanes);
+        }
+    }
+}
+
+static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n)
+{
+    optimized_engine *e = (optimized_engine *)base;
+    if (e->tree.triangle_count == 0) {
+        memset(occluded, 0, n);
+        return;
+    }
+    const uint32_t block = kd_kernel_block_packets(e->opt.traversal, e->opt.tile);
+    const kd_block_occlusion_kernel kernel = kd_occlusion_kernel_for(e->opt.traversal);
+    _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
+    uint8_t masks[ENGINE_BLOCK_MAX];
+    for (size_t first = 0; first < n; first += 4u * (size_t)block) {
+        const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
+        const uint32_t packet_count = (uint32_t)((count + 3) / 4);
+        for (uint32_t p = 0; p < packet_count; p++) {
+            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
+            ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
+            masks[p] = 0;
+        }
+        kernel(&e->tree, packets, masks, packet_count, e->opt.leaf_culling, NULL);
+        for (size_t i = 0; i < count; i++) occluded[first + i] = (masks[i / 4] >> (i % 4)) & 1u;
+    }
+}
+
+static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info)
+{
+    optimized_engine *e = (optimized_engine *)base;
+    *info = e->tree.info;
+    return true;
+}
