@@ -18,7 +18,7 @@ build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
-	./$(BUILD)/cli/rtt render scenes/demo.json -o demo.png -o demo.exr
+	./$(BUILD)/cli/rtt render scenes/demo.json --shadows multi:16 -o demo.png -o demo.exr
 	@echo "demo: wrote demo.png and demo.exr"
 
 test: build

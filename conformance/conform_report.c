@@ -28,7 +28,7 @@ char *rtt_conform_report_table(const rtt_conform_report *report)
         fputc('\n', out);
     }
     fprintf(out, "thresholds: t-mismatch 0, hit/miss other 0, occluded mismatch 0; hit/miss grazing <= %.2f%% "
-                 "(optimized), <= %.0f%% (embree) of the rays\n",
+                 "(optimized), <= %.0f%% (embree) of the rays, reported only on the extreme set\n",
             100.0 * RTT_CONFORM_GRAZING_SHARE_OPTIMIZED, 100.0 * RTT_CONFORM_GRAZING_SHARE_EMBREE);
     fprintf(out, "conformance: %s\n", report->pass ? "PASS" : "FAIL");
     if (fclose(out) != 0) {
