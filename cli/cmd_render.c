@@ -68,6 +68,16 @@ static bool parse_aovs(const char *list, uint32_t *aovs)
     return *aovs != 0;
 }
 
+static bool takes_a_value(const char *option)
+{
+    static const char *const valued[] = {"-o", "--engine", "--traversal", "--tile", "--leaf-culling", "--shadows",
+                                         "--threads", "--width", "--height", "--max-bounces", "--bezier-level",
+                                         "--aov"};
+    for (size_t i = 0; i < sizeof valued / sizeof valued[0]; i++)
+        if (strcmp(option, valued[i]) == 0) return true;
+    return false;
+}
+
 /* Returns -1 when the arguments are fine, else the exit code. */
 static int parse_args(int argc, char **argv, render_args *args)
 {
@@ -92,6 +102,8 @@ static int parse_args(int argc, char **argv, render_args *args)
             if (args->scene_path) return cli_usage_error("render", "more than one SCENE given (\"%s\")", arg);
             args->scene_path = arg;
             takes_value = false;
+        } else if (!takes_a_value(arg)) {
+            return cli_usage_error("render", "unknown option \"%s\"", arg);
         } else if (!value) {
             return cli_usage_error("render", "%s needs a value", arg);
         } else if (strcmp(arg, "-o") == 0) {
