@@ -314,7 +314,7 @@ static void test_nan_rays_miss_and_are_not_occluded(void **state)
     const fixture *f = *state;
     rtt_ray rays[16];
     for (int i = 0; i < 16; i++)
-        rays[i] = (rtt_ray){{0, 0, 3}, {0, 0, -1}, 0.0f, INFINITY};
+        rays[i] = (rtt_ray){{0.1f, 3, 0.1f}, {0, -1, 0}, 0.0f, INFINITY}; /* down onto the floor at least */
     rays[1].org[0] = NAN;
     rays[6].dir[2] = NAN;
     rays[9].tnear = NAN;
