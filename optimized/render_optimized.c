@@ -3,7 +3,8 @@
  * (quads in row-major order), traced as one block by the kernel of the
  * chosen traversal (the frustum kernels bound the tile by its frusta/cones,
  * cull packets at leaves and intersect the rest), then the shader proxy
- * (shader_proxy.c): shadow packets, secondary omni packets, colours.
+ * (shader_proxy.c): shadow packets (hard, multi:N, cone:N, pyramid:N,
+ * edgewidth[:R]), secondary omni packets, colours.
  *
  * Primary rays are rtt_camera_ray's, the same as the reference renderer's.
  * Scratch is per thread (indexed by the tile callback's thread argument) and
@@ -133,27 +134,22 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, s, &s->levels[0].nodes[i]);
 }
 
-static const char *refused_method(const rtt_render_options *opt, char *buffer, size_t size)
+static const char *sampled_method(rtt_shadow_method m)
 {
-    switch (opt->shadows) {
-    case RTT_SHADOWS_CONE: snprintf(buffer, size, "cone:%u", opt->shadow_samples); break;
-    case RTT_SHADOWS_PYRAMID: snprintf(buffer, size, "pyramid:%u", opt->shadow_samples); break;
-    case RTT_SHADOWS_EDGEWIDTH: snprintf(buffer, size, "edgewidth"); break;
-    default: return NULL;
-    }
-    return buffer;
+    return m == RTT_SHADOWS_MULTI ? "multi" : m == RTT_SHADOWS_CONE ? "cone" : m == RTT_SHADOWS_PYRAMID ? "pyramid" : NULL;
 }
 
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
                           uint32_t width, uint32_t height, uint32_t tile, rtt_error *err)
 {
-    char method[64];
-    if (refused_method(opt, method, sizeof method))
-        return rtt_error_set(err, "--shadows %s is not implemented yet in the optimized renderer (use none, hard or multi:N)",
-                             method);
-    if (opt->shadows == RTT_SHADOWS_MULTI && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
-        return rtt_error_set(err, "--shadows multi:%u: the sample count must be a whole number from 1 to %u",
+    const char *sampled = sampled_method(opt->shadows);
+    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
+        return rtt_error_set(err, "optimized renderer: unknown shadow method %d", (int)opt->shadows);
+    if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
+        return rtt_error_set(err, "--shadows %s:%u: the sample count must be a whole number from 1 to %u", sampled,
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
+    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
+        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (tile != 4 && tile != 8 && tile != 16 && tile != 32)
         return rtt_error_set(err, "--tile %u: the tile side must be 4, 8, 16 or 32", tile);
     if ((unsigned)opt->engine.traversal >= RTT_TRAVERSAL_COUNT)
@@ -219,7 +215,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                     .max_bounces = opt->max_bounces ? opt->max_bounces : scene->max_bounces,
                     .shadows = opt->shadows,
                     .shadow_samples = opt->shadow_samples,
-                    .epsilon = rtt_scene_ray_epsilon(scene)},
+                    .epsilon = rtt_scene_ray_epsilon(scene),
+                    .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix)},
         .tracer = {.tree = tree,
                    .traversal = opt->engine.traversal,
                    .block_packets = (tile / 2u) * (tile / 2u),

@@ -17,14 +17,24 @@
  * shade.h; what the proxy changes is only how rays are traced (packets,
  * blocks) and that a pixel's rays are processed breadth-first.  Trades:
  * memory for the level arrays (a tile's shading trees) against tracing
- * secondary and shadow rays as packets. */
+ * secondary and shadow rays as packets.
+ *
+ * Shadow methods: hard and multi:N trace their rays in 2x2 packets through
+ * the occlusion kernel of the chosen traversal; cone:N and pyramid:N trace
+ * the very same sample rays, each shading point's N samples of a light as
+ * one block under one cone or pyramid (shadow_cone.c), so visibility per
+ * sample and the images equal multi:N's; edgewidth[:R] traces one ray per
+ * point and sphere light from the light's centre (edge_width.c) and uses
+ * 1 - its occlusion, point lights keeping the hard shadow ray. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "edge_width.h"
 #include "frustum.h"
 #include "shader_proxy.h"
+#include "shadow_cone.h"
 
 #include "kernels.h"
 
@@ -33,8 +43,11 @@
 typedef struct sp_light_request {
     rtt_vec3 contribution;
     uint32_t first, rays, auto_clear;
+    uint32_t edge;                  /* edgewidth: index of its ray in edge_rays, or NO_EDGE_RAY */
     bool active;                    /* contribution not exactly zero */
 } sp_light_request;
+
+#define NO_EDGE_RAY UINT32_MAX
 
 static uint64_t now_ns(void)
 {
@@ -78,6 +91,11 @@ void sp_scratch_free(sp_scratch *s)
     free(s->shadow_clear);
     free(s->surfaces);
     free(s->requests);
+    free(s->group_first);
+    free(s->edge_rays);
+    free(s->edge_order);
+    free(s->edge_light);
+    free(s->edge_occlusion);
     memset(s, 0, sizeof *s);
 }
 
@@ -203,20 +221,49 @@ static void shadow_segment(const sp_shading *sh, sp_scratch *s, rtt_vec3 p, rtt_
     s->shadow_rays[i] = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, sh->epsilon, distance - sh->epsilon};
 }
 
+/* Methods that trace rtt_light_sample's N samples on sphere lights. */
+static bool is_sampled(rtt_shadow_method m)
+{
+    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID;
+}
+
+static bool is_grouped(rtt_shadow_method m) { return m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID; }
+
+/* Edge width needs a light with extent; point lights keep hard shadows. */
+static bool uses_edge_width(const sp_shading *sh, const rtt_light *light)
+{
+    return sh->shadows == RTT_SHADOWS_EDGEWIDTH && light->type == RTT_LIGHT_SPHERE && light->radius > 0.0f;
+}
+
 static uint32_t samples_per_light(const sp_shading *sh, const rtt_light *light)
 {
     if (sh->shadows == RTT_SHADOWS_NONE) return 0;
-    if (sh->shadows == RTT_SHADOWS_MULTI && light->type == RTT_LIGHT_SPHERE) return sh->shadow_samples;
+    if (is_sampled(sh->shadows) && light->type == RTT_LIGHT_SPHERE) return sh->shadow_samples;
     return 1;
 }
 
-/* Step 1 for nodes [first, end): surfaces, contributions, shadow rays.
- * Returns the number of shadow rays. */
+/* The edge-width ray of one request, or none when nothing fits between. */
+static void edge_ray(const sp_shading *sh, sp_scratch *s, rtt_vec3 p, uint32_t light, sp_light_request *q,
+                     uint32_t *edges)
+{
+    q->edge = NO_EDGE_RAY;
+    if (!rtt_edge_width_ray(sh->scene->lights[light].position, p, sh->epsilon, &s->edge_rays[*edges])) {
+        q->auto_clear++;
+        return;
+    }
+    s->edge_light[*edges] = light;
+    q->edge = (*edges)++;
+}
+
+/* Step 1 for nodes [first, end): surfaces, contributions, shadow rays (and
+ * for cone/pyramid their groups, for edgewidth the edge rays).  Returns
+ * the number of shadow rays. */
 static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, const sp_level *level, uint32_t first,
-                               uint32_t end)
+                               uint32_t end, uint32_t *groups, uint32_t *edges)
 {
     const rtt_scene *scene = sh->scene;
     uint32_t rays = 0;
+    *groups = *edges = 0;
     for (uint32_t i = first; i < end; i++) {
         const sp_node *node = &level->nodes[i];
         sp_light_request *req = &s->requests[(size_t)(i - first) * scene->light_count];
@@ -229,6 +276,7 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, const sp_lev
             sp_light_request *q = &req[l];
             q->active = false;
             q->first = rays, q->rays = 0, q->auto_clear = 0;
+            q->edge = NO_EDGE_RAY;
             rtt_vec3 to_light = rtt_v3_sub(light->position, surf->point);
             float distance = rtt_v3_length(to_light);
             if (!(distance > 0.0f)) continue;
@@ -237,15 +285,19 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, const sp_lev
             if (q->contribution.x == 0.0f && q->contribution.y == 0.0f && q->contribution.z == 0.0f) continue;
             q->active = true;
             uint32_t n = samples_per_light(sh, light);
-            if (sh->shadows == RTT_SHADOWS_MULTI && light->type == RTT_LIGHT_SPHERE) {
+            if (is_sampled(sh->shadows) && light->type == RTT_LIGHT_SPHERE) {
                 for (uint32_t k = 0; k < n; k++)
                     shadow_segment(sh, s, surf->point, rtt_light_sample(light, surf->point, k, n, node->pixel), q);
+            } else if (uses_edge_width(sh, light)) {
+                edge_ray(sh, s, surf->point, l, q, edges);
             } else if (n) {
                 shadow_segment(sh, s, surf->point, light->position, q);
             }
+            if (is_grouped(sh->shadows) && q->rays) s->group_first[(*groups)++] = q->first;
             rays += q->rays;
         }
     }
+    if (is_grouped(sh->shadows)) s->group_first[*groups] = rays;
     return rays;
 }
 
@@ -260,6 +312,31 @@ static void trace_shadows(const sp_tracer *tr, sp_scratch *s, uint32_t rays)
     }
     sp_trace_packets_occluded(tr, tr->traversal, s->packets, s->occluded, packets);
     for (uint32_t i = 0; i < rays; i++) s->shadow_clear[i] = !(s->occluded[i / 4] >> (i % 4) & 1u);
+}
+
+/* Step 2 for cone:N and pyramid:N: each group (one point, one light) as one
+ * block under its proxy. */
+static void trace_shadow_groups(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t rays,
+                                uint32_t groups)
+{
+    uint32_t packets = sc_group_packets(s->group_first, groups);
+    if (!packets || !sp_ensure_packets(s, packets)) return;
+    sc_trace_groups(tr->tree, sh->shadows, s->shadow_rays, s->group_first, groups, s->packets, s->occluded,
+                    s->shadow_clear, tr->leaf_culling, NULL);
+    for (uint32_t i = 0; i < rays; i++) s->shadow_clear[i] = !s->shadow_clear[i];
+}
+
+/* Step 2 for edgewidth: the edge rays, each light's together so that a
+ * packet's rays share their origin (a counting sort by light). */
+static void trace_edge_rays(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t edges)
+{
+    if (!edges) return;
+    const uint32_t lights = sh->scene->light_count;
+    uint32_t next = 0;
+    for (uint32_t l = 0; l < lights; l++)
+        for (uint32_t i = 0; i < edges; i++)
+            if (s->edge_light[i] == l) s->edge_order[next++] = i;
+    ew_occlusion_stream(tr->tree, &sh->edge_model, s->edge_rays, s->edge_order, edges, s->edge_occlusion, NULL);
 }
 
 /* Step 3 for nodes [first, end) of level d. */
@@ -281,10 +358,12 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             if (!q->active) continue;
             float vis = 1.0f;
             uint32_t n = samples_per_light(sh, &scene->lights[l]);
-            if (n) {
+            if (q->edge != NO_EDGE_RAY) {
+                vis = 1.0f - s->edge_occlusion[q->edge];
+            } else if (n) {
                 uint32_t clear = q->auto_clear;
                 for (uint32_t k = 0; k < q->rays; k++) clear += s->shadow_clear[q->first + k];
-                vis = n == 1 && !(sh->shadows == RTT_SHADOWS_MULTI && scene->lights[l].type == RTT_LIGHT_SPHERE)
+                vis = n == 1 && !(is_sampled(sh->shadows) && scene->lights[l].type == RTT_LIGHT_SPHERE)
                           ? (clear ? 1.0f : 0.0f)
                           : (float)clear / (float)n;
             }
@@ -335,14 +414,29 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
         s->failed = true;
         return;
     }
+    if ((is_grouped(sh->shadows) &&
+         !grow((void **)&s->group_first, &s->group_capacity, chunk * lights + 1, sizeof(uint32_t), 16)) ||
+        (sh->shadows == RTT_SHADOWS_EDGEWIDTH &&
+         (!grow((void **)&s->edge_rays, &s->edge_ray_capacity, chunk * lights, sizeof(rtt_ray), 16) ||
+          !grow((void **)&s->edge_order, &s->edge_order_capacity, chunk * lights, sizeof(uint32_t), 16) ||
+          !grow((void **)&s->edge_light, &s->edge_light_capacity, chunk * lights, sizeof(uint32_t), 16) ||
+          !grow((void **)&s->edge_occlusion, &s->edge_occlusion_capacity, chunk * lights, sizeof(float), 16)))) {
+        s->failed = true;
+        return;
+    }
     for (uint32_t first = 0; first < level->count; first += chunk) {
         uint32_t end = level->count - first < chunk ? level->count : first + chunk;
         uint64_t t0 = s->timing ? now_ns() : 0;
-        uint32_t rays = gather_shadows(sh, s, level, first, end);
+        uint32_t groups, edges;
+        uint32_t rays = gather_shadows(sh, s, level, first, end, &groups, &edges);
         uint64_t t1 = s->timing ? now_ns() : 0;
-        trace_shadows(tr, s, rays);
+        if (is_grouped(sh->shadows))
+            trace_shadow_groups(sh, tr, s, rays, groups);
+        else
+            trace_shadows(tr, s, rays);
+        trace_edge_rays(sh, tr, s, edges);
         uint64_t t2 = s->timing ? now_ns() : 0;
-        s->stats.shadow_rays += rays;
+        s->stats.shadow_rays += rays + edges;
         resolve_locals(sh, s, d, first, end);
         level = &s->levels[d];
         if (s->failed) return;

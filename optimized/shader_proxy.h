@@ -13,6 +13,7 @@
 
 #include "kd_tree.h"
 #include "packet.h"
+#include "rtt/edge_width.h"
 #include "rtt/render.h"
 #include "rtt/shade.h"
 
@@ -64,6 +65,16 @@ typedef struct sp_scratch {
     struct sp_surface *surfaces;
     struct sp_light_request *requests;
     uint32_t surface_capacity, request_capacity;
+    /* cone:N / pyramid:N: rays of group g are shadow_rays[group_first[g] ..
+     * group_first[g+1]) (one shading point and light) */
+    uint32_t *group_first;
+    uint32_t group_capacity;
+    /* edgewidth: one ray per shading point and sphere light, from its centre */
+    rtt_ray *edge_rays;
+    uint32_t *edge_order;           /* edge rays sorted by light (one origin per packet) */
+    uint32_t *edge_light;
+    float *edge_occlusion;
+    uint32_t edge_ray_capacity, edge_order_capacity, edge_light_capacity, edge_occlusion_capacity;
     bool failed;
     bool timing;
     sp_stats stats;
@@ -75,6 +86,7 @@ typedef struct sp_shading {
     rtt_shadow_method shadows;
     uint32_t shadow_samples;
     float epsilon;
+    rtt_edge_width_model edge_model; /* edgewidth: R, leak fix */
 } sp_shading;
 
 bool sp_scratch_init(sp_scratch *s, uint32_t level_count, bool timing);

@@ -11,6 +11,11 @@
  *   hard      one shadow ray to the light's centre (sphere lights too)
  *   multi:N   N rays to rtt_light_sample(light, p, i, N, pixel) on sphere
  *             lights, the unoccluded fraction; one ray for point lights.
+ *   edgewidth[:R]  Edge Width Soft Shadows (Thesis chapter 5): on sphere
+ *             lights 1 - the occlusion of rtt_edge_width_reference along
+ *             the ray from the light's centre to p, through a reference
+ *             kd-tree of its own (the tracer may be any engine, but edge
+ *             widths need every crossing); hard for point lights.
  * A light whose unoccluded contribution is exactly zero casts no shadow rays
  * (vis would multiply zero).  Every ray goes through the `tracer` engine,
  * which may be any engine (Embree renders the reference image this way).
@@ -24,6 +29,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "edge_width_reference.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
 
@@ -43,6 +49,8 @@ typedef struct render_job {
     rtt_shadow_method shadows;
     uint32_t shadow_samples;
     float epsilon;
+    const rtt_kd_tree *edge_tree;        /* edgewidth only */
+    rtt_edge_width_model edge_model;
     _Atomic uint64_t primary, shadow, secondary;
 } render_job;
 
@@ -80,6 +88,14 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
             for (uint32_t i = 0; i < job->shadow_samples; i++)
                 if (segment_clear(job, p, rtt_light_sample(light, p, i, job->shadow_samples, pixel), counts)) clear++;
             return (float)clear / (float)job->shadow_samples;
+        }
+        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+    case RTT_SHADOWS_EDGEWIDTH:
+        if (light->type == RTT_LIGHT_SPHERE && light->radius > 0.0f) {
+            rtt_ray ray;
+            if (!rtt_edge_width_ray(light->position, p, job->epsilon, &ray)) return 1.0f;
+            counts->shadow++;
+            return 1.0f - rtt_edge_width_reference(job->edge_tree, &job->edge_model, &ray, NULL);
         }
         return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
     default: /* hard */
@@ -210,7 +226,6 @@ static const char *shadow_method_text(const rtt_render_options *opt, char *buffe
     switch (opt->shadows) {
     case RTT_SHADOWS_CONE: snprintf(buffer, size, "cone:%u", opt->shadow_samples); break;
     case RTT_SHADOWS_PYRAMID: snprintf(buffer, size, "pyramid:%u", opt->shadow_samples); break;
-    case RTT_SHADOWS_EDGEWIDTH: snprintf(buffer, size, "edgewidth"); break;
     default: snprintf(buffer, size, "method %d", (int)opt->shadows); break;
     }
     return buffer;
@@ -220,11 +235,14 @@ static const char *shadow_method_text(const rtt_render_options *opt, char *buffe
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
                           uint32_t width, uint32_t height, rtt_error *err)
 {
-    if (opt->shadows != RTT_SHADOWS_NONE && opt->shadows != RTT_SHADOWS_HARD && opt->shadows != RTT_SHADOWS_MULTI) {
+    if (opt->shadows != RTT_SHADOWS_NONE && opt->shadows != RTT_SHADOWS_HARD && opt->shadows != RTT_SHADOWS_MULTI &&
+        opt->shadows != RTT_SHADOWS_EDGEWIDTH) {
         char method[64];
         return rtt_error_set(err, "--shadows %s is not available in the reference renderer (use --engine optimized)",
                              shadow_method_text(opt, method, sizeof method));
     }
+    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
+        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (opt->shadows == RTT_SHADOWS_MULTI && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
         return rtt_error_set(err, "--shadows multi:%u: the sample count must be a whole number from 1 to %u",
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
@@ -275,11 +293,19 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         .shadow_samples = opt->shadow_samples,
         .epsilon = rtt_scene_ray_epsilon(scene),
     };
+    rtt_kd_tree edge_tree = {0};
+    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH) {
+        rtt_kd_build_options build = {.max_depth = opt->engine.max_tree_depth};
+        if (!rtt_kd_reference_build(scene, &build, &edge_tree, err)) return false;
+        job.edge_tree = &edge_tree;
+        job.edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix);
+    }
     atomic_init(&job.primary, 0);
     atomic_init(&job.shadow, 0);
     atomic_init(&job.secondary, 0);
     rtt_tiles_run(width, height, REFERENCE_TILE, opt->threads, render_tile, &job, opt->progress,
                   opt->progress_context);
+    if (job.edge_tree) rtt_kd_reference_free(&edge_tree);
 
     if (stats) {
         memset(stats, 0, sizeof *stats);

@@ -285,23 +285,6 @@ static void test_stats_count_rays_packets_and_never_change_the_image(void **stat
     rtt_image_free(without);
 }
 
-static void test_cone_pyramid_and_edgewidth_shadows_are_refused_with_one_line(void **state)
-{
-    const fixture *f = *state;
-    const rtt_shadow_method refused[] = {RTT_SHADOWS_CONE, RTT_SHADOWS_PYRAMID, RTT_SHADOWS_EDGEWIDTH};
-    for (int i = 0; i < 3; i++) {
-        rtt_render_options opt;
-        options(&opt, RTT_TRAVERSAL_FRUSTUM, 8);
-        opt.shadows = refused[i];
-        rtt_error err = {{0}};
-        rtt_image *image = rtt_image_create(64, 64, 0, &err);
-        assert_false(rtt_optimized_render(f->optimized, &opt, image, NULL, &err));
-        assert_non_null(strstr(err.message, "--shadows"));
-        assert_null(strchr(err.message, '\n'));
-        rtt_image_free(image);
-    }
-}
-
 static void test_wrong_tile_and_image_size_are_refused(void **state)
 {
     const fixture *f = *state;
@@ -326,7 +309,6 @@ int main(void)
         cmocka_unit_test(test_one_and_three_threads_give_identical_images),
         cmocka_unit_test(test_aovs_match_the_reference),
         cmocka_unit_test(test_stats_count_rays_packets_and_never_change_the_image),
-        cmocka_unit_test(test_cone_pyramid_and_edgewidth_shadows_are_refused_with_one_line),
         cmocka_unit_test(test_wrong_tile_and_image_size_are_refused),
     };
     return cmocka_run_group_tests(tests, setup_scene, teardown);

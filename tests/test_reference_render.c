@@ -290,7 +290,7 @@ static void test_stats_count_every_kind_of_ray(void **state)
     rtt_scene_free(scene);
 }
 
-static void test_cone_and_other_optimized_shadows_are_refused(void **state)
+static void test_cone_and_pyramid_shadows_are_refused(void **state)
 {
     (void)state;
     rtt_scene *scene = shadow_scene();
@@ -305,9 +305,6 @@ static void test_cone_and_other_optimized_shadows_are_refused(void **state)
     assert_false(rtt_reference_render(scene, engine, &opt, image, NULL, &err));
     assert_string_equal(err.message,
                         "--shadows cone:16 is not available in the reference renderer (use --engine optimized)");
-    opt.shadows = RTT_SHADOWS_EDGEWIDTH;
-    assert_false(rtt_reference_render(scene, engine, &opt, image, NULL, &err));
-    assert_non_null(strstr(err.message, "--shadows edgewidth is not available in the reference renderer"));
     opt.shadows = RTT_SHADOWS_PYRAMID;
     assert_false(rtt_reference_render(scene, engine, &opt, image, NULL, &err));
     assert_non_null(strstr(err.message, "pyramid:16"));
@@ -345,7 +342,7 @@ int main(void)
         cmocka_unit_test(test_multi_sample_soft_shadow_has_a_penumbra),
         cmocka_unit_test(test_one_and_three_threads_give_identical_images),
         cmocka_unit_test(test_stats_count_every_kind_of_ray),
-        cmocka_unit_test(test_cone_and_other_optimized_shadows_are_refused),
+        cmocka_unit_test(test_cone_and_pyramid_shadows_are_refused),
         cmocka_unit_test(test_output_image_of_the_wrong_size_or_planes_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
