@@ -1,0 +1,166 @@
+/* Thesis Listing 4.1: omni-directional 2x2 packet traversal, no restriction
+ * on direction signs and no splitting of packets.
+ *
+ * The listing's two modifications, per lane: (1) each lane traverses from
+ * its front voxel to its back voxel, the front one being the side of the
+ * plane its segment starts on, and (2) a lane moving away from the plane
+ * never reaches the back voxel (distance "infinite").  With the split
+ * distance d = (split - o) / dir, a lane's front part is [near, min(far, d)]
+ * and its back part [max(near, d), far]; the front voxel is the left child
+ * for a direction with the sign bit clear, the right one otherwise.  For
+ * tnear >= 0 that is exactly the listing's origin-side rule, and a lane
+ * moving away has d < near, so its back part is empty (modification 2); it
+ * stays exact for tnear < 0, where the origin side is not where the segment
+ * starts.  So per node: two SSE blends per interval end give each child the
+ * lanes' parts, two movemasks give the lanes that go left and right, and the
+ * packet visits one child or both (the other pushed with its lanes'
+ * intervals).  The listing has one origin per packet; here origins may
+ * differ per lane.
+ *
+ * Which child goes first when both are needed: the one that is in front for
+ * most live lanes (decided once per axis per packet).  The order only
+ * changes speed, never results (traverse_ray.h).
+ *
+ * Trades: four blends per step more than the equal-sign packet (Listing
+ * 2.4) and no fallback path; incoherent packets visit the union of their
+ * rays' cells with the rays masked.  leaf_culling is ignored. */
+#include <math.h>
+#include <stdint.h>
+
+#include "kernels.h"
+#include "traverse_ray.h"
+/* GCC 12 at -O3 cannot see that the test's outputs are read only when written. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "isect_projected_bary.h"
+
+typedef struct omni_task {
+    __m128 near, far;
+    uint32_t node;
+} omni_task;
+
+/* One packet from the root.  right_first[axis] = 1 when most live lanes have
+ * the right child in front on `axis`.  Closest hit into *hits, or (hits
+ * NULL) returns the mask of occluded lanes, stopping once every live lane
+ * is. */
+static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 near, __m128 far,
+                             const uint32_t right_first[3], int live, hit_packet4 *hits, kd_counters *counters)
+{
+    const kd_node *nodes = tree->nodes;
+    omni_task stack[KD_RAY_STACK];
+    uint32_t sp = 0;
+    uint64_t steps = 0;
+    const kd_node *n = nodes;
+    __m128 occluded = _mm_setzero_ps();
+    /* the far end popped tasks are clipped to: best hit, or -inf once occluded */
+    __m128 limit = hits ? hits->t : _mm_set1_ps(INFINITY);
+    if (!_mm_movemask_ps(_mm_cmple_ps(near, far))) return 0;
+    for (;;) {
+        while (!kd_node_is_leaf(n)) {
+            steps++;
+            const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
+            const __m128 inv = r->inv_dir[axis];
+            const __m128 d = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->split), r->org[axis]), inv);
+            /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d
+             * (a lane lying in the plane): both parts are then the whole
+             * interval. */
+            const __m128 front_far = _mm_min_ps(kd_ray_widen_hi4(d), far);
+            const __m128 back_near = _mm_max_ps(kd_ray_widen_lo4(d), near);
+            /* blendv reads the sign bit of inv: set → the right child is in front */
+            const __m128 lnear = _mm_blendv_ps(near, back_near, inv), lfar = _mm_blendv_ps(front_far, far, inv);
+            const __m128 rnear = _mm_blendv_ps(back_near, near, inv), rfar = _mm_blendv_ps(far, front_far, inv);
+            const int lmask = _mm_movemask_ps(_mm_cmple_ps(lnear, lfar));
+            const int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
+            if (lmask && rmask) {
+                if (right_first[axis]) {
+                    if (sp < KD_RAY_STACK) stack[sp++] = (omni_task){lnear, lfar, left};
+                    n = &nodes[left + 1], near = rnear, far = rfar;
+                } else {
+                    if (sp < KD_RAY_STACK) stack[sp++] = (omni_task){rnear, rfar, left + 1};
+                    n = &nodes[left], near = lnear, far = lfar;
+                }
+            } else if (lmask) {
+                n = &nodes[left], near = lnear, far = lfar;
+            } else {
+                /* some lane is active, so it is active on one side */
+                n = &nodes[left + 1], near = rnear, far = rfar;
+            }
+        }
+        steps++;
+        const kd_leaf *leaf = &tree->leaves[n->leaf];
+        if (leaf->count) {
+            const __m128 active = _mm_cmple_ps(near, far);
+            if (hits) {
+                isect4_leaf(tree, leaf, r, hits, active, counters);
+                limit = hits->t;
+            } else {
+                occluded = _mm_or_ps(occluded, occluded4_leaf(tree, leaf, r, active, counters));
+                if (_mm_movemask_ps(occluded) == live) goto done;
+                limit = _mm_blendv_ps(limit, _mm_set1_ps(-INFINITY), occluded);
+            }
+        }
+        for (;;) {
+            if (sp == 0) goto done;
+            const omni_task task = stack[--sp];
+            near = task.near;
+            far = _mm_min_ps(task.far, limit);
+            if (_mm_movemask_ps(_mm_cmple_ps(near, far))) {
+                n = &nodes[task.node];
+                break;
+            }
+        }
+    }
+done:
+    if (counters) counters->steps += steps;
+    return _mm_movemask_ps(occluded);
+}
+
+/* Per axis: 1 when the right child is in front for more than half the live
+ * lanes (ties go left). */
+static inline void front_order(const ray_packet4 *r, int live, uint32_t right_first[3])
+{
+    const int lanes = __builtin_popcount((unsigned)live);
+    for (int a = 0; a < 3; a++)
+        right_first[a] = 2 * __builtin_popcount((unsigned)(_mm_movemask_ps(r->inv_dir[a]) & live)) > lanes;
+}
+
+void kd_traverse_omni(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
+                      int leaf_culling, kd_counters *counters)
+{
+    (void)leaf_culling;
+    kd_ray_box box;
+    kd_ray_box_init(tree, &box);
+    for (uint32_t p = 0; p < packet_count; p++) {
+        const ray_packet4 *r = &packets[p];
+        __m128 near, far;
+        int valid;
+        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
+        if (counters && valid) counters->packets++;
+        if (!live) continue;
+        uint32_t right_first[3];
+        front_order(r, live, right_first);
+        trace_omni(tree, r, near, _mm_min_ps(far, hits[p].t), right_first, live, &hits[p], counters);
+    }
+}
+
+void kd_traverse_omni_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
+                               uint32_t packet_count, int leaf_culling, kd_counters *counters)
+{
+    (void)leaf_culling;
+    kd_ray_box box;
+    kd_ray_box_init(tree, &box);
+    for (uint32_t p = 0; p < packet_count; p++) {
+        const ray_packet4 *r = &packets[p];
+        __m128 near, far;
+        int valid;
+        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
+        occluded[p] = 0;
+        if (counters && valid) counters->packets++;
+        if (!live) continue;
+        uint32_t right_first[3];
+        front_order(r, live, right_first);
+        occluded[p] = (uint8_t)trace_omni(tree, r, near, far, right_first, live, NULL, counters);
+    }
+}
+
+#pragma GCC diagnostic pop

@@ -1,0 +1,164 @@
+/* Thesis Listing 2.4: iterative kd-tree traversal of a 2x2 packet whose rays
+ * have equal direction signs per axis, and the caller that splits packets
+ * whose signs differ (here: into single rays, the mono kernel).
+ *
+ * Each lane keeps its own interval [near, far] in an SSE lane; a lane is
+ * inactive where its interval is empty (near > far), so the active mask is
+ * never stored: it is recomputed by one compare where it is needed.  At a
+ * node every lane's front part [near, min(far, d)] belongs to the common
+ * near child (by the shared direction signs) and its back part
+ * [max(near, d), far] to the far child; the far child is pushed with the
+ * lanes' intervals when any lane reaches it, and the packet goes on into the
+ * near child when any lane needs it.  The origins may differ per lane.
+ *
+ * What it assumes and trades: equal signs on all three axes among the live
+ * lanes (a +0.0 and a -0.0 component differ: their inv_dir are +inf and
+ * -inf); otherwise the packet is traced ray by ray (Listing 2.2), which the
+ * counters show as more steps.  One node fetch serves four rays; a lane
+ * that does not need a subtree still rides along masked.  As in every
+ * kernel here, hits are kept wherever on the ray they lie and a popped task
+ * is dropped when it starts past every lane's best hit (traverse_ray.h), in
+ * place of the listing's early exit at the first leaf that hits.
+ * leaf_culling is ignored (a 2x2 packet has no leaf box test). */
+#include <math.h>
+#include <stdint.h>
+
+#include "kernels.h"
+#include "traverse_ray.h"
+/* GCC 12 at -O3 cannot see that the test's outputs are read only when written. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "isect_projected_bary.h"
+
+typedef struct packet_task {
+    __m128 near, far;
+    uint32_t node;
+} packet_task;
+
+/* One packet from the root.  neg[axis] = 1 when the live lanes' direction
+ * is negative on `axis` (the near child is then the right one).  Closest hit
+ * into *hits, or (hits NULL) returns the mask of occluded lanes, stopping
+ * once every live lane is. */
+static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128 near, __m128 far,
+                               const uint32_t neg[3], int live, hit_packet4 *hits, kd_counters *counters)
+{
+    const kd_node *nodes = tree->nodes;
+    packet_task stack[KD_RAY_STACK];
+    uint32_t sp = 0;
+    uint64_t steps = 0;
+    const kd_node *n = nodes;
+    __m128 occluded = _mm_setzero_ps();
+    /* the far end popped tasks are clipped to: best hit, or -inf once occluded */
+    __m128 limit = hits ? hits->t : _mm_set1_ps(INFINITY);
+    if (!_mm_movemask_ps(_mm_cmple_ps(near, far))) return 0;
+    for (;;) {
+        while (!kd_node_is_leaf(n)) {
+            steps++;
+            const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
+            const __m128 d = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->split), r->org[axis]), r->inv_dir[axis]);
+            /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d. */
+            const __m128 front_far = _mm_min_ps(kd_ray_widen_hi4(d), far);
+            const __m128 back_near = _mm_max_ps(kd_ray_widen_lo4(d), near);
+            const int front = _mm_movemask_ps(_mm_cmple_ps(near, front_far));
+            const int back = _mm_movemask_ps(_mm_cmple_ps(back_near, far));
+            const uint32_t near_child = left + neg[axis], far_child = left + (neg[axis] ^ 1u);
+            if (front) {
+                if (back && sp < KD_RAY_STACK) stack[sp++] = (packet_task){back_near, far, far_child};
+                n = &nodes[near_child];
+                far = front_far;
+            } else {
+                /* some lane is active, so it is active behind the plane */
+                n = &nodes[far_child];
+                near = back_near;
+            }
+        }
+        steps++;
+        const kd_leaf *leaf = &tree->leaves[n->leaf];
+        if (leaf->count) {
+            const __m128 active = _mm_cmple_ps(near, far);
+            if (hits) {
+                isect4_leaf(tree, leaf, r, hits, active, counters);
+                limit = hits->t;
+            } else {
+                occluded = _mm_or_ps(occluded, occluded4_leaf(tree, leaf, r, active, counters));
+                if (_mm_movemask_ps(occluded) == live) goto done;
+                limit = _mm_blendv_ps(limit, _mm_set1_ps(-INFINITY), occluded);
+            }
+        }
+        for (;;) {
+            if (sp == 0) goto done;
+            const packet_task task = stack[--sp];
+            near = task.near;
+            far = _mm_min_ps(task.far, limit);
+            if (_mm_movemask_ps(_mm_cmple_ps(near, far))) {
+                n = &nodes[task.node];
+                break;
+            }
+        }
+    }
+done:
+    if (counters) counters->steps += steps;
+    return _mm_movemask_ps(occluded);
+}
+
+/* The shared direction signs of the live lanes; 0 when they differ. */
+static inline int common_signs(const ray_packet4 *r, int live, uint32_t neg[3])
+{
+    for (int a = 0; a < 3; a++) {
+        const int m = _mm_movemask_ps(r->inv_dir[a]) & live;
+        if (m != 0 && m != live) return 0;
+        neg[a] = m != 0;
+    }
+    return 1;
+}
+
+void kd_traverse_packet(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
+                        int leaf_culling, kd_counters *counters)
+{
+    kd_ray_box box;
+    kd_ray_box_init(tree, &box);
+    for (uint32_t p = 0; p < packet_count; p++) {
+        const ray_packet4 *r = &packets[p];
+        __m128 near, far;
+        int valid;
+        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
+        if (!live) {
+            if (counters && valid) counters->packets++;
+            continue;
+        }
+        uint32_t neg[3];
+        if (!common_signs(r, live, neg)) {
+            kd_traverse_mono(tree, r, &hits[p], 1, leaf_culling, counters);
+            continue;
+        }
+        if (counters) counters->packets++;
+        trace_packet(tree, r, near, _mm_min_ps(far, hits[p].t), neg, live, &hits[p], counters);
+    }
+}
+
+void kd_traverse_packet_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
+                                 uint32_t packet_count, int leaf_culling, kd_counters *counters)
+{
+    kd_ray_box box;
+    kd_ray_box_init(tree, &box);
+    for (uint32_t p = 0; p < packet_count; p++) {
+        const ray_packet4 *r = &packets[p];
+        __m128 near, far;
+        int valid;
+        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
+        occluded[p] = 0;
+        if (!live) {
+            if (counters && valid) counters->packets++;
+            continue;
+        }
+        uint32_t neg[3];
+        if (!common_signs(r, live, neg)) {
+            kd_traverse_mono_occluded(tree, r, &occluded[p], 1, leaf_culling, counters);
+            continue;
+        }
+        if (counters) counters->packets++;
+        occluded[p] = (uint8_t)trace_packet(tree, r, near, far, neg, live, NULL, counters);
+    }
+}
+
+#pragma GCC diagnostic pop
