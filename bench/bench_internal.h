@@ -1,0 +1,89 @@
+/* Pieces shared by the files of bench/: timing, the rays of one frame, the
+ * tile blocks our kernels read, and the Embree peer.  Not installed. */
+#ifndef RTT_BENCH_INTERNAL_H
+#define RTT_BENCH_INTERNAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "bench.h"
+#include "kd_tree.h"
+#include "packet.h"
+
+/* Monotonic seconds. */
+double bench_now(void);
+
+/* Runs fn `warmup` times untimed, then `frames` times timed, and fills
+ * row->frames, seconds (median), seconds_min and fps. */
+typedef void (*bench_frame_fn)(void *context);
+void bench_time_frames(bench_frame_fn fn, void *context, uint32_t warmup, uint32_t frames, rtt_bench_row *row);
+
+/* One ray per pixel, row-major.  Pixels without a ray (a shadow ray of a
+ * pixel whose primary ray missed) hold tnear = +inf > tfar = -inf, which
+ * every kernel and ray_packet4_load treat as an inactive lane. */
+typedef struct bench_rays {
+    uint32_t width, height;
+    rtt_ray *rays;
+    uint64_t active;
+} bench_rays;
+
+static inline bool bench_ray_active(const rtt_ray *r) { return r->tnear <= r->tfar; }
+
+/* Primary rays of the scene's camera at width x height (rtt_camera_ray, the
+ * renderers' own). */
+bool bench_rays_primary(const rtt_scene *scene, uint32_t width, uint32_t height, bench_rays *out);
+/* Hard-shadow rays from each primary hit to the first light's centre, as
+ * shade.h defines them (tnear = epsilon, tfar = distance - epsilon). */
+bool bench_rays_shadow(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
+                       bench_rays *out);
+void bench_rays_free(bench_rays *rays);
+
+/* The rays cut into tile blocks exactly as render_optimized.c cuts a frame:
+ * tiles row-major, per tile (tile/2)^2 2x2 packets of pixel quads in
+ * row-major order of quads, lanes (x,y) (x+1,y) (x,y+1) (x+1,y+1); lanes
+ * off the image or without a ray are inactive. */
+typedef struct bench_blocks {
+    uint32_t tile, tiles_x, tiles_y, block_packets;
+    ray_packet4 *packets;   /* tiles_x * tiles_y * block_packets */
+    uint32_t *pixel;        /* 4 per packet; UINT32_MAX for an inactive lane */
+} bench_blocks;
+
+bool bench_blocks_make(const bench_rays *rays, uint32_t tile, bench_blocks *out);
+void bench_blocks_free(bench_blocks *blocks);
+
+/* What one row traces: our kernel (traversal, tile, culling) or an Embree
+ * query, closest hit or occlusion, on `threads` threads. */
+typedef struct bench_trace_spec {
+    bool occlusion;
+    uint32_t threads, warmup, frames;
+    bool count;             /* one extra frame with kd_counters for N and I */
+} bench_trace_spec;
+
+/* Times one of our kernels on the blocks.  result (may be NULL) receives one
+ * value per pixel of the last frame: the prim (RTT_MISS on a miss) or the
+ * occlusion bit. */
+bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t width, uint32_t height,
+                      rtt_traversal traversal, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
+                      uint32_t *result);
+
+/* The Embree peer: one device and scene per variant. */
+typedef struct bench_embree bench_embree;
+
+bool bench_embree_available(void);
+/* native: Embree's own ISA choice, else pinned to SSE4.2 (our kernels' ISA);
+ * robust: RTC_SCENE_FLAG_ROBUST, else RTC_SCENE_FLAG_NONE.  Always
+ * RTC_BUILD_QUALITY_HIGH and a one-thread build, timed into build_row. */
+bench_embree *bench_embree_create(const rtt_scene *scene, bool native, bool robust, rtt_bench_row *build_row,
+                                  rtt_error *err);
+const char *bench_embree_variant(const bench_embree *peer);
+/* Times rtcIntersectN / rtcOccludedN (lanes 1, 4, 8 or 16) on the rays:
+ * lanes 1 in pixel order per tile, 4 = 2x2, 8 = 4x2, 16 = 4x4 pixel blocks,
+ * coherent context flag for lanes > 1. */
+bool bench_embree_row(bench_embree *peer, const bench_rays *rays, uint32_t lanes, const bench_trace_spec *spec,
+                      rtt_bench_row *row, uint32_t *result, rtt_error *err);
+void bench_embree_destroy(bench_embree *peer);
+
+/* Appends a row (zeroed, then copied); false when out of memory. */
+bool bench_report_push(rtt_bench_report *report, const rtt_bench_row *row);
+
+#endif

@@ -1,0 +1,468 @@
+/* rtt_bench_run: which rows run, in which order (bench.h).
+ *
+ * Order keeps the expensive set-up shared: one kd-tree build (one thread),
+ * one Embree build per variant, the primary rays made once, the tile blocks
+ * made once per tile size and every kernel and thread count run on them
+ * before the next size. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_internal.h"
+#include "rtt/image.h"
+#include "rtt/optimized.h"
+#include "rtt/render.h"
+
+#if __has_include("engine_optimized.h")
+#include "engine_optimized.h"
+#else
+const kd_tree *kd_engine_tree(rtt_engine *engine);
+#endif
+
+#define EMBREE_VARIANTS 4
+
+typedef struct bench_state {
+    const rtt_scene *scene;
+    const rtt_bench_config *config;
+    rtt_bench_report *report;
+    rtt_engine *engine;
+    const kd_tree *tree;
+    bench_embree *peers[EMBREE_VARIANTS];
+    uint32_t width, height;
+    uint32_t warmup, frames;
+    uint32_t *result;           /* per pixel, the row being checked */
+    uint32_t *oracle;           /* per pixel, Embree's (first variant, rtcIntersect1/rtcOccluded1) */
+    bool have_oracle;
+} bench_state;
+
+void rtt_bench_config_default(rtt_bench_config *config)
+{
+    memset(config, 0, sizeof *config);
+    config->frames = 5;
+    config->warmup = 1;
+    config->threads[0] = 1;
+    config->threads[1] = 2;
+    config->thread_count = 2;
+    for (int k = 0; k < RTT_BENCH_KIND_COUNT; k++) config->kinds[k] = true;
+    config->embree = bench_embree_available();
+}
+
+bool bench_report_push(rtt_bench_report *report, const rtt_bench_row *row)
+{
+    if (report->row_count == report->row_cap) {
+        size_t cap = report->row_cap ? 2 * report->row_cap : 64;
+        rtt_bench_row *grown = realloc(report->rows, cap * sizeof *grown);
+        if (!grown) return false;
+        report->rows = grown;
+        report->row_cap = cap;
+    }
+    report->rows[report->row_count++] = *row;
+    return true;
+}
+
+void rtt_bench_report_free(rtt_bench_report *report)
+{
+    free(report->rows);
+    memset(report, 0, sizeof *report);
+}
+
+static void progress(const bench_state *s, const rtt_bench_row *row)
+{
+    if (!s->config->progress) return;
+    char line[200];
+    snprintf(line, sizeof line, "%s %s %s%s%s%s%s, %u thread%s, %ux%u",
+             row->kind == RTT_BENCH_PRIMARY ? "primary" : row->kind == RTT_BENCH_SHADOW ? "shadow"
+             : row->kind == RTT_BENCH_RENDER ? "render" : "build",
+             row->engine, row->method, row->variant[0] ? " " : "", row->variant, row->shadows[0] ? " shadows " : "",
+             row->shadows, row->threads,
+             row->threads == 1 ? "" : "s", row->width, row->height);
+    s->config->progress(s->config->progress_context, line);
+}
+
+/* Copies "prefix message" into row->error, cut to fit. */
+static void row_error(rtt_bench_row *row, const char *prefix, const char *message)
+{
+    size_t room = sizeof row->error - 1, used = 0;
+    for (const char *part[2] = {prefix, message}, **p = part; p < part + 2; p++)
+        for (const char *c = *p; *c && used < room; c++) row->error[used++] = *c;
+    row->error[used] = '\0';
+}
+
+static rtt_bench_row row_start(const bench_state *s, rtt_bench_kind kind, const char *engine, uint32_t threads)
+{
+    rtt_bench_row row;
+    memset(&row, 0, sizeof row);
+    row.kind = kind;
+    snprintf(row.engine, sizeof row.engine, "%s", engine);
+    row.threads = threads;
+    row.width = s->width;
+    row.height = s->height;
+    row.leaf_culling = -1;
+    row.n = row.i = -1.0;
+    row.agree = -1.0;
+    return row;
+}
+
+/* Share of active pixels where the row's result equals the oracle's. */
+static double agreement(const bench_state *s, const bench_rays *rays)
+{
+    uint64_t same = 0, active = 0;
+    size_t pixels = (size_t)s->width * s->height;
+    for (size_t i = 0; i < pixels; i++) {
+        if (!bench_ray_active(&rays->rays[i])) continue;
+        active++;
+        same += s->result[i] == s->oracle[i];
+    }
+    return active ? (double)same / (double)active : 1.0;
+}
+
+/* ---- our kernels and the peer on one ray set (primary or shadow) ---- */
+
+typedef struct kernel_method {
+    const char *family;
+    rtt_traversal traversal;
+    uint32_t tile;       /* block tile; 0 = independent 2x2 packets (scheduled in 8x8 tiles) */
+    int leaf_culling;
+} kernel_method;
+
+static void method_label(const kernel_method *m, char *out, size_t size)
+{
+    if (m->tile == 0) snprintf(out, size, "%s%s", m->family, m->traversal == RTT_TRAVERSAL_MONO ? "" : " 2x2");
+    else snprintf(out, size, "%s %ux%u", m->family, m->tile, m->tile);
+}
+
+static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *rays,
+                            const kernel_method *methods, size_t method_count)
+{
+    static const uint32_t block_tiles[] = {8, 4, 16, 32};
+    for (size_t bt = 0; bt < sizeof block_tiles / sizeof block_tiles[0]; bt++) {
+        bool used = false;
+        for (size_t m = 0; m < method_count; m++) used |= (methods[m].tile ? methods[m].tile : 8u) == block_tiles[bt];
+        if (!used) continue;
+        bench_blocks blocks;
+        if (!bench_blocks_make(rays, block_tiles[bt], &blocks)) return false;
+        for (size_t m = 0; m < method_count; m++) {
+            if ((methods[m].tile ? methods[m].tile : 8u) != block_tiles[bt]) continue;
+            for (uint32_t t = 0; t < s->config->thread_count; t++) {
+                rtt_bench_row row = row_start(s, kind, "rtt", s->config->threads[t]);
+                method_label(&methods[m], row.method, sizeof row.method);
+                snprintf(row.family, sizeof row.family, "%s", methods[m].family);
+                snprintf(row.variant, sizeof row.variant, "cull %s", methods[m].leaf_culling ? "on" : "off");
+                row.tile = methods[m].tile;
+                row.leaf_culling = methods[m].leaf_culling;
+                row.rays = rays->active;
+                progress(s, &row);
+                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0};
+                bool check = t == 0 && s->have_oracle;
+                if (!bench_kernel_row(s->tree, &blocks, s->width, s->height, methods[m].traversal,
+                                      methods[m].leaf_culling, &spec, &row, check ? s->result : NULL)) {
+                    bench_blocks_free(&blocks);
+                    return false;
+                }
+                if (check && !row.error[0]) row.agree = agreement(s, rays);
+                if (!bench_report_push(s->report, &row)) {
+                    bench_blocks_free(&blocks);
+                    return false;
+                }
+            }
+        }
+        bench_blocks_free(&blocks);
+    }
+    return true;
+}
+
+static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *rays, const uint32_t *lanes,
+                          size_t lane_count)
+{
+    static const char *const names[] = {"rtcIntersect", "rtcOccluded"};
+    s->have_oracle = false;
+    for (int v = 0; v < EMBREE_VARIANTS; v++) {
+        if (!s->peers[v]) continue;
+        for (size_t l = 0; l < lane_count; l++)
+            for (uint32_t t = 0; t < s->config->thread_count; t++) {
+                rtt_bench_row row = row_start(s, kind, "embree", s->config->threads[t]);
+                snprintf(row.method, sizeof row.method, "%s%u", names[kind == RTT_BENCH_SHADOW], lanes[l]);
+                snprintf(row.family, sizeof row.family, "embree");
+                snprintf(row.variant, sizeof row.variant, "%s", bench_embree_variant(s->peers[v]));
+                row.lanes = lanes[l];
+                row.rays = rays->active;
+                progress(s, &row);
+                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, false};
+                /* The first Embree result becomes the oracle the others are checked against. */
+                bool make_oracle = !s->have_oracle && t == 0;
+                uint32_t *out = t == 0 ? (make_oracle ? s->oracle : s->result) : NULL;
+                rtt_error err = {{0}};
+                if (!bench_embree_row(s->peers[v], rays, lanes[l], &spec, &row, out, &err))
+                    row_error(&row, "", err.message);
+                if (out && !row.error[0]) {
+                    row.agree = make_oracle ? 1.0 : agreement(s, rays);
+                    s->have_oracle = true;
+                }
+                if (!bench_report_push(s->report, &row)) return false;
+            }
+    }
+    return true;
+}
+
+static bool run_primary(bench_state *s, const bench_rays *rays)
+{
+    static const uint32_t lanes[] = {1, 4, 8, 16}, quick_lanes[] = {1, 16};
+    if (!run_peer_rows(s, RTT_BENCH_PRIMARY, rays, s->config->quick ? quick_lanes : lanes, s->config->quick ? 2 : 4))
+        return false;
+    kernel_method methods[32];
+    size_t n = 0;
+    methods[n++] = (kernel_method){"mono", RTT_TRAVERSAL_MONO, 0, 1};
+    methods[n++] = (kernel_method){"packet", RTT_TRAVERSAL_PACKET, 0, 1};
+    methods[n++] = (kernel_method){"omni", RTT_TRAVERSAL_OMNI, 0, 1};
+    static const uint32_t tiles[] = {4, 8, 16, 32};
+    for (size_t k = 0; k < 4; k++) {
+        uint32_t tile = tiles[k];
+        if (s->config->quick && tile != 8) continue;
+        methods[n++] = (kernel_method){"frustum", RTT_TRAVERSAL_FRUSTUM, tile, 1};
+        methods[n++] = (kernel_method){"frustum", RTT_TRAVERSAL_FRUSTUM, tile, 0};
+        methods[n++] = (kernel_method){"mft", RTT_TRAVERSAL_MFT, tile, 1};
+        methods[n++] = (kernel_method){"cone", RTT_TRAVERSAL_CONE, tile, 1};
+        methods[n++] = (kernel_method){"mft-cone", RTT_TRAVERSAL_MFT_CONE, tile, 1};
+    }
+    return run_kernel_rows(s, RTT_BENCH_PRIMARY, rays, methods, n);
+}
+
+static bool run_shadow(bench_state *s, const bench_rays *primary)
+{
+    size_t pixels = (size_t)s->width * s->height;
+    rtt_hit *hits = malloc(pixels * sizeof *hits);
+    uint32_t *prim = malloc(pixels * sizeof *prim);
+    float *t = malloc(pixels * sizeof *t);
+    bool ok = hits && prim && t;
+    bench_rays shadow = {0};
+    if (ok) {
+        rtt_engine_intersect(s->engine, primary->rays, hits, pixels);
+        for (size_t i = 0; i < pixels; i++) prim[i] = hits[i].prim, t[i] = hits[i].t;
+        ok = bench_rays_shadow(s->scene, primary, prim, t, &shadow);
+    }
+    free(hits), free(prim), free(t);
+    static const uint32_t lanes[] = {1, 16};
+    ok = ok && run_peer_rows(s, RTT_BENCH_SHADOW, &shadow, lanes, 2);
+    kernel_method methods[] = {
+        {"mono", RTT_TRAVERSAL_MONO, 0, 1},          {"packet", RTT_TRAVERSAL_PACKET, 0, 1},
+        {"omni", RTT_TRAVERSAL_OMNI, 0, 1},          {"frustum", RTT_TRAVERSAL_FRUSTUM, 8, 1},
+        {"mft", RTT_TRAVERSAL_MFT, 8, 1},            {"mft", RTT_TRAVERSAL_MFT, 16, 1},
+        {"cone", RTT_TRAVERSAL_CONE, 8, 1},
+    };
+    ok = ok && run_kernel_rows(s, RTT_BENCH_SHADOW, &shadow, methods, sizeof methods / sizeof methods[0]);
+    bench_rays_free(&shadow);
+    return ok;
+}
+
+/* ---- full renders ---- */
+
+typedef struct render_frame {
+    rtt_engine *engine;
+    rtt_render_options options;
+    rtt_image *image;
+    bool failed;
+    rtt_error err;
+} render_frame;
+
+static void render_once(void *context)
+{
+    render_frame *f = context;
+    if (!f->failed && !rtt_optimized_render(f->engine, &f->options, f->image, NULL, &f->err)) f->failed = true;
+}
+
+static void image_name(const rtt_bench_row *row, char *out, size_t size, const char *dir)
+{
+    char label[96];
+    snprintf(label, sizeof label, "%s_%s_t%u", row->method, row->shadows, row->threads);
+    for (char *c = label; *c; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-' || *c == '_')) *c = '_';
+    snprintf(out, size, "%s/%s.exr", dir, label);
+}
+
+static bool render_row(bench_state *s, const kernel_method *m, const char *shadows, uint32_t threads)
+{
+    rtt_bench_row row = row_start(s, RTT_BENCH_RENDER, "rtt", threads);
+    method_label(m, row.method, sizeof row.method);
+    snprintf(row.family, sizeof row.family, "%s", m->family);
+    snprintf(row.shadows, sizeof row.shadows, "%s", shadows);
+    row.tile = m->tile;
+    row.leaf_culling = m->leaf_culling;
+    progress(s, &row);
+    render_frame f = {.engine = s->engine};
+    rtt_render_options_default(&f.options);
+    f.options.width = s->width;
+    f.options.height = s->height;
+    f.options.threads = threads;
+    f.options.engine.traversal = m->traversal;
+    f.options.engine.tile = m->tile ? m->tile : 8u;
+    f.options.engine.leaf_culling = m->leaf_culling;
+    if (!rtt_shadow_method_parse(shadows, &f.options, &f.err)) {
+        row_error(&row, "", f.err.message);
+        return bench_report_push(s->report, &row);
+    }
+    f.image = rtt_image_create(s->width, s->height, 0, &f.err);
+    if (!f.image) return false;
+    rtt_render_stats stats;
+    memset(&stats, 0, sizeof stats);
+    if (!rtt_optimized_render(s->engine, &f.options, f.image, &stats, &f.err)) {
+        row_error(&row, "skipped: ", f.err.message);
+    } else {
+        row.rays = stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
+        if (stats.packets) {
+            row.n = (double)stats.traversal_steps / (double)stats.packets;
+            row.i = (double)stats.intersection_tests / (double)stats.packets;
+        }
+        if (s->config->image_dir) {
+            image_name(&row, row.image, sizeof row.image, s->config->image_dir);
+            rtt_error err = {{0}};
+            if (!rtt_image_write(f.image, row.image, &err)) row_error(&row, "", err.message);
+        }
+        bench_time_frames(render_once, &f, s->warmup, s->frames, &row);
+        if (f.failed) row_error(&row, "", f.err.message);
+    }
+    rtt_image_free(f.image);
+    return bench_report_push(s->report, &row);
+}
+
+static bool run_renders(bench_state *s)
+{
+    const rtt_bench_config *c = s->config;
+    const uint32_t most = c->threads[c->thread_count - 1];
+    kernel_method traversals[] = {
+        {"mono", RTT_TRAVERSAL_MONO, 0, 1},        {"packet", RTT_TRAVERSAL_PACKET, 0, 1},
+        {"omni", RTT_TRAVERSAL_OMNI, 0, 1},        {"frustum", RTT_TRAVERSAL_FRUSTUM, 8, 1},
+        {"frustum", RTT_TRAVERSAL_FRUSTUM, 16, 1}, {"mft", RTT_TRAVERSAL_MFT, 8, 1},
+        {"mft", RTT_TRAVERSAL_MFT, 16, 1},         {"mft", RTT_TRAVERSAL_MFT, 32, 1},
+        {"cone", RTT_TRAVERSAL_CONE, 8, 1},        {"mft-cone", RTT_TRAVERSAL_MFT_CONE, 16, 1},
+    };
+    for (size_t m = 0; m < sizeof traversals / sizeof traversals[0]; m++) {
+        /* --quick: every family once, at tile 8 */
+        if (c->quick && traversals[m].tile > 8 && strcmp(traversals[m].family, "mft-cone")) continue;
+        if (c->quick && traversals[m].tile > 8) traversals[m].tile = 8;
+        for (uint32_t t = 0; t < c->thread_count; t++)
+            if (!render_row(s, &traversals[m], "hard", c->threads[t])) return false;
+    }
+    /* Tables 4.6 and 5.1 (shadow methods, on the fastest thread count) and
+     * 6.2 (edge width at every thread count), all under MFT. */
+    const kernel_method mft = {"mft", RTT_TRAVERSAL_MFT, c->quick ? 8u : 16u, 1};
+    static const char *const shadows[] = {"none", "multi:4", "multi:16", "multi:32", "cone:16", "pyramid:16",
+                                          "edgewidth"};
+    for (size_t k = 0; k < sizeof shadows / sizeof shadows[0]; k++) {
+        if (strcmp(shadows[k], "edgewidth") == 0) {
+            for (uint32_t t = 0; t < c->thread_count; t++)
+                if (!render_row(s, &mft, shadows[k], c->threads[t])) return false;
+        } else if (!render_row(s, &mft, shadows[k], c->quick ? c->threads[0] : most)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* ---- builds ---- */
+
+static bool run_builds(bench_state *s)
+{
+    rtt_bench_row row = row_start(s, RTT_BENCH_BUILD, "rtt", 1);
+    snprintf(row.method, sizeof row.method, "kd-tree SAH");
+    snprintf(row.family, sizeof row.family, "build");
+    row.seconds = row.seconds_min = s->report->tree.build_seconds;
+    row.memory_bytes = s->report->tree.memory_bytes;
+    row.frames = 1;
+    row.rays = s->scene->triangle_count;
+    if (!bench_report_push(s->report, &row)) return false;
+    static const bool natives[EMBREE_VARIANTS] = {true, true, false, false};
+    static const bool robusts[EMBREE_VARIANTS] = {true, false, true, false};
+    if (!s->config->embree) {
+        snprintf(s->report->embree_note, sizeof s->report->embree_note, "Embree not raced (%s)",
+                 bench_embree_available() ? "--no-embree" : "built without Embree");
+        return true;
+    }
+    snprintf(s->report->embree_note, sizeof s->report->embree_note,
+             "Embree 3, RTC_BUILD_QUALITY_HIGH, one build thread; ISA native or sse4.2; scene flag ROBUST or NONE; "
+             "coherent context flag for 4/8/16-wide calls");
+    for (int v = 0; v < EMBREE_VARIANTS; v++) {
+        if (s->config->quick && v > 0) break;
+        rtt_bench_row b = row_start(s, RTT_BENCH_BUILD, "embree", 1);
+        snprintf(b.method, sizeof b.method, "BVH high quality");
+        snprintf(b.family, sizeof b.family, "build");
+        b.rays = s->scene->triangle_count;
+        rtt_error err = {{0}};
+        progress(s, &b);
+        s->peers[v] = bench_embree_create(s->scene, natives[v], robusts[v], &b, &err);
+        if (s->peers[v]) snprintf(b.variant, sizeof b.variant, "%s", bench_embree_variant(s->peers[v]));
+        else row_error(&b, "", err.message);
+        if (!bench_report_push(s->report, &b)) return false;
+    }
+    return true;
+}
+
+/* vs_embree: a row's fps over the best coherent Embree fps of its kind,
+ * size and thread count (render rows: over the primary race's best). */
+static void compute_ratios(rtt_bench_report *report)
+{
+    for (size_t i = 0; i < report->row_count; i++) {
+        rtt_bench_row *r = &report->rows[i];
+        if (r->error[0] || r->kind == RTT_BENCH_BUILD || r->kind == RTT_BENCH_RENDER) continue;
+        double best = 0.0;
+        for (size_t j = 0; j < report->row_count; j++) {
+            const rtt_bench_row *e = &report->rows[j];
+            if (strcmp(e->engine, "embree") || e->error[0] || e->kind != r->kind || e->lanes < 4) continue;
+            if (e->threads != r->threads || e->width != r->width || e->height != r->height) continue;
+            if (e->fps > best) best = e->fps;
+        }
+        r->vs_embree = best > 0 ? r->fps / best : 0.0;
+    }
+}
+
+bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_bench_report *report, rtt_error *err)
+{
+    memset(report, 0, sizeof *report);
+    snprintf(report->scene, sizeof report->scene, "%s", scene->path);
+    bench_state s = {.scene = scene, .config = config, .report = report};
+    s.width = config->width ? config->width : scene->width;
+    s.height = config->height ? config->height : scene->height;
+    s.warmup = config->quick ? 0 : config->warmup;
+    s.frames = config->quick ? 1 : config->frames;
+    report->triangles = scene->triangle_count;
+    report->width = s.width;
+    report->height = s.height;
+    report->frames = s.frames;
+    report->warmup = s.warmup;
+    if (config->thread_count == 0 || config->thread_count > RTT_BENCH_MAX_THREADS)
+        return rtt_error_set(err, "rtt bench: between 1 and %u thread counts", RTT_BENCH_MAX_THREADS);
+
+    rtt_engine_options options;
+    rtt_engine_options_default(&options);
+    options.threads = 1; /* the build row is a one-core build */
+    s.engine = rtt_optimized_engine_create(scene, &options, err);
+    if (!s.engine) return false;
+    s.tree = kd_engine_tree(s.engine);
+    report->have_tree = rtt_engine_tree_info(s.engine, &report->tree);
+
+    size_t pixels = (size_t)s.width * s.height;
+    s.result = malloc(pixels * sizeof *s.result);
+    s.oracle = malloc(pixels * sizeof *s.oracle);
+    bench_rays primary = {0};
+    bool ok = s.result && s.oracle && bench_rays_primary(scene, s.width, s.height, &primary);
+    ok = ok && run_builds(&s);
+    if (ok && config->kinds[RTT_BENCH_PRIMARY]) ok = run_primary(&s, &primary);
+    if (ok && config->kinds[RTT_BENCH_SHADOW]) ok = run_shadow(&s, &primary);
+    for (int v = 0; v < EMBREE_VARIANTS; v++) bench_embree_destroy(s.peers[v]), s.peers[v] = NULL;
+    if (ok && config->kinds[RTT_BENCH_RENDER]) ok = run_renders(&s);
+    if (ok && !config->kinds[RTT_BENCH_BUILD]) {
+        size_t kept = 0;
+        for (size_t i = 0; i < report->row_count; i++)
+            if (report->rows[i].kind != RTT_BENCH_BUILD) report->rows[kept++] = report->rows[i];
+        report->row_count = kept;
+    }
+    if (ok) compute_ratios(report);
+    bench_rays_free(&primary);
+    free(s.result), free(s.oracle);
+    rtt_engine_destroy(s.engine);
+    if (!ok) {
+        rtt_bench_report_free(report);
+        return rtt_error_set(err, "%s: out of memory in the benchmark", scene->path);
+    }
+    return true;
+}
