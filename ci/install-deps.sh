@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libembree-dev libopenexr-dev libcmocka-dev libcjson-dev libassimp-dev libpng-dev
   clang libclang-rt-14-dev llvm
-  gnuplot-nox unzip
+  gnuplot-nox unzip jq python3
 )
 
 missing=()
