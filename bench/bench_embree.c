@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "bench_internal.h"
+#include "embree_engine.h"
 
 #ifdef RTT_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -73,27 +74,7 @@ void bench_embree_destroy(bench_embree *peer)
 
 static bool attach_triangles(bench_embree *peer, const rtt_scene *scene)
 {
-    RTCGeometry geom = rtcNewGeometry(peer->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (!geom) return false;
-    float *vertices = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                              scene->vertex_count);
-    unsigned *indices = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                3 * sizeof(unsigned), scene->triangle_count);
-    if (!vertices || !indices) {
-        rtcReleaseGeometry(geom);
-        return false;
-    }
-    for (uint32_t i = 0; i < scene->vertex_count; i++) {
-        vertices[3 * i + 0] = scene->vertices[i].x;
-        vertices[3 * i + 1] = scene->vertices[i].y;
-        vertices[3 * i + 2] = scene->vertices[i].z;
-    }
-    for (uint32_t i = 0; i < scene->triangle_count; i++)
-        for (int k = 0; k < 3; k++) indices[3 * i + k] = scene->triangles[i].v[k];
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(peer->scene, geom, 0);
-    rtcReleaseGeometry(geom);
-    return peer->first_error[0] == '\0';
+    return rtt_embree_attach_triangles(peer->device, peer->scene, scene) && peer->first_error[0] == '\0';
 }
 
 bench_embree *bench_embree_create(const rtt_scene *scene, bool native, bool robust, rtt_bench_row *build_row,

@@ -129,12 +129,10 @@ static const rtt_engine_vtable embree_vtable = {
     .tree_info = NULL,
 };
 
-/* One triangle geometry in global order; copies vertices and indices into
- * Embree-owned buffers (which carry the padding Embree reads past the end). */
-static bool attach_triangles(embree_engine *e, const rtt_scene *scene)
+bool rtt_embree_attach_triangles(RTCDevice device, RTCScene target, const rtt_scene *scene)
 {
     if (scene->triangle_count == 0) return true;
-    RTCGeometry geom = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (!geom) return false;
     float *vertices = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                               3 * sizeof(float), scene->vertex_count);
@@ -152,9 +150,14 @@ static bool attach_triangles(embree_engine *e, const rtt_scene *scene)
     for (uint32_t i = 0; i < scene->triangle_count; i++)
         for (int k = 0; k < 3; k++) indices[3 * i + k] = scene->triangles[i].v[k];
     rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(e->scene, geom, 0);
+    rtcAttachGeometryByID(target, geom, 0);
     rtcReleaseGeometry(geom);
-    return e->first_error[0] == '\0';
+    return true;
+}
+
+static bool attach_triangles(embree_engine *e, const rtt_scene *scene)
+{
+    return rtt_embree_attach_triangles(e->device, e->scene, scene) && e->first_error[0] == '\0';
 }
 
 rtt_engine *rtt_embree_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err)

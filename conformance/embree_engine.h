@@ -7,4 +7,16 @@
 /* Robust scene flag, high build quality; closest hit and occlusion. */
 rtt_engine *rtt_embree_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err);
 
+#ifdef RTT_HAVE_EMBREE
+#include <stdbool.h>
+#include <embree3/rtcore.h>
+
+/* Attaches the scene's triangles, in global order, as geometry 0 of
+ * `target`: vertices and indices are copied into Embree-owned buffers (which
+ * carry the padding Embree reads past the end).  The engine and the
+ * benchmark peer build their scenes with it, so both trace the same
+ * geometry.  False when Embree refuses a buffer. */
+bool rtt_embree_attach_triangles(RTCDevice device, RTCScene target, const rtt_scene *scene);
+#endif
+
 #endif

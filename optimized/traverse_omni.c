@@ -2,20 +2,21 @@
  * on direction signs and no splitting of packets.
  *
  * The listing's two modifications, per lane: (1) each lane traverses from
- * its front voxel to its back voxel, the front one being the side of the
- * plane its segment starts on, and (2) a lane moving away from the plane
- * never reaches the back voxel (distance "infinite").  With the split
- * distance d = (split - o) / dir, a lane's front part is [near, min(far, d)]
- * and its back part [max(near, d), far]; the front voxel is the left child
- * for a direction with the sign bit clear, the right one otherwise.  For
- * tnear >= 0 that is exactly the listing's origin-side rule, and a lane
- * moving away has d < near, so its back part is empty (modification 2); it
- * stays exact for tnear < 0, where the origin side is not where the segment
- * starts.  So per node: two SSE blends per interval end give each child the
- * lanes' parts, two movemasks give the lanes that go left and right, and the
- * packet visits one child or both (the other pushed with its lanes'
- * intervals).  The listing has one origin per packet; here origins may
- * differ per lane.
+ * its front voxel (the side of the plane its origin is on) to its back
+ * voxel, and (2) a negative plane distance counts as infinite (the lane
+ * never crosses).  Here, per lane, with d = (split - o) / dir, the part of
+ * the interval before the plane, [near, min(far, d)], lies in the child the
+ * direction comes from (left when the sign bit of dir is clear, right when
+ * set), and the part after it, [max(near, d), far], in the other child.  For
+ * tnear >= 0 that is exactly the listing's rule: a lane moving toward the
+ * plane is on its origin side first; a lane moving away has d < 0 <= near,
+ * so its "after" part is all of its interval and lies on its origin side,
+ * its "before" part is empty.  Unlike the origin-side rule it stays exact
+ * for tnear < 0.  So per node: blends on the sign bit of inv_dir give each
+ * child its lanes' parts, two movemasks give the lanes that go left and
+ * right, and the packet visits one child or both (the other pushed with its
+ * lanes' intervals).  The listing has one origin per packet; here origins
+ * may differ per lane.
  *
  * Which child goes first when both are needed: the one that is in front for
  * most live lanes (decided once per axis per packet).  The order only

@@ -185,7 +185,8 @@ static rtt_ray *shadow_rays(uint32_t count, rtt_vec3 light, uint64_t seed)
     assert_non_null(rays);
     rtt_vec3 patch = rtt_v3(0, 0, 0);
     for (uint32_t i = 0; i < count; i++) {
-        if (i % 64 == 0) patch = rtt_v3(rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f));
+        if (i % 64 == 0)
+            patch = rtt_v3(rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f));
         rtt_vec3 p = rtt_v3_add(patch, rtt_v3(rng_range(&r, -0.05f, 0.05f), rng_range(&r, -0.05f, 0.05f),
                                               rng_range(&r, -0.05f, 0.05f)));
         rtt_vec3 to = rtt_v3_sub(light, p);
@@ -581,6 +582,37 @@ static void test_empty_and_leaf_only_trees_built_by_hand_never_hit(void **state)
         }
 }
 
+/* Hits are kept wherever they lie and ties go to the smaller prim, so the
+ * order cells are visited in cannot change a result: the three kernels
+ * return the same bits. */
+static void test_mono_packet_and_omni_return_identical_hits(void **state)
+{
+    const fixture *f = *state;
+    uint32_t count;
+    rtt_ray *sets[2] = {random_rays(8192, 2024), primary_rays(64, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count)};
+    const uint32_t counts[2] = {8192, count};
+    for (int s = 0; s < 2; s++) {
+        rtt_hit *hits[KERNEL_COUNT];
+        uint8_t *occluded[KERNEL_COUNT];
+        for (size_t k = 0; k < KERNEL_COUNT; k++) {
+            hits[k] = malloc(counts[s] * sizeof *hits[k]);
+            occluded[k] = malloc(counts[s]);
+            assert_non_null(hits[k]);
+            assert_non_null(occluded[k]);
+            trace_with(f, &kernels[k], sets[s], counts[s], hits[k], occluded[k], NULL);
+        }
+        for (size_t k = 1; k < KERNEL_COUNT; k++) {
+            assert_memory_equal(hits[0], hits[k], counts[s] * sizeof *hits[k]);
+            assert_memory_equal(occluded[0], occluded[k], counts[s]);
+        }
+        for (size_t k = 0; k < KERNEL_COUNT; k++) {
+            free(hits[k]);
+            free(occluded[k]);
+        }
+        free(sets[s]);
+    }
+}
+
 static void test_counters_count_and_never_change_results(void **state)
 {
     const fixture *f = *state;
@@ -645,6 +677,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_tree_of_degenerate_triangles_never_hits, setup_degenerate_only,
                                         teardown),
         cmocka_unit_test(test_empty_and_leaf_only_trees_built_by_hand_never_hit),
+        cmocka_unit_test_setup_teardown(test_mono_packet_and_omni_return_identical_hits, setup_small_soup, teardown),
+        cmocka_unit_test_setup_teardown(test_mono_packet_and_omni_return_identical_hits, setup_large_triangles,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_counters_count_and_never_change_results, setup_small_soup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
