@@ -36,7 +36,7 @@ bool rtt_conform_make_rays(const rtt_scene *scene, rtt_conform_ray_set set, rtt_
  * oracle's. */
 typedef enum rtt_conform_category {
     RTT_CONFORM_AGREE = 0,     /* same prim and t within tolerance, or both miss */
-    RTT_CONFORM_TIE,           /* different prims, both hit within tolerance at the same t */
+    RTT_CONFORM_TIE,           /* different prims hit at the same point (same t, or one plane crossing) */
     RTT_CONFORM_BOUNDARY,      /* a hit within tolerance of tnear or tfar: unspecified */
     RTT_CONFORM_T_MISMATCH,    /* both hit, but not the same hit and not a tie */
     RTT_CONFORM_GRAZING,       /* hit/miss where the hit lies within tolerance of an edge */

@@ -165,6 +165,29 @@ static bool passes_an_edge(const rtt_scene *scene, double magnitude, const rtt_r
            fabs(ph.edge_distance) <= GRAZING_FACTOR * position_tolerance(r, ph.t, magnitude);
 }
 
+/* A tie at one crossing: the planes of both prims are crossed (in double
+ * precision) at the same t within tolerance, at a point on each triangle
+ * (or within the grazing distance of its edges), and each engine's t is its
+ * own prim's crossing within the tolerance divided by that crossing's
+ * cosine (at most by 1/GRAZING_COSINE): the allowance same-prim hits get
+ * below, for the same reason.  Near a shared vertex or edge at a grazing
+ * angle the two engines then report t values further apart than the plain
+ * tolerance although they hit neighbours at the same point.  The crossings
+ * themselves must coincide within the plain tolerance, so a hit on a
+ * triangle crossed elsewhere along the ray stays a t-mismatch. */
+static bool tie_at_one_crossing(const rtt_scene *scene, double magnitude, const rtt_ray *r, const rtt_hit *test,
+                                const rtt_hit *oracle)
+{
+    plane_hit a, b;
+    if (!plane_intersect(scene, r, test->prim, &a) || !plane_intersect(scene, r, oracle->prim, &b)) return false;
+    double t_max = fmax(fmax(fabs(a.t), fabs(b.t)), fmax(fabs((double)test->t), fabs((double)oracle->t)));
+    double tol = rtt_conform_t_tolerance(r, t_max, magnitude);
+    double reach = GRAZING_FACTOR * position_tolerance(r, t_max, magnitude);
+    return fabs(a.t - b.t) <= tol && a.edge_distance >= -reach && b.edge_distance >= -reach &&
+           fabs((double)test->t - a.t) <= tol / fmax(a.cosine, GRAZING_COSINE) &&
+           fabs((double)oracle->t - b.t) <= tol / fmax(b.cosine, GRAZING_COSINE);
+}
+
 /* Two hits on the same prim at different t still agree when the plane
  * crossing is ill-conditioned: a position error e normal to the plane moves
  * t by e / (|dir| cos), so the tolerance is divided by the cosine (at most
@@ -202,7 +225,10 @@ rtt_conform_category rtt_conform_classify(const rtt_scene *scene, double magnitu
          * the nearer triangle, so it counts as grazing. */
         const rtt_hit *nearer = test->t < oracle->t ? test : oracle, *farther = nearer == test ? oracle : test;
         if (!same_t && passes_an_edge(scene, magnitude, r, nearer, farther)) return RTT_CONFORM_GRAZING;
-        return RTT_CONFORM_T_MISMATCH;
+        /* Neighbours hit at the same point, their t apart only by the
+         * ill-conditioning of a grazing crossing.  Tried last, so that it
+         * only decides rays that would otherwise be t-mismatches. */
+        return tie_at_one_crossing(scene, magnitude, r, test, oracle) ? RTT_CONFORM_TIE : RTT_CONFORM_T_MISMATCH;
     }
     const rtt_hit *h = th ? test : oracle;
     return grazing_hit(scene, magnitude, r, h) ? RTT_CONFORM_GRAZING : RTT_CONFORM_HITMISS_OTHER;

@@ -240,7 +240,7 @@ size_t rtt_ext_rays_split_planes(const rtt_scene *s, uint64_t seed, size_t max, 
     uint64_t state = seed;
     size_t n;
     for (n = 0; n < max; n++) {
-        rtt_vec3 org;
+        rtt_vec3 org = rtt_v3(0.0f, 0.0f, 0.0f); /* set per axis below; GCC -O2 + TSan cannot see it */
         for (int a = 0; a < 3; a++) {
             rtt_vec3 t[3];
             rtt_scene_triangle(s, next_below(&state, s->triangle_count), t);
