@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "conform.h"
+#include "conform_random.h"
 #include "rtt/shade.h"
 
 #define DEFAULT_MAX_RAYS 65536u
@@ -24,25 +25,6 @@ int rtt_conform_ray_set_parse(const char *name)
     for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++)
         if (strcmp(name, set_names[i]) == 0) return i;
     return -1;
-}
-
-/* splitmix64: small, fixed, the same on every platform. */
-static uint64_t next_u64(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static float next_unit(uint64_t *state) { return (float)(next_u64(state) >> 40) * (1.0f / 16777216.0f); }
-static uint32_t next_below(uint64_t *state, uint32_t n) { return n ? (uint32_t)(next_u64(state) % n) : 0; }
-
-static rtt_vec3 random_direction(uint64_t *state)
-{
-    float z = 2.0f * next_unit(state) - 1.0f, phi = 6.2831853f * next_unit(state);
-    float s = sqrtf(fmaxf(0.0f, 1.0f - z * z));
-    return rtt_v3(s * cosf(phi), s * sinf(phi), z);
 }
 
 static rtt_ray make_ray(rtt_vec3 org, rtt_vec3 dir, float tnear, float tfar)
