@@ -87,7 +87,7 @@ static void write_pixel(const render_job *job, const sp_scratch *s, const sp_nod
     if (out->prim) out->prim[pixel] = n->hit.prim;
     if (out->normal) {
         rtt_vec3 normal = rtt_v3(0.0f, 0.0f, 0.0f);
-        if (n->hit.prim != RTT_MISS) normal = sp_surface_at(job->scene, &n->ray, &n->hit).normal;
+        if (n->hit.prim != RTT_MISS) normal = rtt_surface_at(job->scene, &n->ray, &n->hit).normal;
         out->normal[3 * pixel + 0] = normal.x;
         out->normal[3 * pixel + 1] = normal.y;
         out->normal[3 * pixel + 2] = normal.z;
@@ -134,38 +134,14 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, s, &s->levels[0].nodes[i]);
 }
 
-static const char *sampled_method(rtt_shadow_method m)
-{
-    return m == RTT_SHADOWS_MULTI ? "multi" : m == RTT_SHADOWS_CONE ? "cone" : m == RTT_SHADOWS_PYRAMID ? "pyramid" : NULL;
-}
-
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
                           uint32_t width, uint32_t height, uint32_t tile, rtt_error *err)
 {
-    const char *sampled = sampled_method(opt->shadows);
-    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
-        return rtt_error_set(err, "optimized renderer: unknown shadow method %d", (int)opt->shadows);
-    if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
-        return rtt_error_set(err, "--shadows %s:%u: the sample count must be a whole number from 1 to %u", sampled,
-                             opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
-    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
-        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (tile != 4 && tile != 8 && tile != 16 && tile != 32)
         return rtt_error_set(err, "--tile %u: the tile side must be 4, 8, 16 or 32", tile);
     if ((unsigned)opt->engine.traversal >= RTT_TRAVERSAL_COUNT)
         return rtt_error_set(err, "optimized renderer: unknown traversal %d", (int)opt->engine.traversal);
-    if (width == 0 || height == 0)
-        return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
-    if (out->width != width || out->height != height)
-        return rtt_error_set(err, "%s: the output image is %ux%u but the render is %ux%u", scene->path, out->width,
-                             out->height, width, height);
-    if (!out->rgb) return rtt_error_set(err, "%s: the output image has no colour plane", scene->path);
-    if (((opt->aovs & RTT_AOV_DEPTH) && !out->depth) || ((opt->aovs & RTT_AOV_PRIM) && !out->prim) ||
-        ((opt->aovs & RTT_AOV_NORMAL) && !out->normal))
-        return rtt_error_set(err, "%s: the output image lacks an AOV plane the options ask for", scene->path);
-    if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
-        return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
-    return true;
+    return rtt_render_check(scene, opt, out, width, height, err);
 }
 
 static void gather_stats(const render_job *job, rtt_render_stats *stats)

@@ -155,20 +155,6 @@ void sp_trace_packets_occluded(const sp_tracer *tr, rtt_traversal traversal, con
     }
 }
 
-sp_surface sp_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit)
-{
-    sp_surface s;
-    rtt_vec3 org = rtt_v3(ray->org[0], ray->org[1], ray->org[2]);
-    rtt_vec3 dir = rtt_v3(ray->dir[0], ray->dir[1], ray->dir[2]);
-    s.point = rtt_v3_madd(org, dir, hit->t);
-    s.dir = rtt_v3_normalize(dir);
-    s.normal = rtt_scene_shading_normal(scene, hit->prim, hit->u, hit->v);
-    if (rtt_v3_dot(s.normal, s.dir) > 0.0f) s.normal = rtt_v3_scale(s.normal, -1.0f);
-    s.entering = rtt_v3_dot(rtt_scene_geometric_normal(scene, hit->prim), s.dir) < 0.0f;
-    s.material = &scene->materials[scene->triangle_material[hit->prim]];
-    return s;
-}
-
 bool sp_ensure_packets(sp_scratch *s, uint32_t packets)
 {
     if (!grow((void **)&s->packets, &s->packet_capacity, packets, sizeof(ray_packet4), 16) ||
@@ -268,8 +254,8 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, const sp_lev
         const sp_node *node = &level->nodes[i];
         sp_light_request *req = &s->requests[(size_t)(i - first) * scene->light_count];
         if (node->hit.prim == RTT_MISS) continue;
-        sp_surface *surf = &s->surfaces[i - first];
-        *surf = sp_surface_at(scene, &node->ray, &node->hit);
+        rtt_surface *surf = &s->surfaces[i - first];
+        *surf = rtt_surface_at(scene, &node->ray, &node->hit);
         rtt_vec3 to_viewer = rtt_v3_scale(surf->dir, -1.0f);
         for (uint32_t l = 0; l < scene->light_count; l++) {
             const rtt_light *light = &scene->lights[l];
@@ -349,7 +335,7 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             node->colour = scene->background;
             continue;
         }
-        const sp_surface *surf = &s->surfaces[i - first];
+        const rtt_surface *surf = &s->surfaces[i - first];
         const sp_light_request *req = &s->requests[(size_t)(i - first) * scene->light_count];
         const rtt_material *m = surf->material;
         rtt_vec3 colour = rtt_v3_scale(m->diffuse, scene->ambient);
@@ -407,7 +393,7 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
     uint32_t chunk = per_node ? SP_SHADOW_CHUNK / per_node : SP_SHADOW_CHUNK;
     if (chunk == 0) chunk = 1;
     uint32_t lights = scene->light_count ? scene->light_count : 1, rays_cap = chunk * per_node + 4;
-    if (!grow((void **)&s->surfaces, &s->surface_capacity, chunk, sizeof(sp_surface), 16) ||
+    if (!grow((void **)&s->surfaces, &s->surface_capacity, chunk, sizeof(rtt_surface), 16) ||
         !grow((void **)&s->requests, &s->request_capacity, chunk * lights, sizeof(sp_light_request), 16) ||
         !grow((void **)&s->shadow_rays, &s->shadow_capacity, rays_cap, sizeof(rtt_ray), 16) ||
         !grow((void **)&s->shadow_clear, &s->clear_capacity, rays_cap, 1, 16)) {

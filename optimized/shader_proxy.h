@@ -62,7 +62,7 @@ typedef struct sp_scratch {
     rtt_ray *shadow_rays;
     uint8_t *shadow_clear;
     uint32_t shadow_capacity, clear_capacity;
-    struct sp_surface *surfaces;
+    rtt_surface *surfaces;
     struct sp_light_request *requests;
     uint32_t surface_capacity, request_capacity;
     /* cone:N / pyramid:N: rays of group g are shadow_rays[group_first[g] ..
@@ -110,12 +110,5 @@ void sp_trace_packets(const sp_tracer *tracer, rtt_traversal traversal, const ra
 void sp_trace_packets_occluded(const sp_tracer *tracer, rtt_traversal traversal, const ray_packet4 *packets,
                                uint8_t *occluded, uint32_t packet_count);
 
-/* Surface of a hit exactly as the reference computes it. */
-typedef struct sp_surface {
-    rtt_vec3 point, dir, normal;
-    bool entering;
-    const rtt_material *material;
-} sp_surface;
-sp_surface sp_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit);
 
 #endif

@@ -106,29 +106,7 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
 static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t depth, uint32_t pixel,
                              ray_counts *counts);
 
-/* The surface seen by a hit: point, normals, material. */
-typedef struct surface {
-    rtt_vec3 point, dir;     /* dir: the incoming ray's unit direction */
-    rtt_vec3 normal;         /* shading normal, facing the incoming ray */
-    bool entering;           /* geometric normal faces the ray */
-    const rtt_material *material;
-} surface;
-
-static surface surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit)
-{
-    surface s;
-    rtt_vec3 org = rtt_v3(ray->org[0], ray->org[1], ray->org[2]);
-    rtt_vec3 dir = rtt_v3(ray->dir[0], ray->dir[1], ray->dir[2]);
-    s.point = rtt_v3_madd(org, dir, hit->t);
-    s.dir = rtt_v3_normalize(dir);
-    s.normal = rtt_scene_shading_normal(scene, hit->prim, hit->u, hit->v);
-    if (rtt_v3_dot(s.normal, s.dir) > 0.0f) s.normal = rtt_v3_scale(s.normal, -1.0f);
-    s.entering = rtt_v3_dot(rtt_scene_geometric_normal(scene, hit->prim), s.dir) < 0.0f;
-    s.material = &scene->materials[scene->triangle_material[hit->prim]];
-    return s;
-}
-
-static rtt_vec3 local_colour(const render_job *job, const surface *s, uint32_t pixel, ray_counts *counts)
+static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32_t pixel, ray_counts *counts)
 {
     const rtt_scene *scene = job->scene;
     const rtt_material *m = s->material;
@@ -161,7 +139,7 @@ static rtt_vec3 secondary_colour(const render_job *job, rtt_vec3 origin, rtt_vec
 static rtt_vec3 shade_hit(const render_job *job, const rtt_ray *ray, const rtt_hit *hit, uint32_t depth,
                           uint32_t pixel, ray_counts *counts)
 {
-    surface s = surface_at(job->scene, ray, hit);
+    rtt_surface s = rtt_surface_at(job->scene, ray, hit);
     float wr, wt;
     rtt_shade_weights(s.material, depth, job->max_bounces, &wr, &wt);
     rtt_vec3 colour = rtt_v3_scale(local_colour(job, &s, pixel, counts), 1.0f - wr - wt);
@@ -202,7 +180,7 @@ static void render_pixel(render_job *job, uint32_t px, uint32_t py, ray_counts *
     if (out->prim) out->prim[pixel] = hit.prim;
     if (out->normal) {
         rtt_vec3 n = rtt_v3(0.0f, 0.0f, 0.0f);
-        if (hit.prim != RTT_MISS) n = surface_at(job->scene, &ray, &hit).normal;
+        if (hit.prim != RTT_MISS) n = rtt_surface_at(job->scene, &ray, &hit).normal;
         out->normal[3 * (size_t)pixel + 0] = n.x;
         out->normal[3 * (size_t)pixel + 1] = n.y;
         out->normal[3 * (size_t)pixel + 2] = n.z;
@@ -241,23 +219,7 @@ static bool check_request(const rtt_scene *scene, const rtt_render_options *opt,
         return rtt_error_set(err, "--shadows %s is not available in the reference renderer (use --engine optimized)",
                              shadow_method_text(opt, method, sizeof method));
     }
-    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
-        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
-    if (opt->shadows == RTT_SHADOWS_MULTI && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
-        return rtt_error_set(err, "--shadows multi:%u: the sample count must be a whole number from 1 to %u",
-                             opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
-    if (width == 0 || height == 0)
-        return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
-    if (out->width != width || out->height != height)
-        return rtt_error_set(err, "%s: the output image is %ux%u but the render is %ux%u", scene->path, out->width,
-                             out->height, width, height);
-    if (!out->rgb) return rtt_error_set(err, "%s: the output image has no colour plane", scene->path);
-    if (((opt->aovs & RTT_AOV_DEPTH) && !out->depth) || ((opt->aovs & RTT_AOV_PRIM) && !out->prim) ||
-        ((opt->aovs & RTT_AOV_NORMAL) && !out->normal))
-        return rtt_error_set(err, "%s: the output image lacks an AOV plane the options ask for", scene->path);
-    if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
-        return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
-    return true;
+    return rtt_render_check(scene, opt, out, width, height, err);
 }
 
 static double seconds_now(void)

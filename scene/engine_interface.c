@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "rtt/engine.h"
+#include "rtt/image.h"
 #include "rtt/render.h"
 
 static const char *const traversal_names[RTT_TRAVERSAL_COUNT] = {
@@ -99,4 +100,34 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
     }
     return rtt_error_set(err, "--shadows %s: expected none, hard, multi:N, cone:N, pyramid:N or edgewidth[:R]",
                          text);
+}
+
+static const char *sampled_method_name(rtt_shadow_method m)
+{
+    return m == RTT_SHADOWS_MULTI ? "multi" : m == RTT_SHADOWS_CONE ? "cone" : m == RTT_SHADOWS_PYRAMID ? "pyramid" : NULL;
+}
+
+bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out, uint32_t width,
+                      uint32_t height, rtt_error *err)
+{
+    const char *sampled = sampled_method_name(opt->shadows);
+    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
+        return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
+    if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
+        return rtt_error_set(err, "--shadows %s:%u: the sample count must be a whole number from 1 to %u", sampled,
+                             opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
+    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
+        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
+    if (width == 0 || height == 0)
+        return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
+    if (out->width != width || out->height != height)
+        return rtt_error_set(err, "%s: the output image is %ux%u but the render is %ux%u", scene->path, out->width,
+                             out->height, width, height);
+    if (!out->rgb) return rtt_error_set(err, "%s: the output image has no colour plane", scene->path);
+    if (((opt->aovs & RTT_AOV_DEPTH) && !out->depth) || ((opt->aovs & RTT_AOV_PRIM) && !out->prim) ||
+        ((opt->aovs & RTT_AOV_NORMAL) && !out->normal))
+        return rtt_error_set(err, "%s: the output image lacks an AOV plane the options ask for", scene->path);
+    if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
+        return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
+    return true;
 }

@@ -161,3 +161,17 @@ rtt_vec3 rtt_scene_shading_normal(const rtt_scene *scene, uint32_t prim, float u
     float len = rtt_v3_length(n);
     return len > 0.0f && isfinite(len) ? rtt_v3_scale(n, 1.0f / len) : rtt_scene_geometric_normal(scene, prim);
 }
+
+rtt_surface rtt_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit)
+{
+    rtt_surface s;
+    rtt_vec3 org = rtt_v3(ray->org[0], ray->org[1], ray->org[2]);
+    rtt_vec3 dir = rtt_v3(ray->dir[0], ray->dir[1], ray->dir[2]);
+    s.point = rtt_v3_madd(org, dir, hit->t);
+    s.dir = rtt_v3_normalize(dir);
+    s.normal = rtt_scene_shading_normal(scene, hit->prim, hit->u, hit->v);
+    if (rtt_v3_dot(s.normal, s.dir) > 0.0f) s.normal = rtt_v3_scale(s.normal, -1.0f);
+    s.entering = rtt_v3_dot(rtt_scene_geometric_normal(scene, hit->prim), s.dir) < 0.0f;
+    s.material = &scene->materials[scene->triangle_material[hit->prim]];
+    return s;
+}

@@ -56,6 +56,14 @@ typedef struct rtt_render_stats {
 } rtt_render_stats;
 
 void rtt_render_options_default(rtt_render_options *opt);
+struct rtt_image;
+/* The checks every renderer makes before it starts: a known shadow method
+ * with a sample count in 1..RTT_MAX_SHADOW_SAMPLES (multi, cone, pyramid)
+ * or a valid edge-width radius, a non-empty width x height that `out` has,
+ * with the AOV planes the options ask for, and a finished scene. */
+bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, const struct rtt_image *out,
+                      uint32_t width, uint32_t height, rtt_error *err);
+
 /* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]". */
 bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err);
 

@@ -24,6 +24,7 @@
 #ifndef RTT_SHADE_H
 #define RTT_SHADE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "rtt/engine.h"
@@ -66,6 +67,18 @@ void rtt_shade_weights(const rtt_material *m, uint32_t depth, uint32_t max_bounc
  * reflection.  `entering` tells the caller which side the ray was on: a hit
  * whose geometric normal faces the ray enters the object. */
 rtt_vec3 rtt_refract(rtt_vec3 d, rtt_vec3 n, float eta_from, float eta_to);
+
+/* The surface a hit shows the shader: the hit point, the incoming ray's unit
+ * direction, the shading normal turned to face the ray, whether the ray
+ * enters the object (the geometric normal faces it) and the material.  Both
+ * renderers shade from it, so they see exactly the same surface. */
+typedef struct rtt_surface {
+    rtt_vec3 point, dir, normal;
+    bool entering;
+    const rtt_material *material;
+} rtt_surface;
+
+rtt_surface rtt_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit);
 
 /* Interpolated shading normal of triangle prim at barycentrics (u, v),
  * normalized, not yet turned towards the ray; geometric when the scene has
