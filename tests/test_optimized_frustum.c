@@ -23,22 +23,9 @@
 #include "frustum.h"
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
+#include "test_random.h"
 
 #define TOLERANCE 1e-5f
-
-typedef struct rng {
-    uint64_t s;
-} rng;
-
-static float rng_float(rng *r) /* [0, 1) */
-{
-    r->s ^= r->s << 13;
-    r->s ^= r->s >> 7;
-    r->s ^= r->s << 17;
-    return (float)(r->s >> 40) / (float)(1u << 24);
-}
-
-static float rng_range(rng *r, float lo, float hi) { return lo + (hi - lo) * rng_float(r); }
 
 typedef struct fixture {
     rtt_scene *scene;
