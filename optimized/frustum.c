@@ -84,6 +84,7 @@ uint32_t kd_block_init(kd_block *b, const kd_tree *tree, const ray_packet4 *pack
     b->lane_groups = 0;
     b->lane_packet = 0;
     b->units = KD_UNITS_RAY;
+    b->leaf_frusta = NULL;
     b->isect_ns = NULL;
     const rtt_bounds *bb = &tree->bounds;
     float scale = fmaxf(fmaxf(fmaxf(fabsf(bb->lo.x), fabsf(bb->hi.x)), fmaxf(fabsf(bb->lo.y), fabsf(bb->hi.y))),
@@ -98,7 +99,10 @@ uint32_t kd_block_init(kd_block *b, const kd_tree *tree, const ray_packet4 *pack
         if (_mm_movemask_ps(valid)) traced++;
         __m128 entry, exit;
         slab4(&packets[p], lo, hi, b->margin, packets[p].tfar, &entry, &exit);
+        b->root_entry[p] = entry;
+        b->root_exit[p] = exit;
         b->live[p] = _mm_and_ps(valid, _mm_cmple_ps(entry, exit));
+        b->packet_best[p] = _mm_movemask_ps(b->live[p]) ? INFINITY : -INFINITY;
         b->order[p] = (uint16_t)p;
     }
     b->group_count = 1;
@@ -114,16 +118,17 @@ void kd_block_group_quadrants(kd_block *b)
     uint32_t count[4] = {0, 0, 0, 0};
     uint8_t quadrant[KD_BLOCK_MAX_PACKETS];
     int square = side * side == n && side % 2 == 0;
-    for (uint32_t p = 0; p < n; p++) {
-        uint32_t q;
-        if (square) {
-            uint32_t x = p % side, y = p / side;
-            q = (y >= side / 2 ? 2u : 0u) + (x >= side / 2 ? 1u : 0u);
-        } else {
-            q = (uint32_t)(((uint64_t)p * 4u) / n);
+    if (square) {
+        for (uint32_t y = 0, p = 0; y < side; y++)
+            for (uint32_t x = 0; x < side; x++, p++)
+                quadrant[p] = (uint8_t)((y >= side / 2 ? 2u : 0u) + (x >= side / 2 ? 1u : 0u));
+        for (uint32_t g = 0; g < 4; g++) count[g] = n / 4;
+    } else {
+        for (uint32_t p = 0; p < n; p++) {
+            uint32_t q = (uint32_t)(((uint64_t)p * 4u) / n);
+            quadrant[p] = (uint8_t)q;
+            count[q]++;
         }
-        quadrant[p] = (uint8_t)q;
-        count[q]++;
     }
     uint32_t next[4];
     b->group_first[0] = 0;
@@ -145,58 +150,53 @@ void kd_block_group_lanes(kd_block *b, uint32_t index)
 
 void kd_block_root_interval(const kd_block *b, uint32_t p, __m128 *entry, __m128 *exit)
 {
-    const rtt_bounds *bb = &b->tree->bounds;
-    float lo[3] = {bb->lo.x, bb->lo.y, bb->lo.z}, hi[3] = {bb->hi.x, bb->hi.y, bb->hi.z};
-    slab4(&b->packets[p], lo, hi, b->margin, b->packets[p].tfar, entry, exit);
+    *entry = b->root_entry[p];
+    *exit = b->root_exit[p];
 }
 
+/* One pass per axis (eight accumulators stay in registers; all of them at
+ * once spilled to the stack on every packet), then the root interval. */
 int kd_frustum_build(const kd_block *b, uint32_t g, kd_frustum *f)
 {
-    const __m128 pinf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
-    __m128 olo[3], ohi[3], plo[3], phi[3], nlo[3], nhi[3], hpos[3], hneg[3];
+    const __m128 pinf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY), sign = _mm_set1_ps(-0.0f);
+    const uint16_t *first = &b->order[b->group_first[g]], *last = &b->order[b->group_first[g + 1]];
     for (int a = 0; a < 3; a++) {
-        olo[a] = plo[a] = nlo[a] = pinf;
-        ohi[a] = phi[a] = nhi[a] = ninf;
-        hpos[a] = hneg[a] = _mm_setzero_ps();
-    }
-    __m128 near = pinf, far = ninf;
-    const __m128 sign = _mm_set1_ps(-0.0f);
-    for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
-        uint32_t p = b->order[i];
-        __m128 live = b->live[p];
-        if (!_mm_movemask_ps(live)) continue;
-        const ray_packet4 *r = &b->packets[p];
-        for (int a = 0; a < 3; a++) {
-            olo[a] = _mm_min_ps(olo[a], _mm_blendv_ps(pinf, r->org[a], live));
-            ohi[a] = _mm_max_ps(ohi[a], _mm_blendv_ps(ninf, r->org[a], live));
-            __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), r->dir[a]);
+        __m128 olo = pinf, ohi = ninf, plo = pinf, phi = ninf, nlo = pinf, nhi = ninf;
+        __m128 hpos = _mm_setzero_ps(), hneg = _mm_setzero_ps();
+        for (const uint16_t *i = first; i < last; i++) {
+            __m128 live = b->live[*i];
+            const ray_packet4 *r = &b->packets[*i];
+            olo = _mm_min_ps(olo, _mm_blendv_ps(pinf, r->org[a], live));
+            ohi = _mm_max_ps(ohi, _mm_blendv_ps(ninf, r->org[a], live));
             __m128 neg = _mm_and_ps(_mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(r->dir[a]), 31)), live);
             __m128 pos = _mm_andnot_ps(neg, live);
-            __m128 mag = _mm_andnot_ps(sign, inv);
-            plo[a] = _mm_min_ps(plo[a], _mm_blendv_ps(pinf, mag, pos));
-            phi[a] = _mm_max_ps(phi[a], _mm_blendv_ps(ninf, mag, pos));
-            nlo[a] = _mm_min_ps(nlo[a], _mm_blendv_ps(pinf, mag, neg));
-            nhi[a] = _mm_max_ps(nhi[a], _mm_blendv_ps(ninf, mag, neg));
-            hpos[a] = _mm_or_ps(hpos[a], pos);
-            hneg[a] = _mm_or_ps(hneg[a], neg);
+            /* the packet's reciprocal (1/dir, packet.c); the split distances
+             * are widened by KD_WIDEN, far more than a refined rcp's error */
+            __m128 mag = _mm_andnot_ps(sign, r->inv_dir[a]);
+            plo = _mm_min_ps(plo, _mm_blendv_ps(pinf, mag, pos));
+            phi = _mm_max_ps(phi, _mm_blendv_ps(ninf, mag, pos));
+            nlo = _mm_min_ps(nlo, _mm_blendv_ps(pinf, mag, neg));
+            nhi = _mm_max_ps(nhi, _mm_blendv_ps(ninf, mag, neg));
+            hpos = _mm_or_ps(hpos, pos);
+            hneg = _mm_or_ps(hneg, neg);
         }
-        __m128 entry, exit;
-        kd_block_root_interval(b, p, &entry, &exit);
-        near = _mm_min_ps(near, _mm_blendv_ps(pinf, entry, live));
-        far = _mm_max_ps(far, _mm_blendv_ps(ninf, exit, live));
+        f->org_lo[a] = hmin4(olo);
+        f->org_hi[a] = hmax4(ohi);
+        f->pos_lo[a] = hmin4(plo);
+        f->pos_hi[a] = hmax4(phi);
+        f->neg_lo[a] = hmin4(nlo);
+        f->neg_hi[a] = hmax4(nhi);
+        f->has_pos[a] = _mm_movemask_ps(hpos) != 0;
+        f->has_neg[a] = _mm_movemask_ps(hneg) != 0;
+    }
+    __m128 near = pinf, far = ninf;
+    for (const uint16_t *i = first; i < last; i++) {
+        __m128 live = b->live[*i];
+        near = _mm_min_ps(near, _mm_blendv_ps(pinf, b->root_entry[*i], live));
+        far = _mm_max_ps(far, _mm_blendv_ps(ninf, b->root_exit[*i], live));
     }
     f->near = hmin4(near);
     f->far = hmax4(far);
-    for (int a = 0; a < 3; a++) {
-        f->org_lo[a] = hmin4(olo[a]);
-        f->org_hi[a] = hmax4(ohi[a]);
-        f->pos_lo[a] = hmin4(plo[a]);
-        f->pos_hi[a] = hmax4(phi[a]);
-        f->neg_lo[a] = hmin4(nlo[a]);
-        f->neg_hi[a] = hmax4(nhi[a]);
-        f->has_pos[a] = _mm_movemask_ps(hpos[a]) != 0;
-        f->has_neg[a] = _mm_movemask_ps(hneg[a]) != 0;
-    }
     return f->near <= f->far;
 }
 
@@ -270,13 +270,16 @@ static __m128 lane_best(const kd_block *b, uint32_t g, uint32_t p)
     return _mm_add_ps(offset, _mm_mul_ps(t, speed));
 }
 
-static void visit_packet(kd_block *b, const kd_leaf *leaf, uint32_t p, __m128 mask)
+/* Culls packet p against the leaf and intersects what is left; false when
+ * it was culled (its hits and live lanes are then unchanged). */
+static inline __attribute__((always_inline)) bool visit_packet(kd_block *b, const kd_leaf *leaf, uint32_t p,
+                                                               __m128 mask)
 {
     const ray_packet4 *r = &b->packets[p];
     if (b->leaf_culling) {
         __m128 best = b->hits ? _mm_min_ps(b->hits[p].t, r->tfar) : r->tfar;
         mask = _mm_and_ps(mask, leaf_overlap(b, r, leaf, best));
-        if (!_mm_movemask_ps(mask)) return;
+        if (!_mm_movemask_ps(mask)) return false;
     }
     if (b->hits) {
         isect4_leaf(b->tree, leaf, r, &b->hits[p], mask, b->counters);
@@ -286,6 +289,7 @@ static void visit_packet(kd_block *b, const kd_leaf *leaf, uint32_t p, __m128 ma
         b->occluded[p] |= (uint8_t)_mm_movemask_ps(hit);
         b->live[p] = _mm_andnot_ps(hit, b->live[p]);
     }
+    return true;
 }
 
 static uint64_t now_ns(void)
@@ -297,15 +301,66 @@ static uint64_t now_ns(void)
 
 #pragma GCC diagnostic pop
 
-void kd_block_visit_leaf(kd_block *b, const kd_leaf *leaf, uint32_t lane_mask, float max_best[4])
+/* The packet's largest best over its live lanes (packet_best). */
+static float packet_best(const kd_block *b, uint32_t g, uint32_t p)
+{
+    return hmax4(_mm_blendv_ps(_mm_set1_ps(-INFINITY), lane_best(b, g, p), b->live[p]));
+}
+
+/* Interval arithmetic over each frustum's origin box and reciprocal
+ * direction ranges: the groups (lanes) some ray of which may meet the leaf
+ * box (grown by the margin) between the group's root near and its current
+ * max best.  A ray's parameter in the box is at least the largest, over
+ * axes, of its smallest possible slab entry, and at most the smallest of
+ * its largest possible slab exit; both are widened as the slab tests are.
+ * 0 * inf (an origin on a slab face, a zero direction) constrains nothing. */
+static int frusta_meet_box(const kd_frustum4 *f, const kd_leaf *leaf, float margin, const float max_best[4])
+{
+    const __m128 pinf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY), zero = _mm_setzero_ps();
+    __m128 enter = f->near, leave = _mm_min_ps(f->far, _mm_loadu_ps(max_best));
+    for (int a = 0; a < 3; a++) {
+        __m128 lo = _mm_set1_ps(leaf->lo[a] - margin), hi = _mm_set1_ps(leaf->hi[a] + margin);
+        __m128 d_enter = _mm_sub_ps(lo, f->org_hi[a]), d_leave = _mm_sub_ps(hi, f->org_lo[a]);
+        __m128 e_pos = _mm_mul_ps(d_enter, _mm_blendv_ps(f->pos_hi[a], f->pos_lo[a], _mm_cmpgt_ps(d_enter, zero)));
+        __m128 x_pos = _mm_mul_ps(d_leave, _mm_blendv_ps(f->pos_lo[a], f->pos_hi[a], _mm_cmpgt_ps(d_leave, zero)));
+        __m128 n_enter = _mm_sub_ps(f->org_lo[a], hi), n_leave = _mm_sub_ps(f->org_hi[a], lo);
+        __m128 e_neg = _mm_mul_ps(n_enter, _mm_blendv_ps(f->neg_hi[a], f->neg_lo[a], _mm_cmpgt_ps(n_enter, zero)));
+        __m128 x_neg = _mm_mul_ps(n_leave, _mm_blendv_ps(f->neg_lo[a], f->neg_hi[a], _mm_cmpgt_ps(n_leave, zero)));
+        e_pos = _mm_blendv_ps(pinf, _mm_blendv_ps(e_pos, ninf, _mm_cmpunord_ps(e_pos, e_pos)), f->has_pos[a]);
+        e_neg = _mm_blendv_ps(pinf, _mm_blendv_ps(e_neg, ninf, _mm_cmpunord_ps(e_neg, e_neg)), f->has_neg[a]);
+        x_pos = _mm_blendv_ps(ninf, _mm_blendv_ps(x_pos, pinf, _mm_cmpunord_ps(x_pos, x_pos)), f->has_pos[a]);
+        x_neg = _mm_blendv_ps(ninf, _mm_blendv_ps(x_neg, pinf, _mm_cmpunord_ps(x_neg, x_neg)), f->has_neg[a]);
+        enter = _mm_max_ps(enter, _mm_min_ps(e_pos, e_neg));
+        leave = _mm_min_ps(leave, _mm_max_ps(x_pos, x_neg));
+    }
+    return _mm_movemask_ps(_mm_cmple_ps(kd_widen_lo4(enter), kd_widen_hi4(leave)));
+}
+
+/* The group test costs about as much as two packet slab tests and culls
+ * little where leaf boxes fill their cells (dense meshes: bunny00), so it
+ * runs only when more packets than this wait behind it (measured: callgrind,
+ * kernel-tuning.md). */
+#define LEAF_GROUP_TEST_MIN_PACKETS 8u
+
+void kd_block_visit_leaf(kd_block *b, const kd_leaf *leaf, uint32_t lane_mask, const float near[4],
+                         float max_best[4])
 {
     if (leaf->count == 0) return;
+    /* groups culled as a whole keep their max best: their hits did not change */
+    if (b->leaf_culling && b->leaf_frusta) {
+        uint32_t candidates = b->lane_groups ? LEAF_GROUP_TEST_MIN_PACKETS + 1 : 0u;
+        for (uint32_t g = 0; g < 4 && !b->lane_groups; g++)
+            if (lane_mask >> g & 1u) candidates += b->group_first[g + 1] - b->group_first[g];
+        if (candidates > LEAF_GROUP_TEST_MIN_PACKETS)
+            lane_mask &= (uint32_t)frusta_meet_box(b->leaf_frusta, leaf, b->margin, max_best);
+    }
+    if (!lane_mask) return;
     uint64_t start = b->isect_ns ? now_ns() : 0;
     const __m128 ninf = _mm_set1_ps(-INFINITY);
     for (uint32_t g = 0; g < b->group_count; g++) {
         if (!(lane_mask >> g & 1u)) continue;
-        __m128 group_best = ninf;
         if (b->lane_groups) {
+            __m128 group_best = ninf;
             uint32_t p = b->lane_packet;
             int32_t bits[4] = {0, 0, 0, 0};
             bits[g] = -1;
@@ -315,15 +370,23 @@ void kd_block_visit_leaf(kd_block *b, const kd_leaf *leaf, uint32_t lane_mask, f
                 visit_packet(b, leaf, p, mask);
                 group_best = _mm_blendv_ps(ninf, lane_best(b, g, p), _mm_and_ps(b->live[p], lane));
             }
-        } else {
-            for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
-                uint32_t p = b->order[i];
-                if (!_mm_movemask_ps(b->live[p])) continue;
-                visit_packet(b, leaf, p, b->live[p]);
-                group_best = _mm_max_ps(group_best, _mm_blendv_ps(ninf, lane_best(b, g, p), b->live[p]));
-            }
+            b->packet_best[p] = INFINITY;
+            max_best[g] = kd_widen_hi(hmax4(group_best));
+            continue;
         }
-        max_best[g] = kd_widen_hi(hmax4(group_best));
+        /* Without leaf culling every live packet is intersected (Table 4.2's
+         * "off"); with it, packets done before the interval are skipped. */
+        const float skip_below = b->leaf_culling ? near[g] : -INFINITY;
+        float group_best = -INFINITY;
+        for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
+            uint32_t p = b->order[i];
+            float best = b->packet_best[p];
+            if (best == -INFINITY) continue;
+            if (best >= skip_below && (visit_packet(b, leaf, p, b->live[p]) || best == INFINITY))
+                best = b->packet_best[p] = packet_best(b, g, p);
+            group_best = best > group_best ? best : group_best;
+        }
+        max_best[g] = kd_widen_hi(group_best);
     }
     if (b->isect_ns) *b->isect_ns += now_ns() - start;
 }
@@ -356,7 +419,9 @@ void kd_block_trace_packets(kd_block *b)
         kd_block_root_interval(b, p, &entry, &exit);
         f.near = _mm_blendv_ps(pinf, entry, live);
         f.far = _mm_blendv_ps(ninf, exit, live);
+        b->leaf_frusta = &f;
         kd_traverse4_frusta(b, &f);
+        b->leaf_frusta = NULL;
     }
     b->lane_groups = 0;
 }

@@ -92,10 +92,21 @@ typedef struct kd_block {
     int lane_groups;                     /* group g = lane g of packet lane_packet */
     uint32_t lane_packet;
     kd_units units;
+    /* The groups' frusta (lane g = group g), or NULL (cones): a leaf visit
+     * first tests the leaf box against them, one test per group instead of
+     * one slab test per packet. */
+    const struct kd_frustum4 *leaf_frusta;
     float cone_apex[4][3], cone_axis[4][3];
     uint16_t group_first[5];
     uint16_t order[KD_BLOCK_MAX_PACKETS];
     __m128 live[KD_BLOCK_MAX_PACKETS];   /* lanes still traced */
+    /* Per packet, the largest best (upper end of the search, block units)
+     * over its live lanes: -inf when none is live, +inf until a leaf visit
+     * computes it.  A leaf whose group interval starts past it cannot hold
+     * a closer hit for the packet (frustum.h's exactness argument), so the
+     * visit skips the packet with one compare instead of a slab test. */
+    float packet_best[KD_BLOCK_MAX_PACKETS];
+    __m128 root_entry[KD_BLOCK_MAX_PACKETS], root_exit[KD_BLOCK_MAX_PACKETS]; /* kd_block_root_interval */
 } kd_block;
 
 /* Marks live lanes (finite ray, nonzero direction,
@@ -111,7 +122,8 @@ void kd_block_group_quadrants(kd_block *block);
 /* Restricts the block to packet `index` with one group per lane. */
 void kd_block_group_lanes(kd_block *block, uint32_t index);
 
-/* Per-ray clipped interval [entry, exit] of packet p in the root box. */
+/* Per-ray clipped interval [entry, exit] of packet p in the root box
+ * (computed once by kd_block_init). */
 void kd_block_root_interval(const kd_block *block, uint32_t p, __m128 *entry, __m128 *exit);
 
 /* Frustum of group g; false when the group has no live ray. */
@@ -130,11 +142,14 @@ void kd_frustum4_pack(const kd_frustum f[4], const int present[4], kd_frustum4 *
 int kd_cone_build(kd_block *block, uint32_t g, kd_cone *out);
 void kd_cone4_pack(const kd_cone c[4], const int present[4], kd_cone4 *out);
 
-/* Visits a leaf for the groups in lane_mask (bit g = group g): culls the
- * groups' packets against the leaf box (when leaf culling is on), intersects
- * the survivors and writes each visited group's new max best (in the
- * block's units; -inf when the group is finished) into max_best[g]. */
-void kd_block_visit_leaf(kd_block *block, const kd_leaf *leaf, uint32_t lane_mask, float max_best[4]);
+/* Visits a leaf for the groups in lane_mask (bit g = group g), whose
+ * interval in the leaf's cell starts at near[g]: culls the groups' packets
+ * against the leaf box (when leaf culling is on; packets whose every live
+ * ray has its best before near[g] without a slab test), intersects the
+ * survivors and writes each visited group's new max best (in the block's
+ * units; -inf when the group is finished) into max_best[g]. */
+void kd_block_visit_leaf(kd_block *block, const kd_leaf *leaf, uint32_t lane_mask, const float near[4],
+                         float max_best[4]);
 
 /* Omni-directional per-lane traversal of every packet, one at a time (the
  * fallback for incoherent blocks): each lane is its own exact frustum. */
@@ -160,8 +175,16 @@ void kd_traverse_proxy(rtt_traversal traversal, const kd_tree *tree, const ray_p
 void kd_traverse4_frusta(kd_block *block, const kd_frustum4 *frusta);
 
 /* Relative widening that keeps infinities (x - |x| w would give NaN). */
-static inline float kd_widen_lo(float x) { return fminf(x * (1.0f - KD_WIDEN), x * (1.0f + KD_WIDEN)); }
-static inline float kd_widen_hi(float x) { return fmaxf(x * (1.0f - KD_WIDEN), x * (1.0f + KD_WIDEN)); }
+static inline float kd_widen_lo(float x)
+{
+    float a = x * (1.0f - KD_WIDEN), b = x * (1.0f + KD_WIDEN);
+    return a < b ? a : b; /* not fminf: a libm call without -ffast-math */
+}
+static inline float kd_widen_hi(float x)
+{
+    float a = x * (1.0f - KD_WIDEN), b = x * (1.0f + KD_WIDEN);
+    return a > b ? a : b;
+}
 static inline __m128 kd_widen_lo4(__m128 x)
 {
     return _mm_min_ps(_mm_mul_ps(x, _mm_set1_ps(1.0f - KD_WIDEN)), _mm_mul_ps(x, _mm_set1_ps(1.0f + KD_WIDEN)));

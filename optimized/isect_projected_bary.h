@@ -37,22 +37,32 @@ bool kd_triangle_record(kd_triangle *rec, const rtt_vec3 p[3], uint32_t prim);
 
 /* The lanes of `rays` that hit `tri` with tnear < t < tfar and t <= tbest;
  * on return `*t_out`, `*beta_out`, `*gamma_out` hold the lane values. */
+/* The projection's other two axes, u = (k+1)%3 and v = (k+2)%3. */
+static const uint8_t kd_axis_u[3] = {1, 2, 0}, kd_axis_v[3] = {2, 0, 1};
+
+/* Broadcast of float `i` of a record row loaded whole: one shuffle instead
+ * of a scalar load and a shuffle per field (records are 3 x 16 bytes). */
+#define KD_SPLAT(row, i) _mm_shuffle_ps((row), (row), _MM_SHUFFLE(i, i, i, i))
+
 static inline __m128 isect4_projected_bary_mask(const kd_triangle *tri, const ray_packet4 *rays, __m128 tbest,
                                                 __m128 *t_out, __m128 *beta_out, __m128 *gamma_out)
 {
-    const uint32_t k = tri->k, ku = k == 2 ? 0 : k + 1, kv = k == 0 ? 2 : k - 1;
-    const __m128 nu = _mm_set1_ps(tri->n_u), nv = _mm_set1_ps(tri->n_v);
+    const uint32_t k = tri->k, ku = kd_axis_u[k], kv = kd_axis_v[k];
+    const __m128 row0 = _mm_loadu_ps((const float *)tri); /* n_u n_v n_d a_u */
+    const __m128 nu = KD_SPLAT(row0, 0), nv = KD_SPLAT(row0, 1);
     __m128 den = _mm_add_ps(rays->dir[k], _mm_add_ps(_mm_mul_ps(nu, rays->dir[ku]), _mm_mul_ps(nv, rays->dir[kv])));
-    __m128 num = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(tri->n_d), rays->org[k]),
+    __m128 num = _mm_sub_ps(_mm_sub_ps(KD_SPLAT(row0, 2), rays->org[k]),
                             _mm_add_ps(_mm_mul_ps(nu, rays->org[ku]), _mm_mul_ps(nv, rays->org[kv])));
     __m128 t = _mm_div_ps(num, den);
     __m128 valid = _mm_and_ps(_mm_cmpgt_ps(t, rays->tnear), _mm_cmplt_ps(t, rays->tfar));
     valid = _mm_and_ps(valid, _mm_cmple_ps(t, tbest));
     if (_mm_movemask_ps(valid) == 0) return valid;
-    __m128 hu = _mm_sub_ps(_mm_add_ps(rays->org[ku], _mm_mul_ps(t, rays->dir[ku])), _mm_set1_ps(tri->a_u));
-    __m128 hv = _mm_sub_ps(_mm_add_ps(rays->org[kv], _mm_mul_ps(t, rays->dir[kv])), _mm_set1_ps(tri->a_v));
-    __m128 beta = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(tri->b_nu), hu), _mm_mul_ps(_mm_set1_ps(tri->b_nv), hv));
-    __m128 gamma = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(tri->c_nu), hu), _mm_mul_ps(_mm_set1_ps(tri->c_nv), hv));
+    const __m128 row1 = _mm_loadu_ps((const float *)tri + 4); /* a_v b_nu b_nv c_nu */
+    const __m128 c_nv = _mm_set1_ps(tri->c_nv);
+    __m128 hu = _mm_sub_ps(_mm_add_ps(rays->org[ku], _mm_mul_ps(t, rays->dir[ku])), KD_SPLAT(row0, 3));
+    __m128 hv = _mm_sub_ps(_mm_add_ps(rays->org[kv], _mm_mul_ps(t, rays->dir[kv])), KD_SPLAT(row1, 0));
+    __m128 beta = _mm_add_ps(_mm_mul_ps(KD_SPLAT(row1, 1), hu), _mm_mul_ps(KD_SPLAT(row1, 2), hv));
+    __m128 gamma = _mm_add_ps(_mm_mul_ps(KD_SPLAT(row1, 3), hu), _mm_mul_ps(c_nv, hv));
     const __m128 zero = _mm_setzero_ps();
     valid = _mm_and_ps(valid, _mm_cmpge_ps(beta, zero));
     valid = _mm_and_ps(valid, _mm_cmpge_ps(gamma, zero));

@@ -54,7 +54,13 @@ void kd_block_trace_frustum(kd_block *b)
         kd_block_trace_packets(b);
         return;
     }
+    const int present[4] = {1, 0, 0, 0};
+    const kd_frustum lanes[4] = {f, f, f, f};
+    kd_frustum4 f4;
+    kd_frustum4_pack(lanes, present, &f4);
+    b->leaf_frusta = &f4;
     kd_traverse1(b, &f, frustum_split, f.near, f.far);
+    b->leaf_frusta = NULL;
 }
 
 void kd_traverse_frustum(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,

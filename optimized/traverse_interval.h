@@ -29,6 +29,15 @@ typedef void (*kd_split1_fn)(const void *proxy, uint32_t axis, float split, floa
 typedef void (*kd_split4_fn)(const void *proxy, uint32_t axis, float split, __m128 near, __m128 *front_left,
                              __m128 *dmin, __m128 *dmax);
 
+/* Bits set in a 4-bit lane mask (SSE4.1 has no POPCNT: __builtin_popcount
+ * would be a libgcc call per node). */
+static const uint8_t kd_popcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+/* min/max that keep the second operand when the first is NaN, like
+ * fminf/fmaxf there, without their libm call (no -ffast-math). */
+static inline float kd_min1(float a, float b) { return a < b ? a : b; }
+static inline float kd_max1(float a, float b) { return a > b ? a : b; }
+
 typedef struct kd_entry1 {
     uint32_t node;
     float near, far;
@@ -40,7 +49,10 @@ typedef struct kd_entry4 {
 } kd_entry4;
 
 /* One proxy (group 0 of the block), scalar: Listing 4.2 / 4.5. */
-static inline void kd_traverse1(kd_block *b, const void *proxy, kd_split1_fn split, float near, float far)
+/* always_inline: the kernel's split function is then a known call and is
+ * inlined into the loop (a call per node otherwise: about 5% of MFT). */
+static inline __attribute__((always_inline)) void kd_traverse1(kd_block *b, const void *proxy, kd_split1_fn split,
+                                                               float near, float far)
 {
     const kd_node *nodes = b->tree->nodes;
     kd_entry1 stack[KD_STACK_MAX];
@@ -48,7 +60,7 @@ static inline void kd_traverse1(kd_block *b, const void *proxy, kd_split1_fn spl
     uint64_t steps = 0;
     float best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
     for (;;) {
-        far = fminf(far, best[0]);
+        far = kd_min1(far, best[0]);
         if (near <= far) {
             const kd_node *n = &nodes[node];
             while (!kd_node_is_leaf(n)) {
@@ -66,17 +78,18 @@ static inline void kd_traverse1(kd_block *b, const void *proxy, kd_split1_fn spl
                     n = &nodes[front];
                     continue;
                 }
-                if (sp < KD_STACK_MAX) stack[sp++] = (kd_entry1){back, fmaxf(dmin, near), far};
-                far = fminf(dmax, far);
+                if (sp < KD_STACK_MAX) stack[sp++] = (kd_entry1){back, kd_max1(dmin, near), far};
+                far = kd_min1(dmax, far);
                 n = &nodes[front];
             }
             steps++;
-            kd_block_visit_leaf(b, &b->tree->leaves[n->leaf], 1u, best);
+            const float leaf_near[4] = {near, near, near, near};
+            kd_block_visit_leaf(b, &b->tree->leaves[n->leaf], 1u, leaf_near, best);
         }
         for (;;) {
             if (sp == 0) goto done;
             kd_entry1 e = stack[--sp];
-            node = e.node, near = e.near, far = fminf(e.far, best[0]);
+            node = e.node, near = e.near, far = kd_min1(e.far, best[0]);
             if (near <= far) break;
         }
     }
@@ -89,7 +102,8 @@ done:
  * finished; the active mask travels on the stack as the intervals
  * themselves (empty = masked).  The child most active lanes see in front is
  * visited first. */
-static inline void kd_traverse4(kd_block *b, const void *proxy, kd_split4_fn split, __m128 near, __m128 far)
+static inline __attribute__((always_inline)) void kd_traverse4(kd_block *b, const void *proxy, kd_split4_fn split,
+                                                               __m128 near, __m128 far)
 {
     const kd_node *nodes = b->tree->nodes;
     kd_entry4 stack[KD_STACK_MAX];
@@ -115,7 +129,7 @@ static inline void kd_traverse4(kd_block *b, const void *proxy, kd_split4_fn spl
                 int lmask = _mm_movemask_ps(_mm_cmple_ps(lnear, lfar));
                 int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
                 int fl = _mm_movemask_ps(front_left) & mask;
-                int left_first = 2 * __builtin_popcount((unsigned)fl) >= __builtin_popcount((unsigned)mask);
+                int left_first = 2 * kd_popcount4[fl] >= kd_popcount4[mask];
                 uint32_t first = left_first ? left : left + 1, second = left_first ? left + 1 : left;
                 __m128 fnear = left_first ? lnear : rnear, ffar = left_first ? lfar : rfar;
                 __m128 snear = left_first ? rnear : lnear, sfar = left_first ? rfar : lfar;
@@ -129,7 +143,9 @@ static inline void kd_traverse4(kd_block *b, const void *proxy, kd_split4_fn spl
                 n = &nodes[first], near = fnear, far = ffar, mask = fmask;
             }
             steps++;
-            kd_block_visit_leaf(b, &b->tree->leaves[n->leaf], (uint32_t)mask, best);
+            float leaf_near[4];
+            _mm_storeu_ps(leaf_near, near);
+            kd_block_visit_leaf(b, &b->tree->leaves[n->leaf], (uint32_t)mask, leaf_near, best);
             max_best = _mm_loadu_ps(best);
         }
     pop:

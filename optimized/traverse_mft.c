@@ -57,7 +57,9 @@ void kd_block_trace_mft(kd_block *b)
     if (!any) return;
     kd_frustum4 f4;
     kd_frustum4_pack(f, present, &f4);
+    b->leaf_frusta = &f4;
     kd_traverse4_frusta(b, &f4);
+    b->leaf_frusta = NULL;
 }
 
 void kd_traverse_mft(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
