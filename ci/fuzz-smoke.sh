@@ -5,7 +5,18 @@
 # committed seed corpus.  New inputs go to a scratch directory, never into the
 # committed corpus.  A crash fails the run and leaves its input in
 # build-fuzz/fuzz-artifacts/<harness>/: minimise it (-minimize_crash=1), fix
-# the bug, and commit the input under fuzz/regressions/<harness>/.
+# the bug, and commit the input under fuzz/regressions/<harness>/ (see
+# fuzz/README.md).
+#
+# Two things that are not ours are tolerated, and only those:
+#  - LeakSanitizer reads fuzz/lsan.supp (a leak inside libassimp's STL
+#    importer); for the assimp harness the slow unwinder is on, since
+#    libassimp has no frame pointers and the fast one stops before the
+#    suppressed frame;
+#  - Assimp's own parsers hang on some inputs (PLY, see fuzz/README.md): the
+#    assimp harness runs in fork mode with -ignore_timeouts=1, and its
+#    timeouts are counted and kept in the artifacts, not failed.  Any crash,
+#    sanitizer report or broken invariant still fails.
 #
 # Environment: FUZZ_SECONDS, FUZZ_BUILD (build directory), JOBS (default 2),
 # FUZZ_HARNESSES (default: all six).
@@ -23,8 +34,11 @@ if ! command -v clang >/dev/null; then
 fi
 
 echo "fuzz-smoke: configuring $build"
+# -Wno-unknown-warning-option: sources silence GCC-only warnings by pragma
+# (-Wmaybe-uninitialized), which clang would turn into -Werror failures.
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DRTT_FUZZ=ON -DRTT_EMBREE=ON > "$build.configure.log" 2>&1 ||
+  -DRTT_FUZZ=ON -DRTT_EMBREE=ON -DCMAKE_C_FLAGS=-Wno-unknown-warning-option \
+  -DCMAKE_CXX_FLAGS=-Wno-unknown-warning-option > "$build.configure.log" 2>&1 ||
   { cat "$build.configure.log"; exit 1; }
 targets=()
 for h in "${harnesses[@]}"; do targets+=(--target "fuzz_$h"); done
@@ -32,20 +46,28 @@ cmake --build "$build" -j "$jobs" "${targets[@]}"
 
 # Stop at the first UBSan report instead of printing and going on; leaks count.
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
+asan_options=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 
 status=0
 summary=()
 for h in "${harnesses[@]}"; do
   scratch=$(mktemp -d)
   artifacts="$build/fuzz-artifacts/$h"
+  rm -rf "$artifacts"
   mkdir -p "$artifacts"
   log="$build/fuzz-$h.log"
   args=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1
         -artifact_prefix="$artifacts/")
+  asan=$asan_options
+  if [ "$h" = assimp ]; then
+    args+=(-fork=1 -ignore_timeouts=1)
+    asan=$asan:fast_unwind_on_malloc=0
+  fi
   if [ -f "$root/fuzz/dict/$h.dict" ]; then args+=(-dict="$root/fuzz/dict/$h.dict"); fi
   echo "fuzz-smoke: $h for ${seconds}s"
-  if "$build/fuzz/fuzz_$h" "${args[@]}" "$scratch" "$root/fuzz/corpus/$h" > "$log" 2>&1; then
+  start=$(date +%s)
+  if ASAN_OPTIONS=$asan "$build/fuzz/fuzz_$h" "${args[@]}" "$scratch" "$root/fuzz/corpus/$h" > "$log" 2>&1; then
     result=ok
   else
     result=CRASH
@@ -53,10 +75,16 @@ for h in "${harnesses[@]}"; do
     grep -E "^(fuzz:|==[0-9]+==ERROR|SUMMARY)|runtime error" "$log" | head -5 >&2 || true
     ls "$artifacts" >&2 || true
   fi
-  execs=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  elapsed=$(( $(date +%s) - start ))
   units=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  # fork mode prints no final stats: its last "#<runs>: cov: ..." line counts
+  [ -n "$units" ] || units=$(sed -n 's/^#\([0-9]*\): cov.*/\1/p' "$log" | tail -1)
+  execs=$(( ${units:-0} / (elapsed > 0 ? elapsed : 1) ))
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 || true)
-  summary+=("$(printf '%-11s %-6s %8s execs/s %10s runs  %s' "$h" "$result" "${execs:-?}" "${units:-?}" "${cov:-}")")
+  hangs=$(find "$artifacts" -name 'timeout-*' | wc -l)
+  note=""
+  [ "$h" = assimp ] && [ "$hangs" -gt 0 ] && note="  ($hangs Assimp parser hangs tolerated)"
+  summary+=("$(printf '%-11s %-6s %8s execs/s %10s runs  %s%s' "$h" "$result" "$execs" "${units:-?}" "${cov:-}" "$note")")
   rm -rf "$scratch"
 done
 

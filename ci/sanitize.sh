@@ -7,7 +7,8 @@
 # Any report fails the run (-fno-sanitize-recover=all is set by the top-level
 # CMake).  Environment: SANITIZE_BUILD_PREFIX (default <root>/build), JOBS
 # (default 2), CC (default: the system compiler), TSAN_TESTS (ctest regex),
-# SANITIZE_STEPS ("asan tsan" by default).
+# SANITIZE_STEPS ("asan tsan" by default).  LeakSanitizer reads the
+# suppressions of fuzz/lsan.supp (a leak inside libassimp, not ours).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -15,6 +16,8 @@ prefix=${SANITIZE_BUILD_PREFIX:-$root/build}
 jobs=${JOBS:-2}
 steps=(${SANITIZE_STEPS:-asan tsan})
 tsan_tests=${TSAN_TESTS:-'^test_image_tiles$|render|^test_optimized'}
+# Leaks inside libassimp on its STL parse-error path are not ours: fuzz/lsan.supp.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 
 configure_and_build() {   # build-dir sanitizers
   local build=$1 sanitizers=$2

@@ -164,7 +164,7 @@ static rtt_ray decode_ray(byte_reader *in, const rtt_scene *scene, float scale, 
  * frustum, MFT and cone kernels take their fast paths. */
 static void camera_grid(const rtt_scene *scene, rtt_vec3 eye, rtt_ray *rays)
 {
-    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(scene->bounds.lo, scene->bounds.hi), 0.5f);
+    rtt_vec3 centre = rtt_v3_add(rtt_v3_scale(scene->bounds.lo, 0.5f), rtt_v3_scale(scene->bounds.hi, 0.5f));
     rtt_vec3 extent = rtt_v3_sub(scene->bounds.hi, scene->bounds.lo);
     float size = fmaxf(extent.x, fmaxf(extent.y, extent.z));
     for (uint32_t y = 0; y < GRID; y++)
@@ -191,7 +191,7 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     rtt_engine *reference = rtt_engine_create("reference", scene, &opt, &err);
     if (!reference)
         fuzz_fail("reference engine refused a valid scene: %s", err.message);
-    fuzz_check_tree_info(reference, "reference", scene);
+    fuzz_check_tree_info(reference, "reference", scene, false);
     fuzz_oracle_check(oracle, reference, "reference", false);
     rtt_engine_destroy(reference);
 
@@ -204,7 +204,7 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
         char label[64];
         snprintf(label, sizeof label, "optimized/%s", rtt_traversal_name(opt.traversal));
         if (mode == 0)
-            fuzz_check_tree_info(optimized, label, scene);
+            fuzz_check_tree_info(optimized, label, scene, true);
         fuzz_oracle_check(oracle, optimized, label, true);
         rtt_engine_destroy(optimized);
     }

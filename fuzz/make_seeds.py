@@ -163,3 +163,26 @@ write("kd_build", "degenerate", kd_input(degenerate, [len(degenerate) - 1, 0, 0,
 nan = struct.pack("<f", float("nan"))
 raw = bytes([0, 1, 0, 0, 0]) + (bytes([0xFF]) + nan + struct.pack("<2f", 0, 0)) + bytes([0xFF]) + struct.pack("<3f", 1, 0, 0) + bytes([0xFF]) + struct.pack("<3f", 0, 1, 0)
 write("kd_build", "raw_nan", raw)
+
+
+# --- kdt: mutations of a baked file -----------------------------------------
+# tri.kdt, box.kdt and thin_plate.kdt are made with `rtt bake` (README.md):
+# a one-triangle inline mesh, a box with a sphere light and a reflective
+# material, and scenes/shadow_thin_plate.json.  The harness repairs the
+# checksum of what it loads, so these reach the checks behind it.
+def kdt_mutations():
+    path = os.path.join(HERE, "corpus", "kdt", "tri.kdt")
+    if not os.path.exists(path):
+        return
+    with open(path, "rb") as f:
+        baked = bytearray(f.read())
+    write("kdt", "tri_truncated.kdt", bytes(baked[:600]))
+    more_nodes = bytearray(baked)                    # node_count at offset 60
+    struct.pack_into("<I", more_nodes, 60, struct.unpack_from("<I", baked, 60)[0] + 1000)
+    write("kdt", "tri_node_count_past_end.kdt", bytes(more_nodes))
+    huge = bytearray(baked)                          # triangle_count at offset 44
+    struct.pack_into("<I", huge, 44, 0xFFFFFFFF)
+    write("kdt", "tri_triangle_count_huge.kdt", bytes(huge))
+
+
+kdt_mutations()

@@ -75,7 +75,8 @@ static int replay_directory(const char *dir_path, size_t *count)
         names[n++] = strdup(e->d_name);
     }
     closedir(dir);
-    qsort(names, n, sizeof *names, compare_names);
+    if (n > 0)   /* names is NULL for an empty directory */
+        qsort(names, n, sizeof *names, compare_names);
     int failures = 0;
     for (size_t i = 0; i < n; i++) {
         char path[4096];

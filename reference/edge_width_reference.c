@@ -127,7 +127,7 @@ float rtt_edge_width_reference(const rtt_kd_tree *tree, const rtt_edge_width_mod
         free(c.items);
         return 1.0f;
     }
-    qsort(c.items, c.count, sizeof *c.items, compare_crossings);
+    if (c.count > 1) qsort(c.items, c.count, sizeof *c.items, compare_crossings); /* items is NULL when empty */
     for (size_t i = 0; i < c.count; i++)
         if (rtt_edge_width_feed(model, &state, c.items[i].t, c.items[i].prim)) break;
     free(c.items);

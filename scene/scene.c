@@ -317,7 +317,8 @@ static bool classify_meshes(rtt_scene *scene, rtt_error *err)
 static void default_camera(rtt_scene *scene)
 {
     rtt_bounds b = scene->bounds;
-    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(b.lo, b.hi), 0.5f);
+    /* halves first: lo + hi overflows to inf for coordinates beyond FLT_MAX / 2 */
+    rtt_vec3 centre = rtt_v3_add(rtt_v3_scale(b.lo, 0.5f), rtt_v3_scale(b.hi, 0.5f));
     float radius = 0.5f * rtt_v3_length(rtt_v3_sub(b.hi, b.lo));
     if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
     float half_fov = 0.5f * RTT_DEFAULT_FOV_DEG * 3.14159265f / 180.0f;
