@@ -35,11 +35,6 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
-typedef struct omni_task {
-    __m128 near, far;
-    uint32_t node;
-} omni_task;
-
 /* One packet from the root.  right_first[axis] = 1 when most live lanes have
  * the right child in front on `axis`.  Closest hit into *hits, or (hits
  * NULL) returns the mask of occluded lanes, stopping once every live lane
@@ -48,7 +43,7 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
                              const uint32_t right_first[3], int live, hit_packet4 *hits, kd_counters *counters)
 {
     const kd_node *nodes = tree->nodes;
-    omni_task stack[KD_RAY_STACK];
+    kd_packet_task stack[KD_RAY_STACK];
     uint32_t sp = 0;
     uint64_t steps = 0;
     const kd_node *n = nodes;
@@ -74,10 +69,10 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
             const int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
             if (lmask && rmask) {
                 if (right_first[axis]) {
-                    if (sp < KD_RAY_STACK) stack[sp++] = (omni_task){lnear, lfar, left};
+                    if (sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){lnear, lfar, left};
                     n = &nodes[left + 1], near = rnear, far = rfar;
                 } else {
-                    if (sp < KD_RAY_STACK) stack[sp++] = (omni_task){rnear, rfar, left + 1};
+                    if (sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){rnear, rfar, left + 1};
                     n = &nodes[left], near = lnear, far = lfar;
                 }
             } else if (lmask) {
@@ -88,30 +83,10 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
             }
         }
         steps++;
-        const kd_leaf *leaf = &tree->leaves[n->leaf];
-        if (leaf->count) {
-            const __m128 active = _mm_cmple_ps(near, far);
-            if (hits) {
-                isect4_leaf(tree, leaf, r, hits, active, counters);
-                limit = hits->t;
-            } else {
-                occluded = _mm_or_ps(occluded, occluded4_leaf(tree, leaf, r, active, counters));
-                if (_mm_movemask_ps(occluded) == live) goto done;
-                limit = _mm_blendv_ps(limit, _mm_set1_ps(-INFINITY), occluded);
-            }
-        }
-        for (;;) {
-            if (sp == 0) goto done;
-            const omni_task task = stack[--sp];
-            near = task.near;
-            far = _mm_min_ps(task.far, limit);
-            if (_mm_movemask_ps(_mm_cmple_ps(near, far))) {
-                n = &nodes[task.node];
-                break;
-            }
-        }
+        if (kd_packet_leaf(tree, &tree->leaves[n->leaf], r, hits, near, far, live, &limit, &occluded, counters))
+            break;
+        if (!kd_packet_pop(stack, &sp, limit, nodes, &n, &near, &far)) break;
     }
-done:
     if (counters) counters->steps += steps;
     return _mm_movemask_ps(occluded);
 }

@@ -30,11 +30,6 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
-typedef struct packet_task {
-    __m128 near, far;
-    uint32_t node;
-} packet_task;
-
 /* One packet from the root.  neg[axis] = 1 when the live lanes' direction
  * is negative on `axis` (the near child is then the right one).  Closest hit
  * into *hits, or (hits NULL) returns the mask of occluded lanes, stopping
@@ -43,7 +38,7 @@ static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128
                                const uint32_t neg[3], int live, hit_packet4 *hits, kd_counters *counters)
 {
     const kd_node *nodes = tree->nodes;
-    packet_task stack[KD_RAY_STACK];
+    kd_packet_task stack[KD_RAY_STACK];
     uint32_t sp = 0;
     uint64_t steps = 0;
     const kd_node *n = nodes;
@@ -63,7 +58,7 @@ static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128
             const int back = _mm_movemask_ps(_mm_cmple_ps(back_near, far));
             const uint32_t near_child = left + neg[axis], far_child = left + (neg[axis] ^ 1u);
             if (front) {
-                if (back && sp < KD_RAY_STACK) stack[sp++] = (packet_task){back_near, far, far_child};
+                if (back && sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){back_near, far, far_child};
                 n = &nodes[near_child];
                 far = front_far;
             } else {
@@ -73,30 +68,10 @@ static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128
             }
         }
         steps++;
-        const kd_leaf *leaf = &tree->leaves[n->leaf];
-        if (leaf->count) {
-            const __m128 active = _mm_cmple_ps(near, far);
-            if (hits) {
-                isect4_leaf(tree, leaf, r, hits, active, counters);
-                limit = hits->t;
-            } else {
-                occluded = _mm_or_ps(occluded, occluded4_leaf(tree, leaf, r, active, counters));
-                if (_mm_movemask_ps(occluded) == live) goto done;
-                limit = _mm_blendv_ps(limit, _mm_set1_ps(-INFINITY), occluded);
-            }
-        }
-        for (;;) {
-            if (sp == 0) goto done;
-            const packet_task task = stack[--sp];
-            near = task.near;
-            far = _mm_min_ps(task.far, limit);
-            if (_mm_movemask_ps(_mm_cmple_ps(near, far))) {
-                n = &nodes[task.node];
-                break;
-            }
-        }
+        if (kd_packet_leaf(tree, &tree->leaves[n->leaf], r, hits, near, far, live, &limit, &occluded, counters))
+            break;
+        if (!kd_packet_pop(stack, &sp, limit, nodes, &n, &near, &far)) break;
     }
-done:
     if (counters) counters->steps += steps;
     return _mm_movemask_ps(occluded);
 }

@@ -33,6 +33,7 @@
 
 #include "kd_build.h"
 #include "kd_tree.h"
+#include "isect_projected_bary.h"
 #include "packet.h"
 
 /* A ray pushes at most one entry per level: KD_DEPTH_LIMIT (64) plus a
@@ -110,6 +111,51 @@ static inline int kd_ray_packet_setup(const kd_ray_box *box, const ray_packet4 *
     *near = _mm_blendv_ps(_mm_set1_ps(INFINITY), t0, live);
     *far = _mm_blendv_ps(_mm_set1_ps(-INFINITY), t1, live);
     return _mm_movemask_ps(live);
+}
+
+/* A stack entry of the 2x2 packet kernels (packet, omni): a subtree and the
+ * per-lane interval to search it in. */
+typedef struct kd_packet_task {
+    __m128 near, far;
+    uint32_t node;
+} kd_packet_task;
+
+/* One leaf for one packet, lanes active where near <= far: closest hits into
+ * *hits, or (hits NULL) occlusion into *occluded.  Narrows *limit, the far
+ * end popped tasks are clipped to (the best hit, or -inf once occluded).
+ * Returns 1 when every live lane is occluded: the search is over. */
+static inline int kd_packet_leaf(const kd_tree *tree, const kd_leaf *leaf, const ray_packet4 *r, hit_packet4 *hits,
+                                 __m128 near, __m128 far, int live, __m128 *limit, __m128 *occluded,
+                                 kd_counters *counters)
+{
+    if (!leaf->count) return 0;
+    const __m128 active = _mm_cmple_ps(near, far);
+    if (hits) {
+        isect4_leaf(tree, leaf, r, hits, active, counters);
+        *limit = hits->t;
+        return 0;
+    }
+    *occluded = _mm_or_ps(*occluded, occluded4_leaf(tree, leaf, r, active, counters));
+    if (_mm_movemask_ps(*occluded) == live) return 1;
+    *limit = _mm_blendv_ps(*limit, _mm_set1_ps(-INFINITY), *occluded);
+    return 0;
+}
+
+/* Pops the next task whose interval, clipped to limit, is not empty; 0 when
+ * the stack runs out. */
+static inline int kd_packet_pop(const kd_packet_task *stack, uint32_t *sp, __m128 limit, const kd_node *nodes,
+                                const kd_node **n, __m128 *near, __m128 *far)
+{
+    while (*sp) {
+        const kd_packet_task task = stack[--*sp];
+        *near = task.near;
+        *far = _mm_min_ps(task.far, limit);
+        if (_mm_movemask_ps(_mm_cmple_ps(*near, *far))) {
+            *n = &nodes[task.node];
+            return 1;
+        }
+    }
+    return 0;
 }
 
 #endif
