@@ -187,7 +187,7 @@ static void extreme_rays(const rtt_scene *s, uint64_t seed, size_t max, rtt_ray 
             break;
         }
         case 3: { /* origin on split-plane-like values: every coordinate a vertex coordinate */
-            rtt_vec3 o;
+            rtt_vec3 o = rtt_v3(0.0f, 0.0f, 0.0f); /* every axis set below */
             for (int a = 0; a < 3; a++) {
                 rtt_vec3 u[3];
                 rtt_scene_triangle(s, next_below(&state, s->triangle_count), u);
