@@ -24,5 +24,11 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+fuzz: deps
+	bash ci/fuzz-smoke.sh
+
+sanitize: deps
+	bash ci/sanitize.sh
+
 clean:
 	rm -rf $(BUILD) $(BUILD).configure.log

@@ -57,7 +57,10 @@ for h in "${harnesses[@]}"; do
   rm -rf "$artifacts"
   mkdir -p "$artifacts"
   log="$build/fuzz-$h.log"
-  args=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1
+  timeout=20
+  # Assimp's PLY hangs would each eat 20 s of the assimp minute
+  [ "$h" = assimp ] && timeout=5
+  args=(-max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 -print_final_stats=1
         -artifact_prefix="$artifacts/")
   asan=$asan_options
   if [ "$h" = assimp ]; then
@@ -67,7 +70,15 @@ for h in "${harnesses[@]}"; do
   if [ -f "$root/fuzz/dict/$h.dict" ]; then args+=(-dict="$root/fuzz/dict/$h.dict"); fi
   echo "fuzz-smoke: $h for ${seconds}s"
   start=$(date +%s)
-  if ASAN_OPTIONS=$asan "$build/fuzz/fuzz_$h" "${args[@]}" "$scratch" "$root/fuzz/corpus/$h" > "$log" 2>&1; then
+  code=0
+  ASAN_OPTIONS=$asan "$build/fuzz/fuzz_$h" "${args[@]}" "$scratch" "$root/fuzz/corpus/$h" > "$log" 2>&1 || code=$?
+  # fork mode exits with its last job's code, 70 after a tolerated timeout:
+  # for assimp only a crash, leak or oom artifact is a failure
+  if [ "$h" = assimp ] && [ "$code" -ne 0 ] && [ -z "$(find "$artifacts" -type f ! -name 'timeout-*')" ] &&
+     ! grep -aq "^fuzz:" "$log"; then
+    code=0
+  fi
+  if [ "$code" -eq 0 ]; then
     result=ok
   else
     result=CRASH

@@ -159,7 +159,7 @@ static void extreme_rays(const rtt_scene *s, uint64_t seed, size_t max, rtt_ray 
 {
     uint64_t state = seed ^ 0xE7E7E7E7ull;
     rtt_bounds around = around_bounds(s);
-    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(around.lo, around.hi), 0.5f);
+    rtt_vec3 centre = rtt_v3_add(rtt_v3_scale(around.lo, 0.5f), rtt_v3_scale(around.hi, 0.5f)); /* no overflow near FLT_MAX */
     size_t n = 0;
     if (max >= 14) n = invalid_rays(centre, out);
     while (n < max && s->triangle_count) {

@@ -454,7 +454,7 @@ static bool invalid_ray_checks(run_context *ctx, const rtt_scene *scene)
         free(must_miss);
         return rtt_error_set(ctx->err, "extremes: out of memory for rays");
     }
-    rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(scene->bounds.lo, scene->bounds.hi), 0.5f);
+    rtt_vec3 centre = rtt_v3_add(rtt_v3_scale(scene->bounds.lo, 0.5f), rtt_v3_scale(scene->bounds.hi, 0.5f)); /* no overflow near FLT_MAX */
     rtt_ext_rays_invalid(centre, n_invalid, invalid);
     memset(must_miss, 1, n_invalid);
     check_spec alone = {.name = "NaN/Inf rays", .scene = scene, .rays = invalid, .n = n_invalid,

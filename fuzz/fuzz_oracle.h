@@ -30,7 +30,9 @@
  * triangle's edge (a barycentric within 1e-4 of 0, computed in double, plus
  * the rounding of their float hit point o + t d: 8 ulps of the largest
  * coordinate involved, times 1 / cos of the incidence angle, over the
- * triangle's smallest altitude; a unit triangle at 1e7 is all edge) or on a
+ * triangle's smallest altitude; a unit triangle at 1e7 is all edge; the
+ * same error over |dir| widens their t tolerance, which matters for grazing
+ * rays) or on a
  * triangle seen nearly edge-on or nearly degenerate (|det| below 1e-5 of
  * |e1||e2||dir|) or with a coordinate beyond 1e30.  Edge ties between prims are accepted because the
  * reported prim only has to be hit at the reported t. */

@@ -387,20 +387,25 @@ static bool check_geometry(const kdt_file *f, const rtt_scene *s, rtt_error *err
 static bool read_meshes(const kdt_file *f, rtt_scene *s, rtt_error *err)
 {
     const kdt_mesh *in = (const kdt_mesh *)(f->bytes + f->table[KDT_SECTION_MESHES].offset);
+    uint32_t next = 0; /* meshes tile the global triangle order, in order (scene.h) */
     for (uint32_t i = 0; i < s->mesh_count; i++) {
         kdt_mesh k;
         memcpy(&k, &in[i], sizeof k);
-        if ((uint64_t)k.first_triangle + k.triangle_count > s->triangle_count || k.material >= s->material_count ||
-            k.closed > 1u)
+        if (k.first_triangle != next || (uint64_t)k.first_triangle + k.triangle_count > s->triangle_count ||
+            k.material >= s->material_count || k.closed > 1u)
             return rtt_error_set(err, "%s: mesh %u: triangles %u+%u, material %u or closed flag out of range "
                                       "(meshes section)",
                                  f->path, i, k.first_triangle, k.triangle_count, k.material);
+        next += k.triangle_count;
         rtt_mesh *m = &s->meshes[i];
         memset(m, 0, sizeof *m);
         memcpy(m->name, k.name, 63);
         m->first_triangle = k.first_triangle, m->triangle_count = k.triangle_count;
         m->material = k.material, m->closed = k.closed != 0;
     }
+    if (s->mesh_count > 0 && next != s->triangle_count)
+        return rtt_error_set(err, "%s: meshes cover %u of %u triangles (meshes section)", f->path, next,
+                             s->triangle_count);
     return true;
 }
 
