@@ -23,20 +23,6 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
-static inline float hmin4(__m128 v)
-{
-    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtss_f32(v);
-}
-
-static inline float hmax4(__m128 v)
-{
-    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtss_f32(v);
-}
-
 static inline __m128 is_finite4(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
 
 /* Lanes carrying a ray that can hit: finite origin and direction, nonzero
@@ -180,12 +166,12 @@ int kd_frustum_build(const kd_block *b, uint32_t g, kd_frustum *f)
             hpos = _mm_or_ps(hpos, pos);
             hneg = _mm_or_ps(hneg, neg);
         }
-        f->org_lo[a] = hmin4(olo);
-        f->org_hi[a] = hmax4(ohi);
-        f->pos_lo[a] = hmin4(plo);
-        f->pos_hi[a] = hmax4(phi);
-        f->neg_lo[a] = hmin4(nlo);
-        f->neg_hi[a] = hmax4(nhi);
+        f->org_lo[a] = kd_hmin4(olo);
+        f->org_hi[a] = kd_hmax4(ohi);
+        f->pos_lo[a] = kd_hmin4(plo);
+        f->pos_hi[a] = kd_hmax4(phi);
+        f->neg_lo[a] = kd_hmin4(nlo);
+        f->neg_hi[a] = kd_hmax4(nhi);
         f->has_pos[a] = _mm_movemask_ps(hpos) != 0;
         f->has_neg[a] = _mm_movemask_ps(hneg) != 0;
     }
@@ -195,8 +181,8 @@ int kd_frustum_build(const kd_block *b, uint32_t g, kd_frustum *f)
         near = _mm_min_ps(near, _mm_blendv_ps(pinf, b->root_entry[*i], live));
         far = _mm_max_ps(far, _mm_blendv_ps(ninf, b->root_exit[*i], live));
     }
-    f->near = hmin4(near);
-    f->far = hmax4(far);
+    f->near = kd_hmin4(near);
+    f->far = kd_hmax4(far);
     return f->near <= f->far;
 }
 
@@ -304,7 +290,7 @@ static uint64_t now_ns(void)
 /* The packet's largest best over its live lanes (packet_best). */
 static float packet_best(const kd_block *b, uint32_t g, uint32_t p)
 {
-    return hmax4(_mm_blendv_ps(_mm_set1_ps(-INFINITY), lane_best(b, g, p), b->live[p]));
+    return kd_hmax4(_mm_blendv_ps(_mm_set1_ps(-INFINITY), lane_best(b, g, p), b->live[p]));
 }
 
 /* Interval arithmetic over each frustum's origin box and reciprocal
@@ -371,7 +357,7 @@ void kd_block_visit_leaf(kd_block *b, const kd_leaf *leaf, uint32_t lane_mask, c
                 group_best = _mm_blendv_ps(ninf, lane_best(b, g, p), _mm_and_ps(b->live[p], lane));
             }
             b->packet_best[p] = INFINITY;
-            max_best[g] = kd_widen_hi(hmax4(group_best));
+            max_best[g] = kd_widen_hi(kd_hmax4(group_best));
             continue;
         }
         /* Without leaf culling every live packet is intersected (Table 4.2's

@@ -35,6 +35,21 @@
 
 /* Units of a group's interval: ray parameter t (frusta) or the cone axis
  * parameter tau (cones; tau = axial_offset + t * axial_speed per ray). */
+/* Horizontal minimum and maximum of the four lanes. */
+static inline float kd_hmin4(__m128 v)
+{
+    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(v);
+}
+
+static inline float kd_hmax4(__m128 v)
+{
+    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtss_f32(v);
+}
+
 typedef enum kd_units { KD_UNITS_RAY = 0, KD_UNITS_CONE_AXIS = 1 } kd_units;
 
 /* Conservative interval-arithmetic frustum of a group of rays (the

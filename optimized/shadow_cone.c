@@ -57,20 +57,6 @@ static inline float hsum4(__m128 v)
     return _mm_cvtss_f32(v);
 }
 
-static inline float hmin4(__m128 v)
-{
-    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtss_f32(v);
-}
-
-static inline float hmax4(__m128 v)
-{
-    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtss_f32(v);
-}
-
 /* The cone of Figure 4.5 for a group whose rays share their origin (the
  * shading point): apex at the point, axis the mean direction, half angle
  * the widest ray's, all in SSE over the live lanes in two passes (what
@@ -116,7 +102,7 @@ static int shared_apex_cone(kd_block *b, kd_cone *c)
         near = _mm_min_ps(near, _mm_blendv_ps(near, _mm_mul_ps(entry, dot), live));
         far = _mm_max_ps(far, _mm_blendv_ps(far, _mm_mul_ps(exit, dot), live));
     }
-    float cmin = hmin4(cos_min);
+    float cmin = kd_hmin4(cos_min);
     if (!(cmin >= SC_MIN_COS)) return 0;
     /* widened: the rounding of the cosines, and never a zero angle */
     float sin_b = fminf(sqrtf(fmaxf(0.0f, 1.0f - cmin * cmin)) * (1.0f + 1e-3f) + 1e-5f, 0.985f);
@@ -131,8 +117,8 @@ static int shared_apex_cone(kd_block *b, kd_cone *c)
         c->pre[1][a] = 1.0f / (v[a] - beta);
     }
     c->tan_angle = tan_b;
-    c->near = fmaxf(0.0f, kd_widen_lo(hmin4(near)));
-    c->far = kd_widen_hi(hmax4(far));
+    c->near = fmaxf(0.0f, kd_widen_lo(kd_hmin4(near)));
+    c->far = kd_widen_hi(kd_hmax4(far));
     b->units = KD_UNITS_CONE_AXIS;
     return c->near <= c->far;
 }
