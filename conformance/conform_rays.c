@@ -166,7 +166,7 @@ static void extreme_rays(const rtt_scene *s, uint64_t seed, size_t max, rtt_ray 
         uint32_t prim = next_below(&state, s->triangle_count), corner = next_below(&state, 3);
         rtt_vec3 t[3];
         rtt_scene_triangle(s, prim, t);
-        rtt_vec3 vertex = t[corner], mid = rtt_v3_scale(rtt_v3_add(t[corner], t[(corner + 1) % 3]), 0.5f);
+        rtt_vec3 vertex = t[corner], mid = rtt_v3_add(rtt_v3_scale(t[corner], 0.5f), rtt_v3_scale(t[(corner + 1) % 3], 0.5f));
         rtt_vec3 org = random_point(&state, around);
         switch (n % 6) {
         case 0: /* aimed exactly at a vertex */

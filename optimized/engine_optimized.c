@@ -113,6 +113,10 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
         adopt_baked(&e->tree, scene->baked);
+        if (!kd_baked_tree_verify(scene, &e->tree, err)) {
+            free(e);
+            return NULL;
+        }
         return &e->base;
     }
     kd_build_options build = {.max_depth = opt->max_tree_depth};

@@ -38,6 +38,7 @@
 
 #include "isect_projected_bary.h"
 #include "kd_build.h"
+#include "kd_clip.h"
 
 /* 8 bytes: (order-preserving key of the position << 32) | type << 30 | prim.
  * Sorting the integers sorts by position, then end < planar < start, which
@@ -114,91 +115,6 @@ static bool events_sort(kd_event *events, size_t count)
     free(tmp);
     free(hist);
     return true;
-}
-
-/* ---- clipping (perfect splits) ------------------------------------------ */
-
-typedef struct clip_polygon {
-    double v[12][3]; /* a triangle clipped by 6 planes has at most 9 corners */
-    int count;
-} clip_polygon;
-
-/* Keeps the part of the polygon with sign * (x[axis] - plane) >= 0. */
-static void clip_against_plane(clip_polygon *poly, int axis, double plane, double sign)
-{
-    int inside = 0;
-    for (int i = 0; i < poly->count; i++) inside += sign * (poly->v[i][axis] - plane) >= 0.0;
-    if (inside == poly->count) return;
-    if (inside == 0) {
-        poly->count = 0;
-        return;
-    }
-    clip_polygon out = {.count = 0};
-    for (int i = 0; i < poly->count; i++) {
-        const double *cur = poly->v[i], *next = poly->v[(i + 1) % poly->count];
-        bool cur_in = sign * (cur[axis] - plane) >= 0.0, next_in = sign * (next[axis] - plane) >= 0.0;
-        if (cur_in) memcpy(out.v[out.count++], cur, sizeof out.v[0]);
-        if (cur_in != next_in) {
-            double s = (plane - cur[axis]) / (next[axis] - cur[axis]);
-            double *p = out.v[out.count++];
-            for (int a = 0; a < 3; a++) p[a] = cur[a] + s * (next[a] - cur[a]);
-            p[axis] = plane; /* exactly on the plane, whatever the rounding */
-        }
-    }
-    *poly = out;
-}
-
-static float round_down(double x)
-{
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
-}
-
-static float round_up(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
-}
-
-static rtt_bounds bounds_intersection(rtt_bounds a, rtt_bounds b)
-{
-    return (rtt_bounds){rtt_v3_max(a.lo, b.lo), rtt_v3_min(a.hi, b.hi)};
-}
-
-static rtt_bounds triangle_bounds(const rtt_vec3 p[3])
-{
-    rtt_bounds b = rtt_bounds_empty();
-    for (int i = 0; i < 3; i++) b = rtt_bounds_grow(b, p[i]);
-    return b;
-}
-
-/* Bounds of the part of the triangle inside box (boundary included), never
- * smaller than the exact ones.  When rounding leaves nothing (the triangle
- * grazes the box), the triangle's bounds cut to the box: still a superset
- * of its true part, which is all correctness needs. */
-static rtt_bounds clip_triangle_to_box(const rtt_vec3 tri[3], rtt_bounds box)
-{
-    clip_polygon poly = {.count = 3};
-    for (int i = 0; i < 3; i++)
-        for (int a = 0; a < 3; a++) poly.v[i][a] = rtt_v3_get(tri[i], a);
-    for (int a = 0; a < 3 && poly.count > 0; a++) {
-        clip_against_plane(&poly, a, rtt_v3_get(box.lo, a), 1.0);
-        if (poly.count > 0) clip_against_plane(&poly, a, rtt_v3_get(box.hi, a), -1.0);
-    }
-    rtt_bounds whole = bounds_intersection(triangle_bounds(tri), box);
-    if (poly.count == 0) return whole;
-    rtt_bounds b;
-    for (int a = 0; a < 3; a++) {
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < poly.count; i++) {
-            lo = fmin(lo, poly.v[i][a]);
-            hi = fmax(hi, poly.v[i][a]);
-        }
-        rtt_v3_set(&b.lo, a, round_down(lo));
-        rtt_v3_set(&b.hi, a, round_up(hi));
-    }
-    b = bounds_intersection(b, box);
-    return rtt_bounds_is_empty(b) ? whole : b;
 }
 
 /* ---- the builder's state ------------------------------------------------- */
@@ -437,7 +353,7 @@ static bool straddler_events(builder *b, const build_task *task, const rtt_bound
         rtt_vec3 corners[3];
         rtt_scene_triangle(b->scene, prim, corners);
         for (int s = 0; s < 2; s++)
-            push_events(new_events[s], new_count[s], clip_triangle_to_box(corners, child_box[s]), prim);
+            push_events(new_events[s], new_count[s], kd_clip_triangle_to_box(corners, child_box[s]), prim);
     }
     for (int s = 0; s < 2; s++)
         for (int a = 0; a < 3; a++) {
@@ -620,7 +536,7 @@ static bool root_task(const rtt_scene *scene, kd_triangle *records, build_task *
             memset(&records[i], 0, sizeof records[i]);
             continue;
         }
-        rtt_bounds bounds = triangle_bounds(p);
+        rtt_bounds bounds = kd_triangle_bounds(p);
         push_events(root->events, root->event_count, bounds, i);
         root->box = rtt_bounds_union(root->box, bounds);
         root->count++;

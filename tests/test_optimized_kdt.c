@@ -1,7 +1,8 @@
 /* The baked kd-tree file (.kdt): rtt_optimized_bake writes it, rtt_scene_load
  * reads it back (scene/kdt_file.c).  A round trip gives the same scene and
  * the same tree, so the same hits; every corruption is refused with its
- * exact one-line message; random damage never crashes the reader. */
+ * exact one-line message; a forged file (re-checksummed) loads but the
+ * optimized engine refuses its tree; random damage never crashes. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -389,6 +390,134 @@ static void test_bad_section_table_refused(void **state)
 
 /* Random damage with a valid checksum: refused with one line or loaded,
  * never a crash (run under ASan in CI). */
+/* ---- forged files: re-checksummed, so the loader accepts them; the engine
+ * replays the builder over the file's planes (optimized/kdt_verify.c) ---- */
+
+/* Loads the forged bytes (which must load) and expects the optimized engine
+ * to refuse them with `message` after "path: " (exactly, or as a part when
+ * `exact` is false). */
+static void expect_engine_refuses(const unsigned char *bytes, size_t size, const char *message, bool exact)
+{
+    write_all(DAMAGED, bytes, size);
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_load(DAMAGED, NULL, &err);
+    if (!scene) fail_msg("the loader refused a forged file (%s); expected the engine to: %s", err.message, message);
+    rtt_engine *engine = rtt_optimized_engine_create(scene, NULL, &err);
+    if (engine) fail_msg("the engine adopted a forged tree; expected: %s", message);
+    char want[600];
+    snprintf(want, sizeof want, "%s: %s", DAMAGED, message);
+    if (exact) assert_string_equal(err.message, want);
+    else if (!strstr(err.message, message)) fail_msg("got \"%s\", expected it to contain \"%s\"", err.message, message);
+    assert_null(strchr(err.message, '\n'));
+    rtt_scene_free(scene);
+}
+
+/* The first leaf with at least `minimum` triangles. */
+static uint32_t leaf_with(const unsigned char *bytes, uint32_t minimum)
+{
+    const kdt_header *h = (const kdt_header *)bytes;
+    const kdt_leaf *leaves = (const kdt_leaf *)(bytes + section(bytes, KDT_SECTION_LEAVES)->offset);
+    for (uint32_t l = 0; l < h->leaf_count; l++)
+        if (leaves[l].count >= minimum) return l;
+    fail_msg("no leaf holds %u triangles", minimum);
+    return 0;
+}
+
+static void test_forged_tree_refused_by_engine(void **state)
+{
+    (void)state;
+    size_t size;
+    unsigned char *bytes = baked_bytes(&size);
+    unsigned char *forged = malloc(size);
+    assert_non_null(forged);
+    char want[300];
+#define FORGE() memcpy(forged, bytes, size)
+#define HEADER ((kdt_header *)forged)
+#define LEAVES ((kdt_leaf *)(forged + section(forged, KDT_SECTION_LEAVES)->offset))
+#define RECORDS ((kdt_triangle *)(forged + section(forged, KDT_SECTION_RECORDS)->offset))
+
+    /* the untouched file is adopted */
+    write_all(DAMAGED, bytes, size);
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_load(DAMAGED, NULL, &err);
+    assert_non_null(scene);
+    rtt_engine *engine = rtt_optimized_engine_create(scene, NULL, &err);
+    if (!engine) fail_msg("the engine refused a file it baked: %s", err.message);
+    rtt_engine_destroy(engine);
+    rtt_scene_free(scene);
+
+    /* a record that is not its triangle's: the first leaf holding it says so */
+    FORGE();
+    uint32_t leaf = leaf_with(forged, 1);
+    kdt_triangle *record = &RECORDS[LEAVES[leaf].first];
+    record->n_d += 1.0f;
+    fix_checksum(forged, size);
+    snprintf(want, sizeof want, "leaf %u: the record of triangle %u is not that triangle's", leaf, record->prim);
+    expect_engine_refuses(forged, size, want, true);
+
+    /* a moved vertex: its triangles' records no longer match */
+    FORGE();
+    rtt_vec3 *vertices = (rtt_vec3 *)(forged + section(forged, KDT_SECTION_VERTICES)->offset);
+    vertices[0].x += 0.01f;
+    fix_checksum(forged, size);
+    expect_engine_refuses(forged, size, "is not that triangle's", false);
+
+    /* a triangle dropped from a leaf it reaches */
+    FORGE();
+    leaf = leaf_with(forged, 2);
+    uint32_t dropped = RECORDS[LEAVES[leaf].first + LEAVES[leaf].count - 1].prim;
+    LEAVES[leaf].count--;
+    fix_checksum(forged, size);
+    snprintf(want, sizeof want, "leaf %u: triangle %u reaches it but is not in it", leaf, dropped);
+    expect_engine_refuses(forged, size, want, true);
+
+    /* leaves out of prim order */
+    FORGE();
+    leaf = leaf_with(forged, 2);
+    kdt_triangle swap = RECORDS[LEAVES[leaf].first];
+    RECORDS[LEAVES[leaf].first] = RECORDS[LEAVES[leaf].first + 1];
+    RECORDS[LEAVES[leaf].first + 1] = swap;
+    fix_checksum(forged, size);
+    snprintf(want, sizeof want, "leaf %u: triangles not in ascending order", leaf);
+    expect_engine_refuses(forged, size, want, true);
+
+    /* a leaf box that no longer covers its triangles: culling would lose hits */
+    FORGE();
+    leaf = leaf_with(forged, 1);
+    LEAVES[leaf].hi[0] = LEAVES[leaf].lo[0];
+    LEAVES[leaf].hi[1] = LEAVES[leaf].lo[1];
+    fix_checksum(forged, size);
+    expect_engine_refuses(forged, size, "its box does not cover triangle", false);
+
+    /* the root's split plane moved: the leaves are no longer those of the planes */
+    FORGE();
+    kdt_node *root = (kdt_node *)(forged + section(forged, KDT_SECTION_NODES)->offset);
+    const int axis = (int)(root->bits & 3u);
+    root->split = root->split + 0.25f * (HEADER->tree_hi[axis] - root->split);
+    fix_checksum(forged, size);
+    expect_engine_refuses(forged, size, "reach", false);
+
+    /* a split plane outside its cell */
+    FORGE();
+    root = (kdt_node *)(forged + section(forged, KDT_SECTION_NODES)->offset);
+    root->split = HEADER->tree_hi[root->bits & 3u] + 1.0f;
+    fix_checksum(forged, size);
+    snprintf(want, sizeof want, "node 0: split plane %g lies outside its cell", (double)root->split);
+    expect_engine_refuses(forged, size, want, true);
+
+    /* a root box larger than the triangles' bounds */
+    FORGE();
+    HEADER->tree_lo[0] -= 1.0f;
+    fix_checksum(forged, size);
+    expect_engine_refuses(forged, size, "the baked tree's root box is not the bounds of its triangles", true);
+#undef FORGE
+#undef HEADER
+#undef LEAVES
+#undef RECORDS
+    free(forged);
+    free(bytes);
+}
+
 static void test_random_damage_never_crashes(void **state)
 {
     (void)state;
@@ -444,6 +573,7 @@ int main(void)
         cmocka_unit_test(test_bad_leaf_range_and_prim_refused),
         cmocka_unit_test(test_bad_scene_indices_refused),
         cmocka_unit_test(test_bad_section_table_refused),
+        cmocka_unit_test(test_forged_tree_refused_by_engine),
         cmocka_unit_test(test_random_damage_never_crashes),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
