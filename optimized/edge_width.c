@@ -32,10 +32,6 @@
 #include <string.h>
 
 #include "edge_width.h"
-/* GCC 12 at -O3 cannot see that isect4_projected_bary_mask writes t when a
- * lane is valid (the only case in which it is read). */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
 #define EW_STACK_MAX 256u            /* deeper than any tree the builder makes */
@@ -271,4 +267,3 @@ void ew_occlusion_stream(const kd_tree *tree, const rtt_edge_width_model *m, con
     }
 }
 
-#pragma GCC diagnostic pop

@@ -17,10 +17,6 @@
 #include <time.h>
 
 #include "frustum.h"
-/* GCC 12 at -O3 cannot see that isect4_projected_bary only reads t, beta
- * and gamma when some lane is valid (they are then written). */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
 static inline __m128 is_finite4(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
@@ -285,7 +281,6 @@ static uint64_t now_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-#pragma GCC diagnostic pop
 
 /* The packet's largest best over its live lanes (packet_best). */
 static float packet_best(const kd_block *b, uint32_t g, uint32_t p)

@@ -56,7 +56,10 @@ static inline __m128 isect4_projected_bary_mask(const kd_triangle *tri, const ra
     __m128 t = _mm_div_ps(num, den);
     __m128 valid = _mm_and_ps(_mm_cmpgt_ps(t, rays->tnear), _mm_cmplt_ps(t, rays->tfar));
     valid = _mm_and_ps(valid, _mm_cmple_ps(t, tbest));
-    if (_mm_movemask_ps(valid) == 0) return valid;
+    if (_mm_movemask_ps(valid) == 0) {
+        *t_out = t, *beta_out = *gamma_out = _mm_setzero_ps(); /* written on every path: no lane is valid */
+        return valid;
+    }
     const __m128 row1 = _mm_loadu_ps((const float *)tri + 4); /* a_v b_nu b_nv c_nu */
     const __m128 c_nv = _mm_set1_ps(tri->c_nv);
     __m128 hu = _mm_sub_ps(_mm_add_ps(rays->org[ku], _mm_mul_ps(t, rays->dir[ku])), KD_SPLAT(row0, 3));

@@ -24,9 +24,6 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-/* GCC 12 at -O3 cannot see that the test's outputs are read only when written. */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
 typedef struct mono_task {
@@ -174,4 +171,3 @@ void kd_traverse_mono_occluded(const kd_tree *tree, const ray_packet4 *packets, 
         trace_packet_lanes(tree, &box, &packets[p], NULL, &occluded[p], counters);
 }
 
-#pragma GCC diagnostic pop

@@ -30,9 +30,6 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-/* GCC 12 at -O3 cannot see that the test's outputs are read only when written. */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
 /* One packet from the root.  right_first[axis] = 1 when most live lanes have
@@ -139,4 +136,3 @@ void kd_traverse_omni_occluded(const kd_tree *tree, const ray_packet4 *packets, 
     }
 }
 
-#pragma GCC diagnostic pop

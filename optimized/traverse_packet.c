@@ -25,9 +25,6 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-/* GCC 12 at -O3 cannot see that the test's outputs are read only when written. */
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "isect_projected_bary.h"
 
 /* One packet from the root.  neg[axis] = 1 when the live lanes' direction
@@ -136,4 +133,3 @@ void kd_traverse_packet_occluded(const kd_tree *tree, const ray_packet4 *packets
     }
 }
 
-#pragma GCC diagnostic pop
