@@ -435,6 +435,7 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     rtt_engine_options options;
     rtt_engine_options_default(&options);
     options.threads = 1; /* the build row is a one-core build */
+    options.max_tree_depth = config->max_tree_depth;
     s.engine = rtt_optimized_engine_create(scene, &options, err);
     if (!s.engine) return false;
     s.tree = kd_engine_tree(s.engine);

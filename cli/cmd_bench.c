@@ -11,7 +11,7 @@
 
 static const char bench_help[] =
     "usage: rtt bench SCENE [--json] [--size N] [--frames N] [--threads N[,N..]] [--quick]\n"
-    "                 [--views FILE [--view NAME]] [--only KINDS] [--no-embree]\n"
+    "                 [--views FILE [--view NAME]] [--only KINDS] [--no-embree] [--max-depth N]\n"
     "                 [--markdown FILE] [--tsv FILE] [--images DIR] [--progress]\n"
     "\n"
     "Measures the thesis' tables on SCENE (scene .json, mesh, Quake III .bsp or .kdt):\n"
@@ -33,6 +33,7 @@ static const char bench_help[] =
     "  --size N          render N x N (the benchmarks use 512 and 1024; default: the scene's)\n"
     "  --frames N        timed frames per row, median reported (default 5)\n"
     "  --warmup N        untimed frames before them (default 1)\n"
+    "  --max-depth N     the kd-tree's depth bound, 1 to 64 (default round(8 + 1.3 log2 N))\n"
     "  --threads LIST    thread counts, each row runs at each (default 1,2)\n"
     "  --quick           one frame, no warm-up, tile 8 only, one Embree variant, one\n"
     "                    thread unless --threads is given (a smoke run)\n"
@@ -115,6 +116,9 @@ static int parse_args(int argc, char **argv, bench_args *a)
             } else if (strcmp(arg, "--frames") == 0) {
                 if (!cli_parse_u32(value, 1, 64, &a->config.frames))
                     return cli_usage_error("bench", "--frames %s: expected a whole number from 1 to 64", value);
+            } else if (strcmp(arg, "--max-depth") == 0) {
+                if (!cli_parse_u32(value, 1, 64, &a->config.max_tree_depth))
+                    return cli_usage_error("bench", "--max-depth %s: expected a whole number from 1 to 64", value);
             } else if (strcmp(arg, "--warmup") == 0) {
                 if (!cli_parse_u32(value, 0, 64, &a->config.warmup))
                     return cli_usage_error("bench", "--warmup %s: expected a whole number from 0 to 64", value);

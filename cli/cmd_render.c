@@ -181,13 +181,17 @@ static void print_stats(const rtt_render_stats *s, const char *engine, const ren
            s->seconds_total > 0 ? rays / s->seconds_total : 0.0);
     printf("2x2 packets: %llu, N (traversal steps per packet) %.2f, I (intersection tests per packet) %.2f\n",
            (unsigned long long)s->packets, s->traversal_steps / packets, s->intersection_tests / packets);
-    double total = s->seconds_total > 0 ? s->seconds_total : 1.0;
-    printf("time: total %.4f s (%.2f fps)\n", s->seconds_total, s->seconds_total > 0 ? 1.0 / s->seconds_total : 0.0);
-    printf("  primary traversal    %.4f s  %5.1f%%\n", s->seconds_primary_traversal, 100 * s->seconds_primary_traversal / total);
-    printf("  primary intersection %.4f s  %5.1f%%\n", s->seconds_primary_intersection,
-           100 * s->seconds_primary_intersection / total);
-    printf("  shading              %.4f s  %5.1f%%\n", s->seconds_shading, 100 * s->seconds_shading / total);
-    printf("  secondary            %.4f s  %5.1f%%\n", s->seconds_secondary, 100 * s->seconds_secondary / total);
+    printf("time: total %.4f s wall (%.2f fps)\n", s->seconds_total, s->seconds_total > 0 ? 1.0 / s->seconds_total : 0.0);
+    /* the stage timers add up CPU time over the threads: their shares are of
+     * that sum, not of the wall time */
+    const double stages[4] = {s->seconds_primary_traversal, s->seconds_primary_intersection, s->seconds_shading,
+                              s->seconds_secondary};
+    const char *const names[4] = {"primary traversal   ", "primary intersection", "shading             ",
+                                  "secondary           "};
+    double sum = stages[0] + stages[1] + stages[2] + stages[3];
+    const uint32_t threads = args->render.threads ? args->render.threads : rtt_cpu_count();
+    printf("stages (CPU seconds over %u thread%s, share of their sum):\n", threads, threads == 1 ? "" : "s");
+    for (int i = 0; i < 4; i++) printf("  %s %.4f s  %5.1f%%\n", names[i], stages[i], sum > 0 ? 100 * stages[i] / sum : 0.0);
 }
 
 static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,

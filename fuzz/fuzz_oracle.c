@@ -24,6 +24,7 @@ typedef struct ray_triangle {
     bool near_inside;   /* double-precision plane hit within EDGE_TOLERANCE of the triangle */
     bool near_edge;     /* ... and within it of an edge (or grazing / degenerate) */
     bool on_edge;       /* within EXACT_EDGE_TOLERANCE of an edge or vertex */
+    bool beyond_range;  /* a coordinate past CHECKED_MAGNITUDE: any answer is acceptable */
     double plane_t;     /* double-precision distance to the triangle's plane */
     double t_slack;     /* how far a lenient engine's t may be off (rounded_point_tolerance) */
 } ray_triangle;
@@ -124,11 +125,13 @@ static void plane_test(const rtt_ray *ray, const rtt_vec3 tri[3], ray_triangle *
     out->near_inside = false;
     out->near_edge = false;
     out->on_edge = false;
+    out->beyond_range = false;
     out->plane_t = NAN;
     out->t_slack = 0.0;
     if (!isfinite(det) || !isfinite(norms))
         return;
-    if (fabs(det) <= GRAZING_TOLERANCE * norms || triangle_magnitude(tri) > CHECKED_MAGNITUDE) {
+    out->beyond_range = triangle_magnitude(tri) > CHECKED_MAGNITUDE;
+    if (fabs(det) <= GRAZING_TOLERANCE * norms || out->beyond_range) {
         /* edge-on, degenerate, or past 1e30 where float records overflow: unspecified */
         out->near_inside = out->near_edge = true;
         return;
@@ -183,6 +186,8 @@ void fuzz_oracle_free(fuzz_oracle *oracle)
 /* A watertight hit the engine may leave out. */
 static bool optional_hit(const fuzz_oracle *o, const rtt_ray *ray, const ray_triangle *e, bool lenient)
 {
+    if (e->beyond_range)
+        return true;
     double tol = tolerance(o, ray, e->t) + (lenient ? e->t_slack : 0.0);
     if (fabs((double)e->t - ray->tnear) <= tol || fabs((double)e->t - ray->tfar) <= tol)
         return true;
@@ -195,6 +200,8 @@ static bool acceptable_hit(const fuzz_oracle *o, const rtt_ray *ray, const ray_t
     double tol = tolerance(o, ray, t) + (lenient ? e->t_slack : 0.0);
     if (e->hit && fabs((double)e->t - t) <= tol)
         return true;
+    if (e->beyond_range)
+        return t >= (double)ray->tnear - tol && t <= (double)ray->tfar + tol;
     if (!lenient || !e->near_inside || !(t >= (double)ray->tnear - tol && t <= (double)ray->tfar + tol))
         return false;
     return isnan(e->plane_t) || fabs(e->plane_t - t) <= tol;   /* grazing: no usable plane t */

@@ -15,9 +15,12 @@
  * origin, so it scales with the coordinates.  Hits within tol of tnear or
  * tfar are unspecified: they are optional, never required.
  *
- * Rays with NaN or infinite components, or magnitudes beyond 1e30 (past the
- * 1e-20 .. 1e20 extremes of DESIGN.md: 1/dir goes denormal, t overflows),
- * must only not crash and must report a prim in range.
+ * Rays with NaN or infinite components, or magnitudes beyond 1e30, or a
+ * direction whose largest component is below 1e-30 (past the 1e-20 .. 1e20
+ * extremes of DESIGN.md: 1/dir goes denormal, t overflows), must only not
+ * crash and must report a prim in range; so must every engine, strict or
+ * lenient, on triangles with a coordinate beyond 1e30 (a reference kd-tree
+ * cell at 1.4e38 put t past what its float intervals hold).
  *
  * Strict engines (the reference) must match the watertight test: any other
  * hit is wrong, and no hit may be dropped unless it lies exactly on an edge

@@ -47,7 +47,6 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
             rays++;
         }
     }
-    (void)buf;
     if (!rays) return 0;
     if (tnear_min < 0.0) return -1;
     double slen = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);

@@ -33,8 +33,6 @@
 #define KD_STACK_MAX 256u            /* deeper than any tree the builder makes */
 #define KD_WIDEN (1.0f / 65536.0f)   /* relative widening of proxy distances */
 
-/* Units of a group's interval: ray parameter t (frusta) or the cone axis
- * parameter tau (cones; tau = axial_offset + t * axial_speed per ray). */
 /* Horizontal minimum and maximum of the four lanes. */
 static inline float kd_hmin4(__m128 v)
 {
@@ -57,7 +55,7 @@ typedef enum kd_units { KD_UNITS_RAY = 0, KD_UNITS_CONE_AXIS = 1 } kd_units;
  * box, and per axis the range of positive and of |negative| reciprocal
  * directions.  A ray whose direction component has its sign bit clear counts
  * as positive (+0 gives +inf), set as negative.  Sentinels: pos_lo = +inf
- * when no positive ray (then has_pos = 0).  64 + 32 bytes, scalar: the
+ * when no positive ray (then has_pos = 0).  104 bytes, scalar: the
  * single-frustum traversal reads it per node. */
 typedef struct kd_frustum {
     float org_lo[3], org_hi[3];
@@ -66,6 +64,7 @@ typedef struct kd_frustum {
     uint32_t has_pos[3], has_neg[3];
     float near, far;                 /* root interval, near > far when empty */
 } kd_frustum;
+_Static_assert(sizeof(kd_frustum) == 104, "kd_frustum is 26 floats");
 
 /* Four frusta in SSE lanes (MFT, 4.1.5); masks are all-ones lanes. */
 typedef struct kd_frustum4 {

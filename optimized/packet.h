@@ -14,17 +14,19 @@
 #include "kd_tree.h"
 #include "rtt/engine.h"
 
-/* 160 bytes: origin, direction, reciprocal direction and the interval. */
+/* 176 bytes: origin, direction, reciprocal direction and the interval. */
 typedef struct ray_packet4 {
     __m128 org[3], dir[3], inv_dir[3];
     __m128 tnear, tfar;
 } ray_packet4;
+_Static_assert(sizeof(ray_packet4) == 176, "ray_packet4 is 11 SSE registers");
 
 /* 64 bytes; prim lanes RTT_MISS and t = +inf on a miss. */
 typedef struct hit_packet4 {
     __m128 t, u, v;
     __m128i prim;
 } hit_packet4;
+_Static_assert(sizeof(hit_packet4) == 64, "hit_packet4 is one cache line");
 
 /* The thesis' counters (Tables 4.1-4.5): N = steps / packets, I = isects /
  * packets, counted per 2x2 packet.  Kernels add to them only when the

@@ -17,8 +17,6 @@
  * kernels report their whole time as traversal), shading (shader proxy
  * without tracing) and secondary (shadow and secondary ray tracing).
  * Timers run only when stats are requested and never change results. */
-#include <stdatomic.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -27,12 +25,7 @@
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
 
-#if __has_include("engine_optimized.h")
 #include "engine_optimized.h"
-#else
-const kd_tree *kd_engine_tree(rtt_engine *engine);
-const rtt_engine_options *kd_engine_options(rtt_engine *engine);
-#endif
 
 typedef struct render_job {
     const rtt_scene *scene;
@@ -76,7 +69,7 @@ static uint32_t primary_packets(const render_job *job, sp_scratch *s, uint32_t x
     return packets;
 }
 
-static void write_pixel(const render_job *job, const sp_scratch *s, const sp_node *n)
+static void write_pixel(const render_job *job, const sp_node *n)
 {
     rtt_image *out = job->out;
     size_t pixel = n->pixel;
@@ -92,7 +85,6 @@ static void write_pixel(const render_job *job, const sp_scratch *s, const sp_nod
         out->normal[3 * pixel + 1] = normal.y;
         out->normal[3 * pixel + 2] = normal.z;
     }
-    (void)s;
 }
 
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
@@ -131,7 +123,7 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
 
     sp_shade_tree(&job->shading, &job->tracer, s);
     if (s->failed) return;
-    for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, s, &s->levels[0].nodes[i]);
+    for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, &s->levels[0].nodes[i]);
 }
 
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,

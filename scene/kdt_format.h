@@ -6,7 +6,7 @@
  *
  * File layout, little-endian, every record written as the struct below:
  *   kdt_header                       144 bytes
- *   kdt_section[KDT_SECTION_COUNT]   16 bytes each, in kdt_section_id order
+ *   kdt_section[KDT_SECTION_COUNT]   24 bytes each, in kdt_section_id order
  *   section data                     each at a 16-byte aligned offset, in
  *                                    id order, not overlapping, zero padded
  * checksum = FNV-1a 64 of every byte from offset KDT_CHECKSUM_START (just

@@ -16,37 +16,12 @@
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/render.h"
+#include "test_tempdir.h"
 
-typedef struct scratch {
-    char dir[64];
-    char path[128];
-} scratch;
-
+/* cmocka setup: each test writes into its own /tmp/rtt_test_exr_XXXXXX. */
 static int make_scratch(void **state)
 {
-    scratch *s = calloc(1, sizeof *s);
-    snprintf(s->dir, sizeof s->dir, "/tmp/rtt_test_exr_XXXXXX");
-    if (!mkdtemp(s->dir))
-        return -1;
-    *state = s;
-    return 0;
-}
-
-static int remove_scratch(void **state)
-{
-    scratch *s = *state;
-    char command[128];
-    snprintf(command, sizeof command, "rm -rf '%s'", s->dir);
-    int rc = system(command);
-    free(s);
-    return rc == 0 ? 0 : -1;
-}
-
-static const char *scratch_path(void **state, const char *name)
-{
-    scratch *s = *state;
-    snprintf(s->path, sizeof s->path, "%s/%s", s->dir, name);
-    return s->path;
+    return scratch_create(state, "exr");
 }
 
 static bool same_float_bits(float a, float b)

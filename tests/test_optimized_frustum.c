@@ -19,153 +19,10 @@
 
 #include <cmocka.h>
 
-#include "engine_optimized.h"
 #include "frustum.h"
-#include "rtt/optimized.h"
-#include "rtt/reference.h"
-#include "test_random.h"
-
-#define TOLERANCE 1e-5f
-
-typedef struct fixture {
-    rtt_scene *scene;
-    rtt_engine *optimized, *reference;
-    const kd_tree *tree;
-} fixture;
-
-/* `count` random triangles of size ~`size` in the cube [-1, 1]^3, plus a
- * large floor so that many rays hit. */
-static int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
-{
-    rng r = {seed};
-    float *xyz = malloc((size_t)(count + 2) * 9 * sizeof *xyz);
-    assert_non_null(xyz);
-    for (uint32_t i = 0; i < count; i++) {
-        float c[3] = {rng_range(&r, -1, 1), rng_range(&r, -1, 1), rng_range(&r, -1, 1)};
-        for (int v = 0; v < 3; v++)
-            for (int a = 0; a < 3; a++) xyz[9 * i + 3 * v + a] = c[a] + rng_range(&r, -size, size);
-    }
-    const float floor_tris[18] = {-2, -1.2f, -2, 2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, 2};
-    memcpy(&xyz[9 * count], floor_tris, sizeof floor_tris);
-    rtt_error err = {{0}};
-    fixture *f = calloc(1, sizeof *f);
-    assert_non_null(f);
-    f->scene = rtt_scene_from_triangles(xyz, count + 2, &err);
-    free(xyz);
-    if (!f->scene) fail_msg("scene: %s", err.message);
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    f->optimized = rtt_optimized_engine_create(f->scene, &opt, &err);
-    if (!f->optimized) fail_msg("optimized engine: %s", err.message);
-    f->reference = rtt_reference_engine_create(f->scene, &opt, &err);
-    if (!f->reference) fail_msg("reference engine: %s", err.message);
-    f->tree = kd_engine_tree(f->optimized);
-    assert_non_null(f->tree);
-    *state = f;
-    return 0;
-}
-
-static int setup_small_soup(void **state) { return setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull); }
-
-static int teardown(void **state)
-{
-    fixture *f = *state;
-    rtt_engine_destroy(f->optimized);
-    rtt_engine_destroy(f->reference);
-    rtt_scene_free(f->scene);
-    free(f);
-    return 0;
-}
-
-/* ---- ray sets, each a whole number of blocks of `tile`*`tile` rays in quad order ---- */
-
-/* Rays of a camera at `eye` looking at the origin through a W x W grid,
- * arranged tile by tile, quads in row-major order inside a tile. */
-static rtt_ray *primary_rays(uint32_t width, uint32_t tile, rtt_vec3 eye, uint32_t *count)
-{
-    rtt_ray *rays = malloc((size_t)width * width * sizeof *rays);
-    assert_non_null(rays);
-    rtt_vec3 fwd = rtt_v3_normalize(rtt_v3_scale(eye, -1.0f));
-    rtt_vec3 right = rtt_v3_normalize(rtt_v3_cross(fwd, rtt_v3(0, 1, 0)));
-    rtt_vec3 up = rtt_v3_cross(right, fwd);
-    uint32_t n = 0;
-    for (uint32_t ty = 0; ty < width; ty += tile)
-        for (uint32_t tx = 0; tx < width; tx += tile)
-            for (uint32_t q = 0; q < tile * tile / 4; q++)
-                for (uint32_t l = 0; l < 4; l++) {
-                    uint32_t px = tx + 2 * (q % (tile / 2)) + (l & 1), py = ty + 2 * (q / (tile / 2)) + (l >> 1);
-                    float sx = ((float)px + 0.5f) / (float)width * 2.0f - 1.0f;
-                    float sy = ((float)py + 0.5f) / (float)width * 2.0f - 1.0f;
-                    rtt_vec3 d = rtt_v3_normalize(rtt_v3_add(fwd, rtt_v3_add(rtt_v3_scale(right, 0.7f * sx),
-                                                                              rtt_v3_scale(up, -0.7f * sy))));
-                    rays[n++] = (rtt_ray){{eye.x, eye.y, eye.z}, {d.x, d.y, d.z}, 0.0f, INFINITY};
-                }
-    *count = n;
-    return rays;
-}
-
-/* Random origins in [-1.5, 1.5]^3, random directions; every 37th ray NaN,
- * every 41st with a zero direction, every 11th axis-parallel (+-0 parts). */
-static rtt_ray *random_rays(uint32_t count, uint64_t seed)
-{
-    rng r = {seed};
-    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
-    assert_non_null(rays);
-    for (uint32_t i = 0; i < count; i++) {
-        rtt_ray *ray = &rays[i];
-        for (int a = 0; a < 3; a++) ray->org[a] = rng_range(&r, -1.5f, 1.5f), ray->dir[a] = rng_range(&r, -1, 1);
-        ray->tnear = 0.0f;
-        ray->tfar = (i % 5 == 0) ? rng_range(&r, 0.1f, 2.0f) : INFINITY;
-        if (i % 11 == 3) {
-            int axis = (int)(i % 3);
-            for (int a = 0; a < 3; a++) ray->dir[a] = a == axis ? (i % 2 ? 1.0f : -1.0f) : (i % 4 < 2 ? 0.0f : -0.0f);
-        }
-        if (i % 37 == 5) ray->org[i % 3] = NAN;
-        if (i % 41 == 7) ray->dir[0] = ray->dir[1] = ray->dir[2] = 0.0f;
-    }
-    return rays;
-}
-
-/* Shadow-like rays: from random points toward one light point, normalized,
- * tnear small, tfar just short of the light.  Consecutive rays start close
- * together (a surface patch), as a tile's shadow rays do. */
-static rtt_ray *shadow_rays(uint32_t count, rtt_vec3 light, uint64_t seed)
-{
-    rng r = {seed};
-    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
-    assert_non_null(rays);
-    rtt_vec3 patch = rtt_v3(0, 0, 0);
-    for (uint32_t i = 0; i < count; i++) {
-        if (i % 64 == 0) patch = rtt_v3(rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f));
-        rtt_vec3 p = rtt_v3_add(patch, rtt_v3(rng_range(&r, -0.05f, 0.05f), rng_range(&r, -0.05f, 0.05f),
-                                              rng_range(&r, -0.05f, 0.05f)));
-        rtt_vec3 to = rtt_v3_sub(light, p);
-        float d = rtt_v3_length(to);
-        to = rtt_v3_scale(to, 1.0f / d);
-        rays[i] = (rtt_ray){{p.x, p.y, p.z}, {to.x, to.y, to.z}, 1e-4f, d - 1e-4f};
-    }
-    return rays;
-}
+#include "test_fixtures_optimized.h"
 
 /* ---- comparison ---- */
-
-static float t_tolerance(float t) { return TOLERANCE * fmaxf(1.0f, fabsf(t)); }
-
-static int near_interval_end(const rtt_ray *ray, float t)
-{
-    return fabsf(t - ray->tnear) <= t_tolerance(t) || (isfinite(ray->tfar) && fabsf(t - ray->tfar) <= t_tolerance(t));
-}
-
-static int prim_hit_at(const fixture *f, const rtt_ray *ray, uint32_t prim, float t)
-{
-    rtt_vec3 tri[3];
-    rtt_scene_triangle(f->scene, prim, tri);
-    rtt_ray wide = *ray;
-    wide.tnear = t - 4 * t_tolerance(t);
-    wide.tfar = t + 4 * t_tolerance(t);
-    float tt, u, v;
-    return rtt_reference_intersect_triangle(&wide, tri, &tt, &u, &v) && fabsf(tt - t) <= 2 * t_tolerance(t);
-}
 
 /* 1 when the hits disagree beyond tolerance (and are not a documented tie). */
 static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *got, const rtt_hit *want)
@@ -177,12 +34,6 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
     if (got->prim == want->prim) return 0;
     return !(prim_hit_at(f, ray, got->prim, want->t) && prim_hit_at(f, ray, want->prim, got->t));
 }
-
-typedef struct kernel_case {
-    const char *name;
-    kd_block_kernel closest;
-    kd_block_occlusion_kernel occluded;
-} kernel_case;
 
 static const kernel_case kernels[] = {
     {"frustum", kd_traverse_frustum, kd_traverse_frustum_occluded},
@@ -258,7 +109,7 @@ static void test_frustum_kernels_match_reference_on_camera_tiles_of_every_size(v
     const uint32_t tiles[] = {4, 8, 16, 32};
     for (size_t i = 0; i < 4; i++) {
         uint32_t count;
-        rtt_ray *rays = primary_rays(64, tiles[i], rtt_v3(0.3f, 0.8f, 3.5f), &count);
+        rtt_ray *rays = primary_rays(64, tiles[i], rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
         check_all_kernels(f, rays, count, tiles[i]);
         free(rays);
     }
@@ -269,7 +120,7 @@ static void test_camera_inside_the_soup_with_mixed_direction_signs_matches_refer
     const fixture *f = *state;
     uint32_t count;
     /* eye inside the geometry, a wide view: rays of a tile go in all directions of the split planes */
-    rtt_ray *rays = primary_rays(32, 8, rtt_v3(0.05f, 0.02f, 0.3f), &count);
+    rtt_ray *rays = primary_rays(32, 8, rtt_v3(0.05f, 0.02f, 0.3f), 0.7f, &count);
     for (uint32_t i = 0; i < count; i++) {
         rtt_vec3 d = rtt_v3_normalize(rtt_v3(rays[i].dir[0] * 3.0f, rays[i].dir[1] * 3.0f, rays[i].dir[2]));
         rays[i].dir[0] = d.x, rays[i].dir[1] = d.y, rays[i].dir[2] = d.z;
@@ -281,7 +132,7 @@ static void test_camera_inside_the_soup_with_mixed_direction_signs_matches_refer
 static void test_random_rays_with_nan_and_zero_directions_match_reference(void **state)
 {
     const fixture *f = *state;
-    rtt_ray *rays = random_rays(4096, 12345);
+    rtt_ray *rays = random_rays(4096, 12345, NAN_AND_ZERO_SPECIALS);
     check_all_kernels(f, rays, 4096, 8);
     check_all_kernels(f, rays, 1024, 32);
     free(rays);
@@ -329,7 +180,7 @@ static void test_counters_give_steps_and_tests_per_packet(void **state)
 {
     const fixture *f = *state;
     uint32_t count;
-    rtt_ray *rays = primary_rays(64, 8, rtt_v3(0.3f, 0.8f, 3.5f), &count);
+    rtt_ray *rays = primary_rays(64, 8, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
     for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++) {
         kd_counters with = {0, 0, 0}, without = {0, 0, 0};
         assert_int_equal(disagreements(f, &kernels[k], rays, count, 8, 1, &with), 0);

@@ -22,61 +22,13 @@
 
 #include <cmocka.h>
 
-#include "engine_optimized.h"
 #include "kernels.h"
-#include "rtt/optimized.h"
-#include "rtt/reference.h"
-#include "test_random.h"
+#include "test_fixtures_optimized.h"
 
-#define TOLERANCE 1e-5f
 #define BLOCK_PACKETS 16u  /* packets per kernel call */
 
-typedef struct fixture {
-    rtt_scene *scene;
-    rtt_engine *optimized, *reference;
-    const kd_tree *tree;
-} fixture;
+/* ---- scenes (the soup, setup_triangles, teardown: test_fixtures_optimized.h) ---- */
 
-static int setup_triangles(void **state, const float *xyz, uint32_t count)
-{
-    rtt_error err = {{0}};
-    fixture *f = calloc(1, sizeof *f);
-    assert_non_null(f);
-    f->scene = rtt_scene_from_triangles(xyz, count, &err);
-    if (!f->scene) fail_msg("scene: %s", err.message);
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    f->optimized = rtt_optimized_engine_create(f->scene, &opt, &err);
-    if (!f->optimized) fail_msg("optimized engine: %s", err.message);
-    f->reference = rtt_reference_engine_create(f->scene, &opt, &err);
-    if (!f->reference) fail_msg("reference engine: %s", err.message);
-    f->tree = kd_engine_tree(f->optimized);
-    assert_non_null(f->tree);
-    *state = f;
-    return 0;
-}
-
-/* `count` random triangles of size ~`size` in the cube [-1, 1]^3, plus a
- * large floor (two triangles at y = -1.2, the box's bottom face) so that
- * many rays hit. */
-static int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
-{
-    rng r = {seed};
-    float *xyz = malloc((size_t)(count + 2) * 9 * sizeof *xyz);
-    assert_non_null(xyz);
-    for (uint32_t i = 0; i < count; i++) {
-        float c[3] = {rng_range(&r, -1, 1), rng_range(&r, -1, 1), rng_range(&r, -1, 1)};
-        for (int v = 0; v < 3; v++)
-            for (int a = 0; a < 3; a++) xyz[9 * i + 3 * v + a] = c[a] + rng_range(&r, -size, size);
-    }
-    const float floor_tris[18] = {-2, -1.2f, -2, 2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, 2};
-    memcpy(&xyz[9 * count], floor_tris, sizeof floor_tris);
-    int rc = setup_triangles(state, xyz, count + 2);
-    free(xyz);
-    return rc;
-}
-
-static int setup_small_soup(void **state) { return setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull); }
 static int setup_large_triangles(void **state) { return setup_soup(state, 300, 0.6f, 0x1234567ull); }
 
 /* One triangle: the tree is a single leaf. */
@@ -95,94 +47,7 @@ static int setup_degenerate_only(void **state)
     return setup_triangles(state, tris, 3);
 }
 
-static int teardown(void **state)
-{
-    fixture *f = *state;
-    rtt_engine_destroy(f->optimized);
-    rtt_engine_destroy(f->reference);
-    rtt_scene_free(f->scene);
-    free(f);
-    return 0;
-}
-
-/* ---- ray sets, quads of 2x2 pixels in consecutive rays ---- */
-
-/* Rays of a camera at `eye` looking at the origin through a W x W grid,
- * one 2x2 pixel quad per four consecutive rays. */
-static rtt_ray *primary_rays(uint32_t width, rtt_vec3 eye, float fov_scale, uint32_t *count)
-{
-    rtt_ray *rays = malloc((size_t)width * width * sizeof *rays);
-    assert_non_null(rays);
-    rtt_vec3 fwd = rtt_v3_normalize(rtt_v3_scale(eye, -1.0f));
-    rtt_vec3 right = rtt_v3_normalize(rtt_v3_cross(fwd, rtt_v3(0, 1, 0)));
-    rtt_vec3 up = rtt_v3_cross(right, fwd);
-    uint32_t n = 0;
-    for (uint32_t q = 0; q < width * width / 4; q++)
-        for (uint32_t l = 0; l < 4; l++) {
-            uint32_t px = 2 * (q % (width / 2)) + (l & 1), py = 2 * (q / (width / 2)) + (l >> 1);
-            float sx = ((float)px + 0.5f) / (float)width * 2.0f - 1.0f;
-            float sy = ((float)py + 0.5f) / (float)width * 2.0f - 1.0f;
-            rtt_vec3 d = rtt_v3_normalize(rtt_v3_add(fwd, rtt_v3_add(rtt_v3_scale(right, fov_scale * sx),
-                                                                      rtt_v3_scale(up, -fov_scale * sy))));
-            rays[n++] = (rtt_ray){{eye.x, eye.y, eye.z}, {d.x, d.y, d.z}, 0.0f, INFINITY};
-        }
-    *count = n;
-    return rays;
-}
-
-/* Random origins in [-1.5, 1.5]^3, random directions; mixed in: NaN and Inf
- * origins and directions, zero directions, axis-parallel directions with
- * +0.0 and -0.0 parts, tnear > tfar, NaN intervals, negative tnear, finite
- * tfar. */
-static rtt_ray *random_rays(uint32_t count, uint64_t seed)
-{
-    rng r = {seed};
-    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
-    assert_non_null(rays);
-    for (uint32_t i = 0; i < count; i++) {
-        rtt_ray *ray = &rays[i];
-        for (int a = 0; a < 3; a++) ray->org[a] = rng_range(&r, -1.5f, 1.5f), ray->dir[a] = rng_range(&r, -1, 1);
-        ray->tnear = 0.0f;
-        ray->tfar = (i % 5 == 0) ? rng_range(&r, 0.1f, 2.0f) : INFINITY;
-        if (i % 11 == 3) {
-            int axis = (int)(i % 3);
-            for (int a = 0; a < 3; a++) ray->dir[a] = a == axis ? (i % 2 ? 1.0f : -1.0f) : (i % 4 < 2 ? 0.0f : -0.0f);
-        }
-        if (i % 13 == 4) ray->dir[i % 3] = (i % 2) ? -0.0f : 0.0f; /* one axis-parallel component */
-        if (i % 17 == 6) ray->tnear = rng_range(&r, -3.0f, -0.5f);
-        if (i % 19 == 8) ray->tnear = 5.0f, ray->tfar = 1.0f;
-        if (i % 23 == 9) ray->tnear = ray->tfar = 0.5f;
-        if (i % 37 == 5) ray->org[i % 3] = NAN;
-        if (i % 41 == 7) ray->dir[0] = ray->dir[1] = ray->dir[2] = 0.0f;
-        if (i % 43 == 10) ray->dir[i % 3] = (i % 2) ? INFINITY : -INFINITY;
-        if (i % 47 == 11) ray->org[i % 3] = -INFINITY;
-        if (i % 53 == 12) ray->tfar = NAN;
-        if (i % 59 == 13) ray->dir[i % 3] = NAN;
-    }
-    return rays;
-}
-
-/* Shadow-like rays: from random points toward one light point, normalized,
- * tnear small, tfar just short of the light.  Consecutive rays start close
- * together (a surface patch), as a tile's shadow rays do. */
-static rtt_ray *shadow_rays(uint32_t count, rtt_vec3 light, uint64_t seed)
-{
-    rng r = {seed};
-    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
-    assert_non_null(rays);
-    rtt_vec3 patch = rtt_v3(0, 0, 0);
-    for (uint32_t i = 0; i < count; i++) {
-        if (i % 64 == 0)
-            patch = rtt_v3(rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f));
-        rtt_vec3 p = rtt_v3_add(patch, rtt_v3(rng_range(&r, -0.05f, 0.05f), rng_range(&r, -0.05f, 0.05f),
-                                              rng_range(&r, -0.05f, 0.05f)));
-        rtt_vec3 to = rtt_v3_sub(light, p);
-        float d = rtt_v3_length(to);
-        to = rtt_v3_scale(to, 1.0f / d);
-        rays[i] = (rtt_ray){{p.x, p.y, p.z}, {to.x, to.y, to.z}, 1e-4f, d - 1e-4f};
-    }
-    return rays;
-}
+/* ---- ray sets (camera, random, shadow: test_fixtures_optimized.h) ---- */
 
 /* Rays lying in the tree's split planes: for each of the first inner nodes,
  * origins on its plane with a direction inside the plane (a +-0.0 component
@@ -214,24 +79,6 @@ static rtt_ray *plane_rays(const kd_tree *tree, uint32_t *count, uint64_t seed)
 }
 
 /* ---- comparison ---- */
-
-static float t_tolerance(float t) { return TOLERANCE * fmaxf(1.0f, fabsf(t)); }
-
-static int near_interval_end(const rtt_ray *ray, float t)
-{
-    return fabsf(t - ray->tnear) <= t_tolerance(t) || (isfinite(ray->tfar) && fabsf(t - ray->tfar) <= t_tolerance(t));
-}
-
-static int prim_hit_at(const fixture *f, const rtt_ray *ray, uint32_t prim, float t)
-{
-    rtt_vec3 tri[3];
-    rtt_scene_triangle(f->scene, prim, tri);
-    rtt_ray wide = *ray;
-    wide.tnear = t - 4 * t_tolerance(t);
-    wide.tfar = t + 4 * t_tolerance(t);
-    float tt, u, v;
-    return rtt_reference_intersect_triangle(&wide, tri, &tt, &u, &v) && fabsf(tt - t) <= 2 * t_tolerance(t);
-}
 
 /* The same triangle at a t beyond tolerance is not a traversal error (the
  * kernels compute t with the same test, whatever cells they visit): it is
@@ -284,12 +131,6 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
     if (got->t <= rest.tnear) return 0;
     return hits_disagree(f, &rest, got, &rest_want);
 }
-
-typedef struct kernel_case {
-    const char *name;
-    kd_block_kernel closest;
-    kd_block_occlusion_kernel occluded;
-} kernel_case;
 
 static const kernel_case kernels[] = {
     {"mono", kd_traverse_mono, kd_traverse_mono_occluded},
@@ -378,7 +219,7 @@ static void test_camera_rays_match_reference(void **state)
 {
     const fixture *f = *state;
     uint32_t count;
-    rtt_ray *rays = primary_rays(64, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
+    rtt_ray *rays = primary_rays(64, 64, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
     check_all_kernels(f, rays, count);
     free(rays);
 }
@@ -388,7 +229,7 @@ static void test_camera_inside_the_soup_with_mixed_direction_signs_matches_refer
     const fixture *f = *state;
     uint32_t count;
     /* a wide view from inside: the lanes of a quad straddle the axes */
-    rtt_ray *rays = primary_rays(48, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count);
+    rtt_ray *rays = primary_rays(48, 48, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count);
     check_all_kernels(f, rays, count);
     free(rays);
 }
@@ -396,7 +237,7 @@ static void test_camera_inside_the_soup_with_mixed_direction_signs_matches_refer
 static void test_random_rays_with_nan_inf_zero_and_empty_intervals_match_reference(void **state)
 {
     const fixture *f = *state;
-    rtt_ray *rays = random_rays(8192, 12345);
+    rtt_ray *rays = random_rays(8192, 12345, ALL_SPECIALS);
     check_all_kernels(f, rays, 8192);
     free(rays);
 }
@@ -476,7 +317,7 @@ static void test_closest_hit_kernels_only_lower_the_hits_they_are_given(void **s
 {
     const fixture *f = *state;
     uint32_t count;
-    rtt_ray *rays = primary_rays(16, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
+    rtt_ray *rays = primary_rays(16, 16, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
     rtt_hit *want = malloc(count * sizeof *want);
     assert_non_null(want);
     rtt_engine_intersect(f->reference, rays, want, count);
@@ -515,12 +356,12 @@ static void test_single_leaf_tree_matches_reference(void **state)
 {
     const fixture *f = *state;
     assert_true(kd_node_is_leaf(&f->tree->nodes[0]));
-    rtt_ray *rays = random_rays(2048, 4242);
+    rtt_ray *rays = random_rays(2048, 4242, ALL_SPECIALS);
     for (uint32_t i = 0; i < 2048; i++) rays[i].org[2] = rays[i].org[2] > 0 ? 1.0f : -1.0f; /* face the triangle */
     check_all_kernels(f, rays, 2048);
     uint32_t count;
     free(rays);
-    rays = primary_rays(32, rtt_v3(0.1f, 0.2f, 3.0f), 0.5f, &count);
+    rays = primary_rays(32, 32, rtt_v3(0.1f, 0.2f, 3.0f), 0.5f, &count);
     check_all_kernels(f, rays, count);
     free(rays);
 }
@@ -529,7 +370,7 @@ static void test_tree_of_degenerate_triangles_never_hits(void **state)
 {
     const fixture *f = *state;
     assert_int_equal(f->tree->triangle_count, 0);
-    rtt_ray *rays = random_rays(1024, 7);
+    rtt_ray *rays = random_rays(1024, 7, ALL_SPECIALS);
     check_all_kernels(f, rays, 1024);
     free(rays);
 }
@@ -576,7 +417,8 @@ static void test_mono_packet_and_omni_return_identical_hits(void **state)
 {
     const fixture *f = *state;
     uint32_t count;
-    rtt_ray *sets[2] = {random_rays(8192, 2024), primary_rays(64, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count)};
+    rtt_ray *sets[2] = {random_rays(8192, 2024, ALL_SPECIALS),
+                        primary_rays(64, 64, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count)};
     const uint32_t counts[2] = {8192, count};
     for (int s = 0; s < 2; s++) {
         rtt_hit *hits[KERNEL_COUNT];
@@ -604,8 +446,8 @@ static void test_counters_count_and_never_change_results(void **state)
 {
     const fixture *f = *state;
     uint32_t count;
-    rtt_ray *rays = primary_rays(64, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
-    rtt_ray *random = random_rays(4096, 555);
+    rtt_ray *rays = primary_rays(64, 64, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
+    rtt_ray *random = random_rays(4096, 555, ALL_SPECIALS);
     rtt_hit *with = malloc(count * sizeof *with), *without = malloc(count * sizeof *without);
     uint8_t *occ_with = malloc(count), *occ_without = malloc(count);
     assert_non_null(with);

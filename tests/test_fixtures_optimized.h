@@ -1,0 +1,214 @@
+/* The fixtures shared by the tests that check optimized traversal kernels
+ * against the reference engine, ray by ray (test_optimized_frustum.c,
+ * test_optimized_kernels.c): a triangle soup with both engines built on it,
+ * the ray sets traced through it, and the tolerance a hit is compared with.
+ *
+ * Agreement: both miss, or both hit with |t - t_ref| <= 1e-5 * max(1, |t_ref|).
+ * A different prim is a tie only when both triangles are hit by the ray
+ * within that tolerance (prim_hit_at).  A hit within tolerance of tnear or
+ * tfar is unspecified (DESIGN.md, near_interval_end). */
+#ifndef RTT_TEST_FIXTURES_OPTIMIZED_H
+#define RTT_TEST_FIXTURES_OPTIMIZED_H
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "engine_optimized.h"
+#include "packet.h"
+#include "rtt/optimized.h"
+#include "rtt/reference.h"
+#include "test_random.h"
+
+#define TOLERANCE 1e-5f
+
+/* ---- scenes: both engines on one triangle soup ---- */
+
+typedef struct fixture {
+    rtt_scene *scene;
+    rtt_engine *optimized, *reference;
+    const kd_tree *tree;
+} fixture;
+
+static inline int setup_triangles(void **state, const float *xyz, uint32_t count)
+{
+    rtt_error err = {{0}};
+    fixture *f = calloc(1, sizeof *f);
+    assert_non_null(f);
+    f->scene = rtt_scene_from_triangles(xyz, count, &err);
+    if (!f->scene) fail_msg("scene: %s", err.message);
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    f->optimized = rtt_optimized_engine_create(f->scene, &opt, &err);
+    if (!f->optimized) fail_msg("optimized engine: %s", err.message);
+    f->reference = rtt_reference_engine_create(f->scene, &opt, &err);
+    if (!f->reference) fail_msg("reference engine: %s", err.message);
+    f->tree = kd_engine_tree(f->optimized);
+    assert_non_null(f->tree);
+    *state = f;
+    return 0;
+}
+
+/* `count` random triangles of size ~`size` in the cube [-1, 1]^3, plus a
+ * large floor (two triangles at y = -1.2, the box's bottom face) so that
+ * many rays hit. */
+static inline int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
+{
+    rng r = {seed};
+    float *xyz = malloc((size_t)(count + 2) * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t i = 0; i < count; i++) {
+        float c[3] = {rng_range(&r, -1, 1), rng_range(&r, -1, 1), rng_range(&r, -1, 1)};
+        for (int v = 0; v < 3; v++)
+            for (int a = 0; a < 3; a++) xyz[9 * i + 3 * v + a] = c[a] + rng_range(&r, -size, size);
+    }
+    const float floor_tris[18] = {-2, -1.2f, -2, 2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, 2};
+    memcpy(&xyz[9 * count], floor_tris, sizeof floor_tris);
+    int rc = setup_triangles(state, xyz, count + 2);
+    free(xyz);
+    return rc;
+}
+
+static inline int setup_small_soup(void **state) { return setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull); }
+
+static inline int teardown(void **state)
+{
+    fixture *f = *state;
+    rtt_engine_destroy(f->optimized);
+    rtt_engine_destroy(f->reference);
+    rtt_scene_free(f->scene);
+    free(f);
+    return 0;
+}
+
+/* ---- ray sets ---- */
+
+/* Rays of a camera at `eye` looking at the origin through a W x W grid,
+ * `fov_scale` the half-width of the view at distance 1: tile by tile
+ * (`tile` divides `width`), one 2x2 pixel quad per four consecutive rays,
+ * quads in row-major order inside a tile.  `tile` = `width` is one tile:
+ * quads in row-major order over the whole grid. */
+static inline rtt_ray *primary_rays(uint32_t width, uint32_t tile, rtt_vec3 eye, float fov_scale, uint32_t *count)
+{
+    rtt_ray *rays = malloc((size_t)width * width * sizeof *rays);
+    assert_non_null(rays);
+    rtt_vec3 fwd = rtt_v3_normalize(rtt_v3_scale(eye, -1.0f));
+    rtt_vec3 right = rtt_v3_normalize(rtt_v3_cross(fwd, rtt_v3(0, 1, 0)));
+    rtt_vec3 up = rtt_v3_cross(right, fwd);
+    uint32_t n = 0;
+    for (uint32_t ty = 0; ty < width; ty += tile)
+        for (uint32_t tx = 0; tx < width; tx += tile)
+            for (uint32_t q = 0; q < tile * tile / 4; q++)
+                for (uint32_t l = 0; l < 4; l++) {
+                    uint32_t px = tx + 2 * (q % (tile / 2)) + (l & 1), py = ty + 2 * (q / (tile / 2)) + (l >> 1);
+                    float sx = ((float)px + 0.5f) / (float)width * 2.0f - 1.0f;
+                    float sy = ((float)py + 0.5f) / (float)width * 2.0f - 1.0f;
+                    rtt_vec3 d = rtt_v3_normalize(rtt_v3_add(fwd, rtt_v3_add(rtt_v3_scale(right, fov_scale * sx),
+                                                                              rtt_v3_scale(up, -fov_scale * sy))));
+                    rays[n++] = (rtt_ray){{eye.x, eye.y, eye.z}, {d.x, d.y, d.z}, 0.0f, INFINITY};
+                }
+    *count = n;
+    return rays;
+}
+
+/* Which special rays random_rays mixes in. */
+typedef enum random_ray_specials {
+    NAN_AND_ZERO_SPECIALS, /* NaN origins, zero and axis-parallel directions */
+    ALL_SPECIALS,          /* also Inf and NaN in every field, tnear > tfar, negative tnear */
+} random_ray_specials;
+
+/* Random origins in [-1.5, 1.5]^3, random directions, every fifth with a
+ * finite tfar; mixed in: every 37th ray with a NaN origin, every 41st with a
+ * zero direction, every 11th axis-parallel (+-0.0 parts); with ALL_SPECIALS
+ * also one +-0.0 direction component, negative tnear, tnear > tfar, an empty
+ * interval, Inf origins and directions, NaN tfar and NaN directions.  The
+ * same seed gives the same rays for the same `specials`. */
+static inline rtt_ray *random_rays(uint32_t count, uint64_t seed, random_ray_specials specials)
+{
+    rng r = {seed};
+    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
+    assert_non_null(rays);
+    for (uint32_t i = 0; i < count; i++) {
+        rtt_ray *ray = &rays[i];
+        for (int a = 0; a < 3; a++) ray->org[a] = rng_range(&r, -1.5f, 1.5f), ray->dir[a] = rng_range(&r, -1, 1);
+        ray->tnear = 0.0f;
+        ray->tfar = (i % 5 == 0) ? rng_range(&r, 0.1f, 2.0f) : INFINITY;
+        if (i % 11 == 3) {
+            int axis = (int)(i % 3);
+            for (int a = 0; a < 3; a++) ray->dir[a] = a == axis ? (i % 2 ? 1.0f : -1.0f) : (i % 4 < 2 ? 0.0f : -0.0f);
+        }
+        if (specials == ALL_SPECIALS) {
+            if (i % 13 == 4) ray->dir[i % 3] = (i % 2) ? -0.0f : 0.0f; /* one axis-parallel component */
+            if (i % 17 == 6) ray->tnear = rng_range(&r, -3.0f, -0.5f);
+            if (i % 19 == 8) ray->tnear = 5.0f, ray->tfar = 1.0f;
+            if (i % 23 == 9) ray->tnear = ray->tfar = 0.5f;
+        }
+        if (i % 37 == 5) ray->org[i % 3] = NAN;
+        if (i % 41 == 7) ray->dir[0] = ray->dir[1] = ray->dir[2] = 0.0f;
+        if (specials == ALL_SPECIALS) {
+            if (i % 43 == 10) ray->dir[i % 3] = (i % 2) ? INFINITY : -INFINITY;
+            if (i % 47 == 11) ray->org[i % 3] = -INFINITY;
+            if (i % 53 == 12) ray->tfar = NAN;
+            if (i % 59 == 13) ray->dir[i % 3] = NAN;
+        }
+    }
+    return rays;
+}
+
+/* Shadow-like rays: from random points toward one light point, normalized,
+ * tnear small, tfar just short of the light.  Consecutive rays start close
+ * together (a surface patch), as a tile's shadow rays do. */
+static inline rtt_ray *shadow_rays(uint32_t count, rtt_vec3 light, uint64_t seed)
+{
+    rng r = {seed};
+    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
+    assert_non_null(rays);
+    rtt_vec3 patch = rtt_v3(0, 0, 0);
+    for (uint32_t i = 0; i < count; i++) {
+        if (i % 64 == 0)
+            patch = rtt_v3(rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f), rng_range(&r, -1.2f, 1.2f));
+        rtt_vec3 p = rtt_v3_add(patch, rtt_v3(rng_range(&r, -0.05f, 0.05f), rng_range(&r, -0.05f, 0.05f),
+                                              rng_range(&r, -0.05f, 0.05f)));
+        rtt_vec3 to = rtt_v3_sub(light, p);
+        float d = rtt_v3_length(to);
+        to = rtt_v3_scale(to, 1.0f / d);
+        rays[i] = (rtt_ray){{p.x, p.y, p.z}, {to.x, to.y, to.z}, 1e-4f, d - 1e-4f};
+    }
+    return rays;
+}
+
+/* ---- comparison with the reference ---- */
+
+static inline float t_tolerance(float t) { return TOLERANCE * fmaxf(1.0f, fabsf(t)); }
+
+static inline int near_interval_end(const rtt_ray *ray, float t)
+{
+    return fabsf(t - ray->tnear) <= t_tolerance(t) || (isfinite(ray->tfar) && fabsf(t - ray->tfar) <= t_tolerance(t));
+}
+
+/* 1 when triangle `prim` is hit by `ray` at `t`, within tolerance. */
+static inline int prim_hit_at(const fixture *f, const rtt_ray *ray, uint32_t prim, float t)
+{
+    rtt_vec3 tri[3];
+    rtt_scene_triangle(f->scene, prim, tri);
+    rtt_ray wide = *ray;
+    wide.tnear = t - 4 * t_tolerance(t);
+    wide.tfar = t + 4 * t_tolerance(t);
+    float tt, u, v;
+    return rtt_reference_intersect_triangle(&wide, tri, &tt, &u, &v) && fabsf(tt - t) <= 2 * t_tolerance(t);
+}
+
+/* A kernel under test: its closest-hit and occlusion entry points. */
+typedef struct kernel_case {
+    const char *name;
+    kd_block_kernel closest;
+    kd_block_occlusion_kernel occluded;
+} kernel_case;
+
+#endif
