@@ -19,7 +19,7 @@ static const char bake_help[] =
     "by a complete one.\n"
     "\n"
     "  -o FILE           the .kdt to write (required)\n"
-    "  --max-depth N     tree depth bound, 1 to 64 (default 8 + 1.3 log2 N)\n"
+    "  --max-depth N     tree depth bound, 1 to 64 (default round(2 + log2 N), at least 8)\n"
     "  --bezier-level N  Quake III patch tessellation (default 4)\n"
     "\n"
     "Exit status: 0 success, 1 bad input, 2 bad usage.\n";

@@ -33,7 +33,7 @@ static const char bench_help[] =
     "  --size N          render N x N (the benchmarks use 512 and 1024; default: the scene's)\n"
     "  --frames N        timed frames per row, median reported (default 5)\n"
     "  --warmup N        untimed frames before them (default 1)\n"
-    "  --max-depth N     the kd-tree's depth bound, 1 to 64 (default round(8 + 1.3 log2 N))\n"
+    "  --max-depth N     the kd-tree's depth bound, 1 to 64 (default round(2 + log2 N), at least 8)\n"
     "  --threads LIST    thread counts, each row runs at each (default 1,2)\n"
     "  --quick           one frame, no warm-up, tile 8 only, one Embree variant, one\n"
     "                    thread unless --threads is given (a smoke run)\n"

@@ -32,6 +32,8 @@ static const char render_help[] =
     "  --threads N           worker threads (default: one per core)\n"
     "  --width W --height H  image size (default: the scene's)\n"
     "  --max-bounces N       reflection/refraction depth (default: the scene's)\n"
+    "  --max-depth N         kd-tree depth bound, 1 to 64 (reference and optimized;\n"
+    "                        default round(2 + log2 N), at least 8)\n"
     "  --bezier-level N      Quake III patch tessellation (default 4)\n"
     "  --aov LIST            extra EXR channels: depth,prim,normal\n"
     "  --stats               print rays, N and I per 2x2 packet, stage times\n"
@@ -71,7 +73,7 @@ static bool parse_aovs(const char *list, uint32_t *aovs)
 static bool takes_a_value(const char *option)
 {
     static const char *const valued[] = {"-o", "--engine", "--traversal", "--tile", "--leaf-culling", "--shadows",
-                                         "--threads", "--width", "--height", "--max-bounces", "--bezier-level",
+                                         "--threads", "--width", "--height", "--max-bounces", "--max-depth", "--bezier-level",
                                          "--aov"};
     for (size_t i = 0; i < sizeof valued / sizeof valued[0]; i++)
         if (strcmp(option, valued[i]) == 0) return true;
@@ -145,6 +147,9 @@ static int parse_args(int argc, char **argv, render_args *args)
         } else if (strcmp(arg, "--max-bounces") == 0) {
             if (!cli_parse_u32(value, 1, 16, &args->render.max_bounces))
                 return cli_usage_error("render", "--max-bounces %s: expected a whole number from 1 to 16", value);
+        } else if (strcmp(arg, "--max-depth") == 0) {
+            if (!cli_parse_u32(value, 1, 64, &args->render.engine.max_tree_depth))
+                return cli_usage_error("render", "--max-depth %s: expected a whole number from 1 to 64", value);
         } else if (strcmp(arg, "--bezier-level") == 0) {
             if (!cli_parse_u32(value, 1, 64, &args->bezier_level))
                 return cli_usage_error("render", "--bezier-level %s: expected a whole number from 1 to 64", value);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Resource limits (issue 6, item 5): a hostile scene must not make either
 # kd-tree builder use unbounded memory or time.  Both builders stop splitting
-# at a maximum depth (default round(8 + 1.3 log2 N), never above 64) and when
+# at a maximum depth (default round(2 + log2 N), at least 8, never above 64) and when
 # the triangle references in leaves would pass a cap (default 16 N + 1M), and
 # `rtt info` reports both.  This builds both trees of scenes made to defeat
 # a kd-tree and checks, from `rtt info`:

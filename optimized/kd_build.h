@@ -16,7 +16,7 @@
 #define KD_MAX_TRIANGLES (1u << 30) /* events pack the prim id in 30 bits */
 
 typedef struct kd_build_options {
-    uint32_t max_depth;         /* 0 → round(8 + 1.3 log2 N), at most KD_DEPTH_LIMIT */
+    uint32_t max_depth;         /* 0 → rtt_kd_default_max_depth(N), at most KD_DEPTH_LIMIT */
     uint64_t reference_cap;     /* 0 → 16 N + 1M triangle references in leaves */
 } kd_build_options;
 

@@ -506,12 +506,6 @@ static void build_tree(builder *b, build_task root)
 
 /* ---- the tree ------------------------------------------------------------ */
 
-static uint32_t default_max_depth(uint32_t triangles)
-{
-    double depth = 8.0 + 1.3 * log2(triangles > 1 ? (double)triangles : 1.0);
-    return depth > KD_DEPTH_LIMIT ? KD_DEPTH_LIMIT : (uint32_t)lround(depth);
-}
-
 static double seconds_now(void)
 {
     struct timespec ts;
@@ -569,7 +563,7 @@ bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *
     bool ok = records && b.side && root_task(scene, records, &root);
     if (ok) {
         const uint32_t n = root.count;
-        b.max_depth = opt && opt->max_depth ? opt->max_depth : default_max_depth(n);
+        b.max_depth = opt && opt->max_depth ? opt->max_depth : rtt_kd_default_max_depth(n);
         if (b.max_depth > KD_DEPTH_LIMIT) b.max_depth = KD_DEPTH_LIMIT;
         b.reference_cap = opt && opt->reference_cap ? opt->reference_cap
                                                     : 16u * (uint64_t)scene->triangle_count + 1000000u;

@@ -344,12 +344,6 @@ static void build_node(builder *b, uint32_t node, build_item *items, uint32_t n,
 
 /* ---- the tree -------------------------------------------------------- */
 
-static uint32_t default_max_depth(uint32_t triangles)
-{
-    double depth = 8.0 + 1.3 * log2(triangles > 1 ? (double)triangles : 1.0);
-    return depth > RTT_KD_DEPTH_LIMIT ? RTT_KD_DEPTH_LIMIT : (uint32_t)lround(depth);
-}
-
 static double seconds_now(void)
 {
     struct timespec ts;
@@ -393,7 +387,7 @@ bool rtt_kd_reference_build(const rtt_scene *scene, const rtt_kd_build_options *
     }
 
     builder b = {.tree = tree};
-    b.max_depth = opt && opt->max_depth ? opt->max_depth : default_max_depth(n);
+    b.max_depth = opt && opt->max_depth ? opt->max_depth : rtt_kd_default_max_depth(n);
     if (b.max_depth > RTT_KD_DEPTH_LIMIT) b.max_depth = RTT_KD_DEPTH_LIMIT;
     b.reference_cap = opt && opt->reference_cap ? opt->reference_cap
                                                 : 16u * (uint64_t)scene->triangle_count + 1000000u;

@@ -37,7 +37,7 @@ typedef struct rtt_kd_tree {
 } rtt_kd_tree;
 
 typedef struct rtt_kd_build_options {
-    uint32_t max_depth;       /* 0 → 8 + 1.3 log2(N), at most RTT_KD_DEPTH_LIMIT */
+    uint32_t max_depth;       /* 0 → rtt_kd_default_max_depth(N), at most RTT_KD_DEPTH_LIMIT */
     uint64_t reference_cap;   /* 0 → 16 N + 1M */
 } rtt_kd_build_options;
 

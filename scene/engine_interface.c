@@ -1,6 +1,7 @@
 /* The engine-independent half of the engine interface: dispatch through the
  * vtable, option defaults and names.  Engine construction by name lives in
  * conformance/engine_registry.c, the only layer that sees every engine. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,12 @@ bool rtt_engine_tree_info(rtt_engine *engine, rtt_tree_info *info)
 {
     memset(info, 0, sizeof *info);
     return engine->vt->tree_info ? engine->vt->tree_info(engine, info) : false;
+}
+
+uint32_t rtt_kd_default_max_depth(uint32_t triangles)
+{
+    double depth = round(2.0 + log2(triangles > 1 ? (double)triangles : 1.0));
+    return depth < 8.0 ? 8u : depth > 64.0 ? 64u : (uint32_t)depth;
 }
 
 void rtt_engine_options_default(rtt_engine_options *opt)

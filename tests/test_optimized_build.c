@@ -207,7 +207,7 @@ static void test_structure_children_adjacent_no_empty_internal(void **state)
     check_structure(&t, &w);
     assert_true(t.info.depth <= t.info.max_depth);
     assert_true(t.info.max_depth <= KD_DEPTH_LIMIT);
-    uint32_t want = (uint32_t)lround(8.0 + 1.3 * log2((double)(scene->triangle_count - scene->degenerate_count)));
+    uint32_t want = (uint32_t)lround(2.0 + log2((double)(scene->triangle_count - scene->degenerate_count)));
     assert_int_equal(t.info.max_depth, want);
     kd_tree_free(&t);
     rtt_scene_free(scene);

@@ -333,7 +333,7 @@ static void test_depth_never_exceeds_max_depth(void **state)
         rtt_kd_tree tree;
         build_or_fail(scene, &opt, &tree);
         tree_check check = check_tree(&tree, scene, limits[i] <= 6);
-        uint32_t expected_max = limits[i] == 0 ? (uint32_t)lround(8.0 + 1.3 * log2(2000.0))
+        uint32_t expected_max = limits[i] == 0 ? (uint32_t)lround(2.0 + log2(2000.0))
                                 : limits[i] > RTT_KD_DEPTH_LIMIT ? RTT_KD_DEPTH_LIMIT : limits[i];
         assert_int_equal(tree.info.max_depth, expected_max);
         assert_true(check.deepest <= tree.info.max_depth);

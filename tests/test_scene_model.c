@@ -277,6 +277,21 @@ static void test_ray_epsilon_scales_with_the_scene(void **state)
     rtt_scene_free(b);
 }
 
+/* The builders' default depth bound: round(2 + log2 N), never below 8 nor
+ * above 64, the same for both engines (include/rtt/engine.h). */
+static void test_default_tree_depth_follows_log2_of_the_triangles(void **state)
+{
+    (void)state;
+    assert_int_equal(rtt_kd_default_max_depth(0), 8);
+    assert_int_equal(rtt_kd_default_max_depth(1), 8);
+    assert_int_equal(rtt_kd_default_max_depth(64), 8);
+    assert_int_equal(rtt_kd_default_max_depth(128), 9);
+    assert_int_equal(rtt_kd_default_max_depth(43288), 17);    /* the demo */
+    assert_int_equal(rtt_kd_default_max_depth(75408), 18);    /* bunny00 */
+    assert_int_equal(rtt_kd_default_max_depth(1u << 20), 22);
+    assert_int_equal(rtt_kd_default_max_depth(UINT32_MAX), 34);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -295,6 +310,7 @@ int main(void)
         cmocka_unit_test(test_weights_and_refraction),
         cmocka_unit_test(test_light_behind_the_surface_contributes_nothing),
         cmocka_unit_test(test_ray_epsilon_scales_with_the_scene),
+        cmocka_unit_test(test_default_tree_depth_follows_log2_of_the_triangles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -48,11 +48,20 @@ typedef struct rtt_engine_options {
     rtt_traversal traversal;   /* optimized engine only */
     uint32_t tile;             /* frustum tile side: 4, 8, 16, 32 (default 8) */
     int leaf_culling;          /* packet/leaf culling on (1, default) or off (0) */
-    uint32_t max_tree_depth;   /* 0 → builder default */
+    uint32_t max_tree_depth;   /* 0 → rtt_kd_default_max_depth */
     uint32_t threads;          /* 0 → one per core */
 } rtt_engine_options;
 
 typedef struct rtt_engine rtt_engine;
+
+/* Both kd-tree builders' depth bound when the options leave it at 0:
+ * round(2 + log2 N), at least 8.  The thesis fixes a maximum depth, not its
+ * value; pbrt's 8 + 1.3 log2 N let the SAH carve the CGAL meshes down to
+ * 7-9 references per triangle (62 MB for bunny00), and a sweep of the bound
+ * put the optimum of the mesh views at log2 N .. log2 N + 2, the Quake maps
+ * indifferent (bench/results/report.md, "Tree depth").  N counts the
+ * triangles the builder keeps. */
+uint32_t rtt_kd_default_max_depth(uint32_t triangles);
 
 /* What `rtt info` reports of an engine's acceleration structure. */
 typedef struct rtt_tree_info {
