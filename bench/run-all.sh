@@ -77,6 +77,7 @@ for scene in $scenes; do
             --threads "$threads" "${extra[@]}" --json --markdown "$base.md" --tsv "$base.tsv" \
             >"$work/run.json" 2>"$work/run.err"; then
             mv "$work/run.json" "$base.json"
+            echo "$stamp \`$command_line\`" >"$base.cmd"
             echo "run-all: $scene at ${size}x$size took $((SECONDS - start)) s" >&2
         else
             failed+=("$scene ${size}x$size: $(tail -n 1 "$work/run.err")")
@@ -176,16 +177,22 @@ fi
     echo "# rtt benchmark report"
     echo
     echo "- date: $stamp"
-    echo "- command: \`$command_line\` (each scene: \`rtt bench SCENE --views bench/views.json --size N --frames $frames --threads $threads --json --markdown --tsv\`)"
+    echo "- commands of the kept runs (runs of several invocations add up; each scene: \`rtt bench SCENE --views bench/views.json --size N --frames N --threads LIST --json --markdown --tsv\`):"
+    for r in "${runs[@]}"; do [[ -s "$r.cmd" ]] && cat "$r.cmd"; done | sort -u | sed 's/^/  - /'
     echo "- machine: $cpu, $cores cores visible, ISA flags: ${isa% }; $compiler; Embree $embree (Debian)"
     echo "- data: bench/results/$date_utc.json; plots: $(cd "$out" && ls rays-*.png vs-embree.png 2>/dev/null | tr '\n' ' ')"
     echo
-    echo "Every ratio is between rows measured in the same process and run: medians of $frames frames after a warm-up."
+    echo "Every ratio is between rows measured in the same process and run: medians of the timed frames after a warm-up"
+    echo "(each run's section gives its frame count)."
     echo "Primary rows time the traversal kernels alone on the camera's primary rays, pre-formed into tile blocks as"
     echo "the renderer forms them; Embree traces exactly the same rays through the same tile scheduler and threads."
     echo "Embree variants: native ISA (Embree's own choice on this CPU) or pinned to SSE4.2 (our kernels' ISA), scene flag"
     echo "RTC_SCENE_FLAG_ROBUST or none, RTC_BUILD_QUALITY_HIGH; 4/8/16-wide calls use RTC_INTERSECT_CONTEXT_FLAG_COHERENT."
     echo "\"Embree best coherent\" is the fastest of the 4/8/16-wide calls over all variants."
+    echo
+    echo "Measured apart, by hand, with their commands: [tree-depth.md](tree-depth.md) (the kd-tree depth bound, the"
+    echo "builder at one million triangles, the cost of checking a baked tree), [kernel-tuning.md](kernel-tuning.md)"
+    echo "(the frustum and MFT kernels' tuning), [shadows.md](shadows.md) (the soft-shadow trade, bench/shadows.sh)."
     echo
     echo "## Headline ratios (issue 3's targets)"
     echo

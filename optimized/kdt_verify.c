@@ -19,8 +19,11 @@
  *
  * Then the leaves are what kd_build_sah would have made of those planes, and
  * whatever planes a file chose, no hit is lost (the builder's argument).
- * The cost is that of the builder's clipping without its sorts and sweeps:
- * measured in bench/results/report.md ("Baked trees"). */
+ * Like the builder it walks the tree once, depth first, carrying each
+ * node's triangles (in ascending prim order, so a leaf's list is compared
+ * with its records in one pass): the builder's partition without its sorts
+ * and sweeps, read in order rather than one triangle's path at a time
+ * (measured in bench/results/tree-depth.md, "Baked trees"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,63 +35,84 @@
 typedef struct verifier {
     const rtt_scene *scene;
     const kd_tree *tree;
-    uint32_t *reached;          /* per leaf: triangles that reach it */
     rtt_error *err;
 } verifier;
 
-typedef struct descent {
+/* A triangle in a node: its prim and its bounds clipped as the builder
+ * clipped them (re-clipped only where it straddled a plane). */
+typedef struct node_item {
     uint32_t prim;
-    rtt_vec3 corners[3];
-    kd_triangle record;
-} descent;
+    rtt_bounds bounds;
+} node_item;
 
-static bool in_leaf(const verifier *v, uint32_t leaf_index, const descent *t, rtt_bounds cell, rtt_bounds bounds)
+static bool check_leaf(const verifier *v, uint32_t leaf_index, rtt_bounds cell, const node_item *items, size_t n)
 {
     const kd_leaf *leaf = &v->tree->leaves[leaf_index];
     const kd_triangle *records = &v->tree->triangles[leaf->first];
-    uint32_t lo = 0, hi = leaf->count; /* ascending prims: checked before the descent */
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (records[mid].prim < t->prim) lo = mid + 1;
-        else hi = mid;
+    for (size_t i = 0; i < n || i < leaf->count; i++) {
+        if (i == leaf->count)
+            return rtt_error_set(v->err, "%s: leaf %u: triangle %u reaches it but is not in it", v->scene->path,
+                                 leaf_index, items[i].prim);
+        if (i == n || records[i].prim != items[i].prim) {
+            uint32_t missing = i < n && records[i].prim > items[i].prim ? items[i].prim : UINT32_MAX;
+            if (missing != UINT32_MAX)
+                return rtt_error_set(v->err, "%s: leaf %u: triangle %u reaches it but is not in it", v->scene->path,
+                                     leaf_index, missing);
+            return rtt_error_set(v->err, "%s: leaf %u: holds triangle %u, which does not reach it", v->scene->path,
+                                 leaf_index, records[i].prim);
+        }
+        rtt_vec3 p[3];
+        rtt_scene_triangle(v->scene, items[i].prim, p);
+        kd_triangle expected;
+        kd_triangle_record(&expected, p, items[i].prim);
+        if (memcmp(&records[i], &expected, sizeof expected) != 0)
+            return rtt_error_set(v->err, "%s: leaf %u: the record of triangle %u is not that triangle's",
+                                 v->scene->path, leaf_index, items[i].prim);
+        for (int a = 0; a < 3; a++) {
+            float need_lo = fmaxf(rtt_v3_get(items[i].bounds.lo, a), rtt_v3_get(cell.lo, a));
+            float need_hi = fminf(rtt_v3_get(items[i].bounds.hi, a), rtt_v3_get(cell.hi, a));
+            if (leaf->lo[a] > need_lo || leaf->hi[a] < need_hi)
+                return rtt_error_set(v->err, "%s: leaf %u: its box does not cover triangle %u", v->scene->path,
+                                     leaf_index, items[i].prim);
+        }
     }
-    if (lo == leaf->count || records[lo].prim != t->prim)
-        return rtt_error_set(v->err, "%s: leaf %u: triangle %u reaches it but is not in it", v->scene->path,
-                             leaf_index, t->prim);
-    if (memcmp(&records[lo], &t->record, sizeof t->record) != 0)
-        return rtt_error_set(v->err, "%s: leaf %u: the record of triangle %u is not that triangle's",
-                             v->scene->path, leaf_index, t->prim);
-    for (int a = 0; a < 3; a++) {
-        float need_lo = fmaxf(rtt_v3_get(bounds.lo, a), rtt_v3_get(cell.lo, a));
-        float need_hi = fminf(rtt_v3_get(bounds.hi, a), rtt_v3_get(cell.hi, a));
-        if (leaf->lo[a] > need_lo || leaf->hi[a] < need_hi)
-            return rtt_error_set(v->err, "%s: leaf %u: its box does not cover triangle %u", v->scene->path,
-                                 leaf_index, t->prim);
-    }
-    v->reached[leaf_index]++;
     return true;
 }
 
 /* depth <= KDT_DEPTH_LIMIT: the loader has checked the tree's shape */
-static bool descend(const verifier *v, uint32_t node_index, rtt_bounds cell, const descent *t, rtt_bounds bounds)
+static bool check_node(const verifier *v, uint32_t node_index, rtt_bounds cell, const node_item *items, size_t n)
 {
     const kd_node *node = &v->tree->nodes[node_index];
-    if (kd_node_is_leaf(node)) return in_leaf(v, node->leaf, t, cell, bounds);
+    if (kd_node_is_leaf(node)) return check_leaf(v, node->leaf, cell, items, n);
     const int axis = (int)kd_node_axis(node);
     const float plane = node->split;
     if (!(plane > rtt_v3_get(cell.lo, axis) && plane < rtt_v3_get(cell.hi, axis)))
         return rtt_error_set(v->err, "%s: node %u: split plane %g lies outside its cell", v->scene->path, node_index,
                              (double)plane);
-    rtt_bounds child[2] = {cell, cell};
-    rtt_v3_set(&child[0].hi, axis, plane);
-    rtt_v3_set(&child[1].lo, axis, plane);
-    const float lo = rtt_v3_get(bounds.lo, axis), hi = rtt_v3_get(bounds.hi, axis);
-    const bool below = kd_goes_below(lo, hi, plane), above = kd_goes_above(lo, hi, plane);
-    const uint32_t first = kd_node_child(node);
-    if (below && above)
-        return descend(v, first, child[0], t, kd_clip_triangle_to_box(t->corners, child[0])) &&
-               descend(v, first + 1, child[1], t, kd_clip_triangle_to_box(t->corners, child[1]));
-    return below ? descend(v, first, child[0], t, bounds) : descend(v, first + 1, child[1], t, bounds);
+    rtt_bounds child_cell[2] = {cell, cell};
+    rtt_v3_set(&child_cell[0].hi, axis, plane);
+    rtt_v3_set(&child_cell[1].lo, axis, plane);
+    node_item *child = malloc((n + 1) * sizeof *child);
+    if (!child) return rtt_error_set(v->err, "%s: out of memory checking the baked tree", v->scene->path);
+    bool ok = true;
+    for (int s = 0; ok && s < 2; s++) {
+        size_t count = 0;
+        for (size_t i = 0; i < n; i++) {
+            const float lo = rtt_v3_get(items[i].bounds.lo, axis), hi = rtt_v3_get(items[i].bounds.hi, axis);
+            const bool below = kd_goes_below(lo, hi, plane), above = kd_goes_above(lo, hi, plane);
+            if (!(s == 0 ? below : above)) continue;
+            child[count] = items[i];
+            if (below && above) {
+                rtt_vec3 p[3];
+                rtt_scene_triangle(v->scene, items[i].prim, p);
+                child[count].bounds = kd_clip_triangle_to_box(p, child_cell[s]);
+            }
+            count++;
+        }
+        ok = check_node(v, kd_node_child(node) + (uint32_t)s, child_cell[s], child, count);
+    }
+    free(child);
+    return ok;
 }
 
 static bool leaves_sorted(const verifier *v)
@@ -109,26 +133,25 @@ static bool same_box(rtt_bounds a, rtt_bounds b)
 
 bool kd_baked_tree_verify(const rtt_scene *scene, const kd_tree *tree, rtt_error *err)
 {
-    verifier v = {scene, tree, calloc((size_t)tree->leaf_count + 1, sizeof(uint32_t)), err};
-    if (!v.reached) return rtt_error_set(err, "%s: out of memory checking the baked tree", scene->path);
-    bool ok = leaves_sorted(&v);
+    verifier v = {scene, tree, err};
+    node_item *items = malloc(((size_t)scene->triangle_count + 1) * sizeof *items);
+    if (!items) return rtt_error_set(err, "%s: out of memory checking the baked tree", scene->path);
+    size_t n = 0;
     rtt_bounds root = rtt_bounds_empty();
-    for (uint32_t i = 0; ok && i < scene->triangle_count; i++) {
-        descent t = {.prim = i};
-        rtt_scene_triangle(scene, i, t.corners);
-        if (!rtt_v3_is_finite(t.corners[0]) || !rtt_v3_is_finite(t.corners[1]) || !rtt_v3_is_finite(t.corners[2]) ||
-            !kd_triangle_record(&t.record, t.corners, i))
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        rtt_vec3 p[3];
+        rtt_scene_triangle(scene, i, p);
+        kd_triangle record;
+        if (!rtt_v3_is_finite(p[0]) || !rtt_v3_is_finite(p[1]) || !rtt_v3_is_finite(p[2]) ||
+            !kd_triangle_record(&record, p, i))
             continue;
-        rtt_bounds bounds = kd_triangle_bounds(t.corners);
-        root = rtt_bounds_union(root, bounds);
-        ok = descend(&v, 0, tree->bounds, &t, bounds);
+        items[n] = (node_item){i, kd_triangle_bounds(p)};
+        root = rtt_bounds_union(root, items[n].bounds);
+        n++;
     }
-    if (ok && !same_box(root, tree->bounds))
-        ok = rtt_error_set(err, "%s: the baked tree's root box is not the bounds of its triangles", scene->path);
-    for (uint32_t l = 0; ok && l < tree->leaf_count; l++)
-        if (v.reached[l] != tree->leaves[l].count)
-            ok = rtt_error_set(err, "%s: leaf %u holds %u triangles, %u of which reach it", scene->path, l,
-                               tree->leaves[l].count, v.reached[l]);
-    free(v.reached);
+    bool ok = leaves_sorted(&v) && (same_box(root, tree->bounds) ||
+              rtt_error_set(err, "%s: the baked tree's root box is not the bounds of its triangles", scene->path));
+    ok = ok && check_node(&v, 0, tree->bounds, items, n);
+    free(items);
     return ok;
 }

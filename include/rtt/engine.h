@@ -59,7 +59,7 @@ typedef struct rtt_engine rtt_engine;
  * value; pbrt's 8 + 1.3 log2 N let the SAH carve the CGAL meshes down to
  * 7-9 references per triangle (62 MB for bunny00), and a sweep of the bound
  * put the optimum of the mesh views at log2 N .. log2 N + 2, the Quake maps
- * indifferent (bench/results/report.md, "Tree depth").  N counts the
+ * indifferent (bench/results/tree-depth.md).  N counts the
  * triangles the builder keeps. */
 uint32_t rtt_kd_default_max_depth(uint32_t triangles);
 
