@@ -59,6 +59,7 @@
  * Note: aiGetErrorString is Assimp's global; concurrent imports from several
  * threads may see each other's messages (never a crash).  */
 #include <assimp/cimport.h>
+#include <cjson/cJSON.h>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 #include <stdio.h>
@@ -319,10 +320,64 @@ static bool check_file(const char *path, rtt_error *err)
     return true;
 }
 
+/* The whole file, NUL-terminated, or NULL. */
+static char *read_whole(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    char *bytes = NULL;
+    long length = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    if (length >= 0 && fseek(f, 0, SEEK_SET) == 0 && (bytes = malloc((size_t)length + 1)) &&
+        fread(bytes, 1, (size_t)length, f) == (size_t)length) {
+        bytes[length] = '\0';
+        *size = (size_t)length;
+    } else {
+        free(bytes);
+        bytes = NULL;
+    }
+    fclose(f);
+    return bytes;
+}
+
+/* Assimp falls back from the extension's importer to every importer that
+ * claims the content, and some of its parsers read past their buffers on
+ * input that is not their format (libassimp 5.2: a heap overflow on a
+ * ".gltf" that is not JSON, fuzz/regressions/assimp/gltf_not_json_heap_overflow).
+ * So a file must look like its extension's format before Assimp sees it:
+ * .gltf a JSON object (cJSON), .glb the "glTF" magic, .ply the "ply" magic. */
+static bool check_signature(const char *path, rtt_error *err)
+{
+    const char *dot = strrchr(path, '.');
+    const char *ext = dot ? dot + 1 : "";
+    if (strcasecmp(ext, "gltf") == 0) {
+        size_t size = 0;
+        char *text = read_whole(path, &size);
+        if (!text) return rtt_error_set(err, "%s: cannot read the file", path);
+        cJSON *json = cJSON_ParseWithLengthOpts(text, size + 1u, NULL, true); /* the whole file, NUL included */
+        bool object = cJSON_IsObject(json);
+        cJSON_Delete(json);
+        free(text);
+        if (!object) return rtt_error_set(err, "%s: not a glTF file (not a JSON object)", path);
+        return true;
+    }
+    static const struct { const char *ext, *magic; } magics[] = { { "glb", "glTF" }, { "ply", "ply" } };
+    for (size_t i = 0; i < sizeof magics / sizeof magics[0]; i++) {
+        if (strcasecmp(ext, magics[i].ext) != 0) continue;
+        char head[8] = { 0 };
+        FILE *f = fopen(path, "rb");
+        size_t n = f ? fread(head, 1, strlen(magics[i].magic), f) : 0;
+        if (f) fclose(f);
+        if (n != strlen(magics[i].magic) || memcmp(head, magics[i].magic, n) != 0)
+            return rtt_error_set(err, "%s: not a %s file (it does not start with \"%s\")", path, magics[i].ext,
+                                 magics[i].magic);
+    }
+    return true;
+}
+
 bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
                        rtt_error *err)
 {
-    if (!check_file(path, err)) return false;
+    if (!check_file(path, err) || !check_signature(path, err)) return false;
     if (material_override != UINT32_MAX && material_override >= scene->material_count)
         return rtt_error_set(err, "%s: material index %u is out of range", path, material_override);
     const struct aiScene *ai = aiImportFile(path, 0);

@@ -609,6 +609,16 @@ static rtt_baked_tree *read_tree(const kdt_file *f, rtt_error *err)
         rtt_kdt_baked_free(t);
         return NULL;
     }
+    /* what the header reports of the build must agree with the tree */
+    if (t->record_count > h->reference_cap) {
+        rtt_kdt_baked_free(t);
+        return rtt_error_set(err, "%s: %u triangle references over the cap %llu (header)", f->path, h->record_count,
+                             (unsigned long long)h->reference_cap), NULL;
+    }
+    if (!(isfinite(h->sah_cost) && h->sah_cost >= 0.0 && isfinite(h->build_seconds) && h->build_seconds >= 0.0)) {
+        rtt_kdt_baked_free(t);
+        return rtt_error_set(err, "%s: SAH cost or build time is not a finite number >= 0 (header)", f->path), NULL;
+    }
     t->bounds.lo = rtt_v3(h->tree_lo[0], h->tree_lo[1], h->tree_lo[2]);
     t->bounds.hi = rtt_v3(h->tree_hi[0], h->tree_hi[1], h->tree_hi[2]);
     rtt_tree_info *info = &t->info;

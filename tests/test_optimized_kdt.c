@@ -340,11 +340,26 @@ static void test_bad_leaf_range_and_prim_refused(void **state)
     expect_refused(bytes, size, want);
     leaves[0] = saved;
 
+    const uint32_t prim0 = records[0].prim;
     records[0].prim = h->triangle_count;
     fix_checksum(bytes, size);
     snprintf(want, sizeof want, "record 0: prim %u out of range (%u triangles) (triangle records section)",
              h->triangle_count, h->triangle_count);
     expect_refused(bytes, size, want);
+    records[0].prim = prim0;
+
+    /* what the header says of the build must agree with the tree */
+    kdt_header *header = (kdt_header *)bytes;
+    const uint64_t cap = header->reference_cap;
+    header->reference_cap = header->record_count - 1u;
+    fix_checksum(bytes, size);
+    snprintf(want, sizeof want, "%u triangle references over the cap %u (header)", header->record_count,
+             header->record_count - 1u);
+    expect_refused(bytes, size, want);
+    header->reference_cap = cap;
+    header->sah_cost = -1.0;
+    fix_checksum(bytes, size);
+    expect_refused(bytes, size, "SAH cost or build time is not a finite number >= 0 (header)");
     free(bytes);
 }
 

@@ -317,6 +317,34 @@ static void test_malformed_file_gives_one_line(void **state)
     assert_true(strlen(message) > strlen(DATA_DIR "truncated.stl: "));
 }
 
+/* A file that does not look like its extension's format never reaches
+ * Assimp, whose fallback importers read past their buffers on such input
+ * (fuzz/regressions/assimp/gltf_not_json_heap_overflow). */
+static void test_file_not_of_its_format_is_refused_before_assimp(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *path, *bytes, *message;
+    } cases[] = {
+        { "test_scene_import_not.gltf", "elemen%indexarraylidt{\"a{sett", "not a glTF file (not a JSON object)" },
+        { "test_scene_import_array.gltf", "[1, 2, 3]", "not a glTF file (not a JSON object)" },
+        { "test_scene_import_trailing.gltf", "{\"asset\": {}} junk", "not a glTF file (not a JSON object)" },
+        { "test_scene_import_not.ply", "element vertex 3\n", "not a ply file (it does not start with \"ply\")" },
+        { "test_scene_import_not.glb", "gl", "not a glb file (it does not start with \"glTF\")" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        FILE *f = fopen(cases[i].path, "wb");
+        assert_non_null(f);
+        fputs(cases[i].bytes, f);
+        fclose(f);
+        rtt_error err;
+        char want[300];
+        snprintf(want, sizeof want, "%s: %s", cases[i].path, cases[i].message);
+        assert_string_equal(load_error(cases[i].path, 0, &err), want);
+        remove(cases[i].path);
+    }
+}
+
 static void test_empty_file_and_file_without_triangles_are_refused(void **state)
 {
     (void)state;
@@ -645,6 +673,7 @@ int main(void)
         cmocka_unit_test(test_obj_nan_coordinate_is_refused),
         cmocka_unit_test(test_obj_out_of_range_index_is_refused),
         cmocka_unit_test(test_malformed_file_gives_one_line),
+        cmocka_unit_test(test_file_not_of_its_format_is_refused_before_assimp),
         cmocka_unit_test(test_empty_file_and_file_without_triangles_are_refused),
         cmocka_unit_test(test_q3bsp_faces_patch_and_billboard),
         cmocka_unit_test(test_q3bsp_patch_level_4_gives_32_triangles),
