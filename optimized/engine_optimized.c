@@ -119,7 +119,7 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
         }
         return &e->base;
     }
-    kd_build_options build = {.max_depth = opt->max_tree_depth};
+    kd_build_options build = {.max_depth = opt->max_tree_depth, .threads = opt->threads};
     if (!kd_build_sah(scene, &build, &e->tree, err)) {
         free(e);
         return NULL;

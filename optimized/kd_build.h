@@ -18,6 +18,8 @@
 typedef struct kd_build_options {
     uint32_t max_depth;         /* 0 → rtt_kd_default_max_depth(N), at most KD_DEPTH_LIMIT */
     uint64_t reference_cap;     /* 0 → 16 N + 1M triangle references in leaves */
+    uint32_t threads;           /* 0 → one per core; above 1, big scenes build the root's two
+                                   subtrees at once (the same bytes as one thread) */
 } kd_build_options;
 
 /* Builds the tree of every non-degenerate triangle of the scene (those whose

@@ -35,10 +35,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <pthread.h>
 
 #include "isect_projected_bary.h"
 #include "kd_build.h"
 #include "kd_clip.h"
+#include "rtt/image.h"
 
 /* 8 bytes: (order-preserving key of the position << 32) | type << 30 | prim.
  * Sorting the integers sorts by position, then end < planar < start, which
@@ -148,6 +150,7 @@ typedef struct builder {
     uint32_t max_depth;
     uint64_t reference_cap;
     uint64_t pending_references; /* references of every leaf made and every node not yet built */
+    uint64_t peak_accepted;      /* the largest pending_references a split was accepted under */
     double sah_sum;              /* the tree's cost times the root's area */
     bool out_of_memory;
 } builder;
@@ -494,6 +497,8 @@ static void build_tree(builder *b, build_task root)
         bool worth_it = found && split.cost < KD_COST_INTERSECT * task.count &&
                         b->pending_references + split.below + split.above - task.count <= b->reference_cap;
         build_task child[2];
+        if (worth_it && b->pending_references + split.below + split.above - task.count > b->peak_accepted)
+            b->peak_accepted = b->pending_references + split.below + split.above - task.count;
         if (!worth_it) {
             make_leaf(b, &task);
             task_free(&task);
@@ -502,6 +507,136 @@ static void build_tree(builder *b, build_task root)
             stack[top++] = child[0];
         }
     }
+}
+
+/* ---- two subtrees on two threads ------------------------------------------- */
+
+/* Below the root the two subtrees share nothing but the scene and the
+ * records, so each is built by its own builder into its own arrays, one on
+ * a second thread, and spliced behind the root.  The depth-first layout
+ * puts every node, leaf and record of the left subtree before those of the
+ * right one, so the splice gives the very bytes of a one-thread build.  One
+ * decision depends on the order: the reference cap, checked against the
+ * references pending over the whole tree.  The left subtree sees exactly
+ * the count a one-thread build sees; the right one sees fewer (the left's
+ * growth is not known yet), so when some split it accepted would not have
+ * fitted under the left's final count, the tree is rebuilt on one thread.
+ * Only hostile input gets near the cap. */
+#define PARALLEL_MIN_TRIANGLES 20000u
+
+typedef struct subtree_job {
+    builder b;
+    kd_tree tree;
+    build_task root;
+} subtree_job;
+
+static void *subtree_main(void *arg)
+{
+    subtree_job *job = arg;
+    build_tree(&job->b, job->root);
+    return NULL;
+}
+
+static bool subtree_start(const builder *parent, build_task task, subtree_job *job)
+{
+    memset(job, 0, sizeof *job);
+    job->b = (builder){.scene = parent->scene, .tree = &job->tree, .records = parent->records,
+                       .max_depth = parent->max_depth, .reference_cap = parent->reference_cap,
+                       .pending_references = parent->pending_references};
+    job->b.side = malloc((size_t)parent->scene->triangle_count + 1);
+    job->tree.nodes = malloc(256 * sizeof *job->tree.nodes);
+    job->b.node_capacity = 256;
+    if (!job->b.side || !job->tree.nodes) {
+        free(job->b.side);
+        free(job->tree.nodes);
+        task_free(&task);
+        return false;
+    }
+    memset(&job->tree.nodes[0], 0, sizeof job->tree.nodes[0]);
+    job->tree.node_count = 1;
+    task.node = 0;
+    job->root = task;
+    return true;
+}
+
+static void subtree_release(subtree_job *job)
+{
+    free(job->b.side);
+    free(job->b.leaf_prims);
+    free(job->b.scratch);
+    kd_tree_free(&job->tree);
+}
+
+/* Appends a subtree built as node `root_at` of the tree: its root goes to
+ * root_at, its other nodes after the tree's, child and leaf indices moved. */
+static bool splice(builder *b, const kd_tree *sub, uint32_t root_at)
+{
+    kd_tree *tree = b->tree;
+    const uint32_t node_base = tree->node_count - 1u, leaf_base = tree->leaf_count;
+    const uint32_t record_base = tree->triangle_count;
+    if (!grow((void **)&tree->nodes, &b->node_capacity, (size_t)tree->node_count + sub->node_count, sizeof *tree->nodes) ||
+        !grow((void **)&tree->leaves, &b->leaf_capacity, (size_t)tree->leaf_count + sub->leaf_count + 1,
+              sizeof *tree->leaves) ||
+        !grow((void **)&tree->triangles, &b->triangle_capacity, (size_t)tree->triangle_count + sub->triangle_count + 1,
+              sizeof *tree->triangles))
+        return false;
+    for (uint32_t i = 0; i < sub->node_count; i++) {
+        kd_node node = sub->nodes[i];
+        if (kd_node_is_leaf(&node)) node.leaf += leaf_base;
+        else node.bits = ((kd_node_child(&node) + node_base) << 2) | kd_node_axis(&node);
+        tree->nodes[i == 0 ? root_at : node_base + i] = node;
+    }
+    tree->node_count += sub->node_count - 1u;
+    for (uint32_t l = 0; l < sub->leaf_count; l++) {
+        tree->leaves[leaf_base + l] = sub->leaves[l];
+        tree->leaves[leaf_base + l].first += record_base;
+    }
+    tree->leaf_count += sub->leaf_count;
+    memcpy(tree->triangles + record_base, sub->triangles, (size_t)sub->triangle_count * sizeof *sub->triangles);
+    tree->triangle_count += sub->triangle_count;
+    if (sub->info.depth > tree->info.depth) tree->info.depth = sub->info.depth;
+    tree->info.empty_leaf_count += sub->info.empty_leaf_count;
+    return true;
+}
+
+/* Splits the root, then builds its two subtrees at once.  *split_here is
+ * false when the root is not split that way (the root task is left for
+ * build_tree); *redo when the result would differ from a one-thread build
+ * (the tree is then to be rebuilt on one thread). */
+static void build_tree_two_threads(builder *b, build_task *root, bool *split_here, bool *redo)
+{
+    *split_here = false;
+    split_choice split = {.axis = -1};
+    bool found = root->depth < b->max_depth && find_best_split(root, &split);
+    if (!found || !(split.cost < KD_COST_INTERSECT * root->count) || split.below == 0 || split.above == 0 ||
+        b->pending_references + split.below + split.above - root->count > b->reference_cap)
+        return;
+    *split_here = true;
+    b->peak_accepted = b->pending_references + split.below + split.above - root->count;
+    classify(b, root, split);
+    build_task child[2];
+    if (!split_task(b, root, split, child)) return; /* out of memory: b->out_of_memory, the root freed */
+    subtree_job jobs[2];
+    bool started[2] = {subtree_start(b, child[0], &jobs[0]), false};
+    started[1] = subtree_start(b, child[1], &jobs[1]);
+    pthread_t thread;
+    bool threaded = started[0] && started[1] && pthread_create(&thread, NULL, subtree_main, &jobs[1]) == 0;
+    if (started[0]) subtree_main(&jobs[0]);
+    if (started[1] && !threaded) subtree_main(&jobs[1]);
+    if (threaded) pthread_join(thread, NULL);
+    bool ok = started[0] && started[1] && !jobs[0].b.out_of_memory && !jobs[1].b.out_of_memory;
+    /* the right subtree's splits, under the references a one-thread build would have had pending */
+    const uint64_t left_growth = jobs[0].b.pending_references - b->pending_references;
+    if (ok && jobs[1].b.peak_accepted + left_growth > b->reference_cap) {
+        *redo = true;
+    } else if (ok) {
+        ok = splice(b, &jobs[0].tree, 1) && splice(b, &jobs[1].tree, 2);
+        b->sah_sum += jobs[0].b.sah_sum + jobs[1].b.sah_sum;
+        b->pending_references = jobs[1].b.pending_references + left_growth;
+    }
+    if (!ok) b->out_of_memory = true;
+    for (int s = 0; s < 2; s++)
+        if (started[s]) subtree_release(&jobs[s]);
 }
 
 /* ---- the tree ------------------------------------------------------------ */
@@ -548,6 +683,45 @@ void kd_tree_free(kd_tree *tree)
     memset(tree, 0, sizeof *tree);
 }
 
+/* One build into `tree` (zeroed first): the root task, then the nodes, on
+ * two threads when `threads` > 1 and the scene is big enough.  *redo is set
+ * when the two-thread build must be redone on one thread (the cap). */
+static bool build_once(builder *b, kd_triangle *records, const kd_build_options *opt, uint32_t threads, bool *redo)
+{
+    const rtt_scene *scene = b->scene;
+    kd_tree *tree = b->tree;
+    memset(tree, 0, sizeof *tree);
+    *redo = false;
+    b->node_capacity = b->leaf_capacity = b->triangle_capacity = 0;
+    b->sah_sum = 0.0;
+    b->peak_accepted = 0;
+    b->out_of_memory = false;
+    build_task root = {0};
+    if (!root_task(scene, records, &root)) return false;
+    const uint32_t n = root.count;
+    b->max_depth = opt && opt->max_depth ? opt->max_depth : rtt_kd_default_max_depth(n);
+    if (b->max_depth > KD_DEPTH_LIMIT) b->max_depth = KD_DEPTH_LIMIT;
+    b->reference_cap = opt && opt->reference_cap ? opt->reference_cap : 16u * (uint64_t)scene->triangle_count + 1000000u;
+    if (b->reference_cap < n) b->reference_cap = n; /* every triangle needs one reference */
+    b->pending_references = n;
+    tree->bounds = root.box;
+    tree->nodes = malloc(256 * sizeof *tree->nodes);
+    if (!tree->nodes) {
+        task_free(&root);
+        return false;
+    }
+    b->node_capacity = 256;
+    memset(&tree->nodes[0], 0, sizeof tree->nodes[0]);
+    tree->node_count = 1;
+    bool split_here = false;
+    if (threads > 1 && n >= PARALLEL_MIN_TRIANGLES) {
+        build_tree_two_threads(b, &root, &split_here, redo);
+        if (*redo) return true;
+    }
+    if (!split_here) build_tree(b, root);
+    return !b->out_of_memory;
+}
+
 bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *tree, rtt_error *err)
 {
     const double start = seconds_now();
@@ -559,28 +733,12 @@ bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *
     kd_triangle *records = malloc(((size_t)scene->triangle_count + 1) * sizeof *records);
     b.side = malloc((size_t)scene->triangle_count + 1);
     b.records = records;
-    build_task root = {0};
-    bool ok = records && b.side && root_task(scene, records, &root);
-    if (ok) {
-        const uint32_t n = root.count;
-        b.max_depth = opt && opt->max_depth ? opt->max_depth : rtt_kd_default_max_depth(n);
-        if (b.max_depth > KD_DEPTH_LIMIT) b.max_depth = KD_DEPTH_LIMIT;
-        b.reference_cap = opt && opt->reference_cap ? opt->reference_cap
-                                                    : 16u * (uint64_t)scene->triangle_count + 1000000u;
-        if (b.reference_cap < n) b.reference_cap = n; /* every triangle needs one reference */
-        b.pending_references = n;
-        tree->bounds = root.box;
-        tree->nodes = malloc(256 * sizeof *tree->nodes);
-        b.node_capacity = tree->nodes ? 256 : 0;
-        ok = tree->nodes != NULL;
-    }
-    if (ok) {
-        memset(&tree->nodes[0], 0, sizeof tree->nodes[0]);
-        tree->node_count = 1;
-        build_tree(&b, root);
-        ok = !b.out_of_memory;
-    } else {
-        task_free(&root);
+    const uint32_t threads = opt && opt->threads ? opt->threads : rtt_cpu_count();
+    bool redo = false;
+    bool ok = records && b.side && build_once(&b, records, opt, threads, &redo);
+    if (ok && redo) {
+        kd_tree_free(tree);
+        ok = build_once(&b, records, opt, 1, &redo);
     }
     free(records);
     free(b.side);

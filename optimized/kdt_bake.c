@@ -7,7 +7,7 @@
 
 bool rtt_optimized_bake(const rtt_scene *scene, const rtt_engine_options *opt, const char *path, rtt_error *err)
 {
-    kd_build_options build = {.max_depth = opt ? opt->max_tree_depth : 0};
+    kd_build_options build = {.max_depth = opt ? opt->max_tree_depth : 0, .threads = opt ? opt->threads : 0};
     kd_tree tree;
     if (!kd_build_sah(scene, &build, &tree, err)) return false;
     /* engine_optimized.c asserts that kd_tree.h's records are the file's */

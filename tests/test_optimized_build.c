@@ -456,6 +456,46 @@ static void test_closest_hits_match_brute_force(void **state)
     rtt_scene_free(scene);
 }
 
+/* Two threads build the root's subtrees at once and splice them: the same
+ * nodes, leaves and records as one thread, also when the reference cap
+ * binds (the two-thread build is then redone on one thread); the SAH cost
+ * is summed in another order. */
+static void expect_same_tree(const kd_tree *a, const kd_tree *b)
+{
+    assert_int_equal(a->node_count, b->node_count);
+    assert_int_equal(a->leaf_count, b->leaf_count);
+    assert_int_equal(a->triangle_count, b->triangle_count);
+    assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
+    assert_memory_equal(a->leaves, b->leaves, a->leaf_count * sizeof *a->leaves);
+    assert_memory_equal(a->triangles, b->triangles, a->triangle_count * sizeof *a->triangles);
+    assert_memory_equal(&a->bounds, &b->bounds, sizeof a->bounds);
+    assert_int_equal(a->info.depth, b->info.depth);
+    assert_int_equal(a->info.empty_leaf_count, b->info.empty_leaf_count);
+    assert_int_equal(a->info.references, b->info.references);
+    /* summed in another order: equal but for the last bits */
+    assert_true(fabs(a->info.sah_cost - b->info.sah_cost) <= 1e-9 * a->info.sah_cost);
+}
+
+static void test_two_threads_build_the_same_bytes(void **state)
+{
+    (void)state;
+    rtt_scene *scene = make_soup(30000, 0.04f, 23);
+    const uint64_t caps[] = {0, 30000 + 2000, 30000 + 20000};
+    for (size_t c = 0; c < sizeof caps / sizeof caps[0]; c++) {
+        kd_tree one, two;
+        rtt_error err = {{0}};
+        kd_build_options opt = {.reference_cap = caps[c], .threads = 1};
+        if (!kd_build_sah(scene, &opt, &one, &err)) fail_msg("build: %s", err.message);
+        opt.threads = 2;
+        if (!kd_build_sah(scene, &opt, &two, &err)) fail_msg("build: %s", err.message);
+        expect_same_tree(&one, &two);
+        if (caps[c]) assert_true(one.info.references <= caps[c]);
+        kd_tree_free(&one);
+        kd_tree_free(&two);
+    }
+    rtt_scene_free(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -466,6 +506,7 @@ int main(void)
         cmocka_unit_test(test_reference_cap_held),
         cmocka_unit_test(test_sah_cost_close_to_reference),
         cmocka_unit_test(test_build_is_deterministic),
+        cmocka_unit_test(test_two_threads_build_the_same_bytes),
         cmocka_unit_test(test_degenerate_only_scene_gives_an_empty_leaf),
         cmocka_unit_test(test_closest_hits_match_brute_force),
     };
