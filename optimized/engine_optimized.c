@@ -113,7 +113,7 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
         adopt_baked(&e->tree, scene->baked);
-        if (!kd_baked_tree_verify(scene, &e->tree, err)) {
+        if (!kd_baked_tree_verify(scene, &e->tree, opt->threads, err)) {
             free(e);
             return NULL;
         }

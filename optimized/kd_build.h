@@ -30,8 +30,9 @@ bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *
 
 /* Whether a tree loaded from a .kdt is the tree of the scene's triangles
  * as far as O(references) can tell (records, root box, leaf boxes, no
- * triangle left out; kdt_verify.c).  err says what disagrees. */
-bool kd_baked_tree_verify(const rtt_scene *scene, const kd_tree *tree, rtt_error *err);
+ * triangle left out; kdt_verify.c), on two threads for big trees when
+ * `threads` (0: one per core) allows.  err says what disagrees. */
+bool kd_baked_tree_verify(const rtt_scene *scene, const kd_tree *tree, uint32_t threads, rtt_error *err);
 
 /* Frees the arrays of a tree built by kd_build_sah. */
 void kd_tree_free(kd_tree *tree);

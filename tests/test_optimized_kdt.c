@@ -533,6 +533,58 @@ static void test_forged_tree_refused_by_engine(void **state)
     free(bytes);
 }
 
+/* Big trees are checked on two threads, one per subtree of the root: the
+ * same verdict and the same message as one thread. */
+static void test_big_tree_checked_alike_on_one_and_two_threads(void **state)
+{
+    (void)state;
+    rng r = {59};
+    const uint32_t n = 30000;
+    float *xyz = malloc(n * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t i = 0; i < n; i++) {
+        float c[3] = {rng_range(&r, -1, 1), rng_range(&r, -1, 1), rng_range(&r, -1, 1)};
+        for (int k = 0; k < 9; k++) xyz[9 * i + k] = c[k % 3] + rng_range(&r, -0.02f, 0.02f);
+    }
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, n, &err);
+    free(xyz);
+    if (!scene) fail_msg("%s", err.message);
+    bake(scene, BAKED);
+    rtt_scene_free(scene);
+    size_t size;
+    unsigned char *bytes = read_all(BAKED, &size);
+    for (int forged = 0; forged < 2; forged++) {
+        if (forged) { /* the last leaf with two triangles loses its last one: the right subtree */
+            const kdt_header *h = (const kdt_header *)bytes;
+            kdt_leaf *leaves = (kdt_leaf *)(bytes + section(bytes, KDT_SECTION_LEAVES)->offset);
+            uint32_t leaf = h->leaf_count;
+            while (leaf > 0 && leaves[leaf - 1].count < 2) leaf--;
+            assert_true(leaf > h->leaf_count / 2);
+            leaves[leaf - 1].count--;
+            fix_checksum(bytes, size);
+        }
+        write_all(DAMAGED, bytes, size);
+        rtt_scene *loaded = rtt_scene_load(DAMAGED, NULL, &err);
+        if (!loaded) fail_msg("load: %s", err.message);
+        char message[2][sizeof err.message];
+        for (uint32_t threads = 1; threads <= 2; threads++) {
+            rtt_engine_options opt;
+            rtt_engine_options_default(&opt);
+            opt.threads = threads;
+            rtt_error e = {{0}};
+            rtt_engine *engine = rtt_optimized_engine_create(loaded, &opt, &e);
+            assert_true((engine == NULL) == (forged == 1));
+            rtt_engine_destroy(engine);
+            snprintf(message[threads - 1], sizeof message[0], "%s", e.message);
+        }
+        assert_string_equal(message[0], message[1]);
+        if (forged) assert_non_null(strstr(message[0], "reaches it but is not in it"));
+        rtt_scene_free(loaded);
+    }
+    free(bytes);
+}
+
 static void test_random_damage_never_crashes(void **state)
 {
     (void)state;
@@ -589,6 +641,7 @@ int main(void)
         cmocka_unit_test(test_bad_scene_indices_refused),
         cmocka_unit_test(test_bad_section_table_refused),
         cmocka_unit_test(test_forged_tree_refused_by_engine),
+        cmocka_unit_test(test_big_tree_checked_alike_on_one_and_two_threads),
         cmocka_unit_test(test_random_damage_never_crashes),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
