@@ -44,7 +44,8 @@ typedef struct sp_level {
     uint32_t count, capacity;
 } sp_level;
 
-/* Per-thread timers and counts; only touched when `timing` is on. */
+/* Per-thread ray counts (always kept: an add per packet) and the timers
+ * and N / I counters (only when `timing` is on). */
 typedef struct sp_stats {
     uint64_t primary_rays, shadow_rays, secondary_rays;
     kd_counters primary;            /* N and I of the primary packets */
