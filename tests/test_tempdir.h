@@ -16,9 +16,13 @@ typedef struct scratch {
 static inline int scratch_create(void **state, const char *name)
 {
     scratch *s = calloc(1, sizeof *s);
-    snprintf(s->dir, sizeof s->dir, "/tmp/rtt_test_%s_XXXXXX", name);
-    if (!mkdtemp(s->dir))
+    if (!s)
         return -1;
+    snprintf(s->dir, sizeof s->dir, "/tmp/rtt_test_%s_XXXXXX", name);
+    if (!mkdtemp(s->dir)) {
+        free(s);
+        return -1;
+    }
     *state = s;
     return 0;
 }
