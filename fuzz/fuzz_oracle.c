@@ -16,6 +16,7 @@
 #define GRAZING_TOLERANCE 1e-5
 #define CHECKED_MAGNITUDE 1e30f
 #define SMALLEST_CHECKED_DIRECTION 1e-30f
+#define SMALLEST_CHECKED_DISTANCE 1e-30
 #define ROUNDED_POINT_ULPS 8.0
 
 typedef struct ray_triangle {
@@ -230,8 +231,13 @@ static void describe(const fuzz_oracle *o, size_t r, uint32_t prim_a, uint32_t p
  * 1e20 extremes of DESIGN.md, where 1/dir and t overflow, and where the
  * products of the direction with a triangle's coefficients go denormal and
  * keep only a few bits: a direction of 2^-142 put t off by 0.6%), tnear and
- * tfar not NaN.  Others must only not crash and report a prim in range. */
-static bool answer_is_specified(const rtt_ray *ray)
+ * tfar not NaN, and distances in the scene of at least 1e-30 in units of
+ * the direction (the scene's and the origin's magnitude over the largest
+ * direction component: a direction of 2^96 through a scene of 1e-19 puts
+ * every t at 1e-48, below the smallest float, where a hit at t = 0 and a
+ * miss are the same answer).  Others must only not crash and report a prim
+ * in range. */
+static bool answer_is_specified(const fuzz_oracle *o, const rtt_ray *ray)
 {
     float largest_dir = 0.0f;
     for (int k = 0; k < 3; k++) {
@@ -239,7 +245,9 @@ static bool answer_is_specified(const rtt_ray *ray)
             return false;
         largest_dir = fmaxf(largest_dir, fabsf(ray->dir[k]));
     }
-    return largest_dir >= SMALLEST_CHECKED_DIRECTION && !isnan(ray->tnear) && !isnan(ray->tfar);
+    double distances = fmax(o->scene_scale, max_abs3(ray->org)) / largest_dir;
+    return largest_dir >= SMALLEST_CHECKED_DIRECTION && !(distances < SMALLEST_CHECKED_DISTANCE) &&
+           !isnan(ray->tnear) && !isnan(ray->tfar);
 }
 
 static void check_intersect(const fuzz_oracle *o, size_t r, const rtt_hit *hit, const char *label, bool lenient)
@@ -249,7 +257,7 @@ static void check_intersect(const fuzz_oracle *o, size_t r, const rtt_hit *hit, 
     double t = hit->prim == RTT_MISS ? INFINITY : hit->t;
     if (hit->prim != RTT_MISS && hit->prim >= o->triangle_count)
         fuzz_fail("%s: ray %zu hit prim %u of %u", label, r, hit->prim, o->triangle_count);
-    if (!answer_is_specified(ray))
+    if (!answer_is_specified(o, ray))
         return;
     if (hit->prim != RTT_MISS) {
         if (!isfinite(hit->t))
@@ -278,7 +286,7 @@ static void check_occluded(const fuzz_oracle *o, size_t r, uint8_t occluded, con
 {
     const rtt_ray *ray = &o->rays[r];
     const ray_triangle *row = &o->table[r * o->triangle_count];
-    if (!answer_is_specified(ray))
+    if (!answer_is_specified(o, ray))
         return;
     bool possible = false, required = false;
     for (uint32_t i = 0; i < o->triangle_count; i++) {

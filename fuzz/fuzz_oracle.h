@@ -16,8 +16,9 @@
  * tfar are unspecified: they are optional, never required.
  *
  * Rays with NaN or infinite components, or magnitudes beyond 1e30, or a
- * direction whose largest component is below 1e-30 (past the 1e-20 .. 1e20
- * extremes of DESIGN.md: 1/dir goes denormal, t overflows), must only not
+ * direction whose largest component is below 1e-30, or distances in the
+ * scene below 1e-30 in units of the direction (past the 1e-20 .. 1e20
+ * extremes of DESIGN.md: 1/dir and t go denormal or overflow), must only not
  * crash and must report a prim in range; so must every engine, strict or
  * lenient, on triangles with a coordinate beyond 1e30 (a reference kd-tree
  * cell at 1.4e38 put t past what its float intervals hold).
