@@ -14,6 +14,7 @@
 #define KD_COST_INTERSECT 5.0
 #define KD_DEPTH_LIMIT 64u      /* no tree is deeper, whatever the options say */
 #define KD_MAX_TRIANGLES (1u << 30) /* events pack the prim id in 30 bits */
+#define KD_PARALLEL_MIN_TRIANGLES 20000u /* from here two threads build (and check) the root's subtrees */
 
 typedef struct kd_build_options {
     uint32_t max_depth;         /* 0 → rtt_kd_default_max_depth(N), at most KD_DEPTH_LIMIT */

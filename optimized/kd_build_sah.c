@@ -522,7 +522,6 @@ static void build_tree(builder *b, build_task root)
  * growth is not known yet), so when some split it accepted would not have
  * fitted under the left's final count, the tree is rebuilt on one thread.
  * Only hostile input gets near the cap. */
-#define PARALLEL_MIN_TRIANGLES 20000u
 
 typedef struct subtree_job {
     builder b;
@@ -714,7 +713,7 @@ static bool build_once(builder *b, kd_triangle *records, const kd_build_options 
     memset(&tree->nodes[0], 0, sizeof tree->nodes[0]);
     tree->node_count = 1;
     bool split_here = false;
-    if (threads > 1 && n >= PARALLEL_MIN_TRIANGLES) {
+    if (threads > 1 && n >= KD_PARALLEL_MIN_TRIANGLES) {
         build_tree_two_threads(b, &root, &split_here, redo);
         if (*redo) return true;
     }

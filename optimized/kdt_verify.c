@@ -52,17 +52,13 @@ static bool check_leaf(const verifier *v, uint32_t leaf_index, rtt_bounds cell, 
     const kd_leaf *leaf = &v->tree->leaves[leaf_index];
     const kd_triangle *records = &v->tree->triangles[leaf->first];
     for (size_t i = 0; i < n || i < leaf->count; i++) {
-        if (i == leaf->count)
+        /* both lists ascend: the smaller of two different prims is the one missing from the other */
+        if (i == leaf->count || (i < n && records[i].prim > items[i].prim))
             return rtt_error_set(v->err, "%s: leaf %u: triangle %u reaches it but is not in it", v->scene->path,
                                  leaf_index, items[i].prim);
-        if (i == n || records[i].prim != items[i].prim) {
-            uint32_t missing = i < n && records[i].prim > items[i].prim ? items[i].prim : UINT32_MAX;
-            if (missing != UINT32_MAX)
-                return rtt_error_set(v->err, "%s: leaf %u: triangle %u reaches it but is not in it", v->scene->path,
-                                     leaf_index, missing);
+        if (i == n || records[i].prim != items[i].prim)
             return rtt_error_set(v->err, "%s: leaf %u: holds triangle %u, which does not reach it", v->scene->path,
                                  leaf_index, records[i].prim);
-        }
         rtt_vec3 p[3];
         rtt_scene_triangle(v->scene, items[i].prim, p);
         kd_triangle expected;
@@ -133,7 +129,6 @@ static bool check_node(const verifier *v, uint32_t node_index, rtt_bounds cell, 
 /* The root's two subtrees checked at once (a second thread for the one
  * above the plane), each with its own error; the one below reports first,
  * as one thread would. */
-#define PARALLEL_MIN_TRIANGLES 20000u
 
 typedef struct subtree_check {
     verifier v;
@@ -217,7 +212,7 @@ bool kd_baked_tree_verify(const rtt_scene *scene, const kd_tree *tree, uint32_t 
     bool ok = leaves_sorted(&v) && (same_box(root, tree->bounds) ||
               rtt_error_set(err, "%s: the baked tree's root box is not the bounds of its triangles", scene->path));
     if (threads == 0) threads = rtt_cpu_count();
-    bool two = threads > 1 && n >= PARALLEL_MIN_TRIANGLES && !kd_node_is_leaf(&tree->nodes[0]);
+    bool two = threads > 1 && n >= KD_PARALLEL_MIN_TRIANGLES && !kd_node_is_leaf(&tree->nodes[0]);
     ok = ok && (two ? check_root_two_threads(&v, items, n) : check_node(&v, 0, tree->bounds, items, n));
     free(items);
     return ok;

@@ -320,25 +320,6 @@ static bool check_file(const char *path, rtt_error *err)
     return true;
 }
 
-/* The whole file, NUL-terminated, or NULL. */
-static char *read_whole(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *bytes = NULL;
-    long length = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    if (length >= 0 && fseek(f, 0, SEEK_SET) == 0 && (bytes = malloc((size_t)length + 1)) &&
-        fread(bytes, 1, (size_t)length, f) == (size_t)length) {
-        bytes[length] = '\0';
-        *size = (size_t)length;
-    } else {
-        free(bytes);
-        bytes = NULL;
-    }
-    fclose(f);
-    return bytes;
-}
-
 /* Assimp falls back from the extension's importer to every importer that
  * claims the content, and some of its parsers read past their buffers on
  * input that is not their format (libassimp 5.2: a heap overflow on a
@@ -351,8 +332,8 @@ static bool check_signature(const char *path, rtt_error *err)
     const char *ext = dot ? dot + 1 : "";
     if (strcasecmp(ext, "gltf") == 0) {
         size_t size = 0;
-        char *text = read_whole(path, &size);
-        if (!text) return rtt_error_set(err, "%s: cannot read the file", path);
+        char *text = rtt_scene_read_text(path, &size, err);
+        if (!text) return false;
         cJSON *json = cJSON_ParseWithLengthOpts(text, size + 1u, NULL, true); /* the whole file, NUL included */
         bool object = cJSON_IsObject(json);
         cJSON_Delete(json);

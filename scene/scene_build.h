@@ -5,6 +5,10 @@
 
 #include "rtt/scene.h"
 
+/* The whole file as NUL-terminated text (at most 1 GiB), its length in
+ * *length; NULL after filling err (scene_json.c). */
+char *rtt_scene_read_text(const char *path, size_t *length, rtt_error *err);
+
 /* An empty scene with no geometry, materials or lights; path is kept for messages. */
 rtt_scene *rtt_scene_new(const char *path, rtt_error *err);
 

@@ -784,8 +784,7 @@ static bool parse_root(json_parser *p, const cJSON *root)
            parse_list(p, root, &place, "meshes", parse_mesh, true);
 }
 
-/* The whole file; NULL after filling err. */
-static char *read_text(const char *path, size_t *length, rtt_error *err)
+char *rtt_scene_read_text(const char *path, size_t *length, rtt_error *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno)), NULL;
@@ -840,7 +839,7 @@ static bool syntax_error(const char *path, const char *text, size_t length, cons
 bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err)
 {
     size_t length = 0;
-    char *text = read_text(path, &length, err);
+    char *text = rtt_scene_read_text(path, &length, err);
     if (!text) return false;
     const char *end = text + length;
     if (skip_space(text, end) >= end) {
