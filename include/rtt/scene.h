@@ -19,6 +19,7 @@
 #define RTT_DEFAULT_HEIGHT 512u
 #define RTT_DEFAULT_FOV_DEG 60.0f
 #define RTT_DEFAULT_MAX_BOUNCES 3u      /* reflection/refraction depth */
+#define RTT_MAX_BOUNCES 64u             /* the deepest reflection/refraction scene files and renders allow */
 #define RTT_DEFAULT_BEZIER_LEVEL 4u     /* Quake III patch subdivisions per side */
 #define RTT_DEFAULT_AMBIENT 0.05f
 
