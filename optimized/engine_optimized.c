@@ -42,8 +42,6 @@ _Static_assert(sizeof(kd_triangle) == sizeof(kdt_triangle) &&
                "kd_triangle and the .kdt triangle record agree");
 _Static_assert(KD_DEPTH_LIMIT == KDT_DEPTH_LIMIT, "the builder and the .kdt reader bound depth alike");
 
-#define ENGINE_BLOCK_MAX 256u /* packets of a 32x32 tile: the largest block a kernel reads */
-
 typedef struct optimized_engine {
     rtt_engine base;
     kd_tree tree;
@@ -193,8 +191,8 @@ static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *
         return;
     }
     const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
-    _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
-    _Alignas(16) hit_packet4 out[ENGINE_BLOCK_MAX];
+    _Alignas(16) ray_packet4 packets[KD_BLOCK_MAX_PACKETS];
+    _Alignas(16) hit_packet4 out[KD_BLOCK_MAX_PACKETS];
     for (size_t first = 0; first < n; first += 4u * (size_t)block) {
         const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
         const uint32_t packet_count = (uint32_t)((count + 3) / 4);
@@ -221,8 +219,8 @@ static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *o
         return;
     }
     const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
-    _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
-    uint8_t masks[ENGINE_BLOCK_MAX];
+    _Alignas(16) ray_packet4 packets[KD_BLOCK_MAX_PACKETS];
+    uint8_t masks[KD_BLOCK_MAX_PACKETS];
     for (size_t first = 0; first < n; first += 4u * (size_t)block) {
         const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
         const uint32_t packet_count = (uint32_t)((count + 3) / 4);

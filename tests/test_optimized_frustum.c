@@ -19,7 +19,7 @@
 
 #include <cmocka.h>
 
-#include "frustum.h"
+#include "kernels.h"
 #include "test_fixtures_optimized.h"
 
 /* ---- comparison ---- */

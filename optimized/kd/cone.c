@@ -17,6 +17,7 @@
 #include <math.h>
 
 #include "cone.h"
+#include "simd4.h"
 
 #define KD_CONE_MIN_COS 0.17f /* ~80 degrees: wider cones do not pay */
 
@@ -25,7 +26,6 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
     double sum[3] = {0, 0, 0}, lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double tnear_min = INFINITY;
     uint32_t rays = 0;
-    float buf[4];
     /* pass 1: mean direction, origin box */
     for (uint32_t i = b->group_first[g]; i < b->group_first[g + 1]; i++) {
         uint32_t p = b->order[i];
@@ -40,10 +40,10 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
             double len = sqrt((double)d[0][l] * d[0][l] + (double)d[1][l] * d[1][l] + (double)d[2][l] * d[2][l]);
             for (int a = 0; a < 3; a++) {
                 sum[a] += d[a][l] / len;
-                lo[a] = fmin(lo[a], o[a][l]);
-                hi[a] = fmax(hi[a], o[a][l]);
+                lo[a] = kd_min1d(lo[a], o[a][l]);
+                hi[a] = kd_max1d(hi[a], o[a][l]);
             }
-            tnear_min = fmin(tnear_min, tn[l]);
+            tnear_min = kd_min1d(tnear_min, tn[l]);
             rays++;
         }
     }
@@ -69,8 +69,8 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
             double w[3] = {d[0][l], d[1][l], d[2][l]};
             double len2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
             double cx = w[1] * v[2] - w[2] * v[1], cy = w[2] * v[0] - w[0] * v[2], cz = w[0] * v[1] - w[1] * v[0];
-            sin2_max = fmax(sin2_max, (cx * cx + cy * cy + cz * cz) / len2);
-            cos_min = fmin(cos_min, (w[0] * v[0] + w[1] * v[1] + w[2] * v[2]) / sqrt(len2));
+            sin2_max = kd_max1d(sin2_max, (cx * cx + cy * cy + cz * cz) / len2);
+            cos_min = kd_min1d(cos_min, (w[0] * v[0] + w[1] * v[1] + w[2] * v[2]) / sqrt(len2));
         }
     }
     if (cos_min < KD_CONE_MIN_COS) return -1;
@@ -86,7 +86,7 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
         b->cone_apex[g][a] = c->apex[a];
         b->cone_axis[g][a] = c->axis[a];
         /* Listing 4.4 */
-        double beta = tan_b * sqrt(fmax(0.0, 1.0 - v[a] * v[a]));
+        double beta = tan_b * sqrt(kd_max1d(1.0 - v[a] * v[a], 0.0));
         c->pre[0][a] = (float)(1.0 / (v[a] + beta));
         c->pre[1][a] = (float)(1.0 / (v[a] - beta));
     }
@@ -110,14 +110,11 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
         near = _mm_min_ps(near, _mm_blendv_ps(near, _mm_add_ps(offset, _mm_mul_ps(entry, speed)), live));
         far = _mm_max_ps(far, _mm_blendv_ps(far, _mm_add_ps(offset, _mm_mul_ps(exit, speed)), live));
     }
-    _mm_storeu_ps(buf, near);
-    float n = fminf(fminf(buf[0], buf[1]), fminf(buf[2], buf[3]));
-    _mm_storeu_ps(buf, far);
-    float f = fmaxf(fmaxf(buf[0], buf[1]), fmaxf(buf[2], buf[3]));
+    float n = kd_hmin4(near), f = kd_hmax4(far);
     /* tau is computed with rounding relative to |offset| too */
     float slack = 1e-5f * (fabsf(n) + fabsf(f)) + FLT_MIN;
-    c->near = kd_widen_lo(n) - slack;
-    c->far = kd_widen_hi(f) + slack;
+    c->near = kd_widen_lo(n, KD_WIDEN) - slack;
+    c->far = kd_widen_hi(f, KD_WIDEN) + slack;
     return c->near <= c->far ? 1 : 0;
 }
 

@@ -12,7 +12,6 @@
 
 #define KD_COST_TRAVERSAL 1.0   /* Thesis Eq. 2.1: C_intersect is 5x C_traversal */
 #define KD_COST_INTERSECT 5.0
-#define KD_DEPTH_LIMIT 64u      /* no tree is deeper, whatever the options say */
 #define KD_MAX_TRIANGLES (1u << 30) /* events pack the prim id in 30 bits */
 #define KD_PARALLEL_MIN_TRIANGLES 20000u /* from here two threads build (and check) the root's subtrees */
 

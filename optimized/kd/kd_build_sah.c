@@ -480,10 +480,18 @@ static bool split_task(builder *b, build_task *task, split_choice split, build_t
     return true;
 }
 
+/* Tasks on the builder's stack.  A split pops the top task (depth d) and
+ * pushes its two children (depth d + 1), the left one on top; so below the
+ * top pair the stack holds at most one task per depth, and no task is
+ * deeper than KD_DEPTH_LIMIT (only shallower tasks are split): one task for
+ * each depth 1 .. KD_DEPTH_LIMIT and the top pair's second one. */
+#define KD_BUILD_STACK (KD_DEPTH_LIMIT + 1u)
+_Static_assert(KD_BUILD_STACK >= KD_DEPTH_LIMIT + 1u, "the build stack holds a task per level and a sibling");
+
 /* The whole tree, depth first with an explicit stack (Thesis 3.2.1). */
 static void build_tree(builder *b, build_task root)
 {
-    build_task stack[2 * KD_DEPTH_LIMIT + 4];
+    build_task stack[KD_BUILD_STACK];
     uint32_t top = 0;
     stack[top++] = root;
     while (top > 0) {

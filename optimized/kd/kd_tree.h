@@ -10,12 +10,30 @@
 #ifndef RTT_KD_TREE_H
 #define RTT_KD_TREE_H
 
+#include <float.h>
+#include <math.h>
 #include <stdint.h>
 
 #include "rtt/engine.h"
 #include "rtt/vec3.h"
 
 #define KD_AXIS_LEAF 3u
+
+/* No tree here is deeper, whatever the options say: the builder stops
+ * splitting there, and the .kdt loader refuses deeper files (the engine
+ * asserts KD_DEPTH_LIMIT == KDT_DEPTH_LIMIT).  Depth counts edges from the
+ * root (depth 0) to a leaf. */
+#define KD_DEPTH_LIMIT RTT_KD_DEPTH_LIMIT
+
+/* Entries of every depth-first traversal stack (the kernels' and edge
+ * width's).  A traversal pushes at most one subtree per inner node it
+ * descends through (the child it does not take first) and pops the top one
+ * when it leaves a leaf, so the stack holds subtrees of strictly increasing
+ * depth, one per level from 1 to the depth of the node being visited: at
+ * most KD_DEPTH_LIMIT of them.  Pushes stay guarded, so a tree built by hand
+ * deeper than the limit can lose hits but never write past a stack. */
+#define KD_TRAVERSAL_STACK KD_DEPTH_LIMIT
+_Static_assert(KD_TRAVERSAL_STACK >= KD_DEPTH_LIMIT, "a traversal stack holds one subtree per level");
 
 /* 8 bytes.  bits = (index << 2) | axis.  Internal node (axis 0..2): `split`
  * is the plane, index is the left child, index + 1 the right child.  Leaf
@@ -65,5 +83,18 @@ typedef struct kd_tree {
     rtt_bounds bounds;          /* the root's box */
     rtt_tree_info info;
 } kd_tree;
+
+/* The margin (world units) the kernels grow the root and leaf boxes by, so
+ * a ray parallel to a face and exactly on it is outside and rounding at a
+ * face never clips a hit off: 1e-5 of the largest coordinate of the root
+ * box, 0 when that box is empty or not finite. */
+static inline float kd_tree_margin(const kd_tree *tree)
+{
+    const rtt_bounds *b = &tree->bounds;
+    const float c[6] = {b->lo.x, b->hi.x, b->lo.y, b->hi.y, b->lo.z, b->hi.z};
+    float scale = 0.0f;
+    for (int i = 0; i < 6; i++) scale = scale > fabsf(c[i]) ? scale : fabsf(c[i]);
+    return isfinite(scale) ? scale * 1e-5f + FLT_MIN : 0.0f;
+}
 
 #endif

@@ -6,7 +6,10 @@
 #ifndef RTT_OPTIMIZED_KERNELS_H
 #define RTT_OPTIMIZED_KERNELS_H
 
+#include "kd_tree.h"
 #include "packet.h"
+
+#define KD_BLOCK_MAX_PACKETS 256u    /* a 32x32 tile: the largest block a kernel reads */
 
 /* What a kernel is asked: `packet_count` packets and either closest hits
  * (`hits`: lowered only where a lane finds a closer hit than the one it

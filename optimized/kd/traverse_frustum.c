@@ -4,7 +4,7 @@
  * One interval frustum bounds the whole block (a tile of T x T primary rays
  * is T*T/4 2x2 packets); the traversal loop does a constant amount of work
  * per node whatever the number of rays.  At a leaf, packets are culled
- * against the leaf box and the survivors intersected (frustum.c).
+ * against the leaf box and the survivors intersected (block.c).
  *
  * Generalised to arbitrary rays (the engine feeds random and shadow rays in
  * blocks): the "corner ray" distances are interval arithmetic over the
@@ -12,12 +12,11 @@
  * child is the side of the origin box (both children with the full interval
  * when the box straddles the plane), and a ray moving away from the plane
  * gets distance +inf (modification 2).  Blocks a frustum would bound too
- * loosely are traced packet by packet (frustum.h).  Trades: more
+ * loosely are traced packet by packet (block.h).  Trades: more
  * intersection tests than 2x2 packets (Table 4.1), far fewer node visits. */
 #include <math.h>
 
 #include "frustum.h"
-#include "traverse_interval.h"
 
 /* dmin/dmax of the rays of f at plane `split` on `axis`, in front-to-back
  * terms.  Origins in front on the left (split - origin > 0): a ray with a

@@ -11,7 +11,7 @@
  *   a child whose interval is empty is skipped, the back child is pushed.
  *
  * Early termination: after a leaf the interval's far end is clipped to the
- * group's max best (frustum.h), so subtrees behind every live ray's current
+ * group's max best (block.h), so subtrees behind every live ray's current
  * hit are dropped.  Straddling proxies (origins on both sides of a plane)
  * return dmin = -inf, dmax = +inf: both children, full interval.
  *
@@ -22,7 +22,8 @@
 
 #include <math.h>
 
-#include "frustum.h"
+#include "block.h"
+#include "simd4.h"
 
 typedef void (*kd_split1_fn)(const void *proxy, uint32_t axis, float split, float near, int *front_left,
                              float *dmin, float *dmax);
@@ -32,11 +33,6 @@ typedef void (*kd_split4_fn)(const void *proxy, uint32_t axis, float split, __m1
 /* Bits set in a 4-bit lane mask (SSE4.1 has no POPCNT: __builtin_popcount
  * would be a libgcc call per node). */
 static const uint8_t kd_popcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-
-/* min/max that keep the second operand when the first is NaN, like
- * fminf/fmaxf there, without their libm call (no -ffast-math). */
-static inline float kd_min1(float a, float b) { return a < b ? a : b; }
-static inline float kd_max1(float a, float b) { return a > b ? a : b; }
 
 typedef struct kd_entry1 {
     uint32_t node;
@@ -55,7 +51,7 @@ static inline __attribute__((always_inline)) void kd_traverse1(kd_block *b, cons
                                                                float near, float far)
 {
     const kd_node *nodes = b->tree->nodes;
-    kd_entry1 stack[KD_STACK_MAX];
+    kd_entry1 stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0, node = 0;
     uint64_t steps = 0;
     float best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
@@ -78,7 +74,7 @@ static inline __attribute__((always_inline)) void kd_traverse1(kd_block *b, cons
                     n = &nodes[front];
                     continue;
                 }
-                if (sp < KD_STACK_MAX) stack[sp++] = (kd_entry1){back, kd_max1(dmin, near), far};
+                if (sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_entry1){back, kd_max1(dmin, near), far};
                 far = kd_min1(dmax, far);
                 n = &nodes[front];
             }
@@ -106,7 +102,7 @@ static inline __attribute__((always_inline)) void kd_traverse4(kd_block *b, cons
                                                                __m128 near, __m128 far)
 {
     const kd_node *nodes = b->tree->nodes;
-    kd_entry4 stack[KD_STACK_MAX];
+    kd_entry4 stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0, node = 0;
     uint64_t steps = 0;
     float best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
@@ -139,7 +135,7 @@ static inline __attribute__((always_inline)) void kd_traverse4(kd_block *b, cons
                     n = &nodes[second], near = snear, far = sfar, mask = smask;
                     continue;
                 }
-                if (smask && sp < KD_STACK_MAX) stack[sp++] = (kd_entry4){snear, sfar, second};
+                if (smask && sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_entry4){snear, sfar, second};
                 n = &nodes[first], near = fnear, far = ffar, mask = fmask;
             }
             steps++;

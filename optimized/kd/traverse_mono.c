@@ -35,10 +35,6 @@ typedef struct mono_counts {
     uint64_t steps, isects;
 } mono_counts;
 
-/* a < b ? a : b returns b when either is NaN (minss), like the SSE kernels. */
-static inline float min_else_second(float a, float b) { return a < b ? a : b; }
-static inline float max_else_second(float a, float b) { return a > b ? a : b; }
-
 /* One ray from the root over [near, far].  Closest hit into *hit when
  * `occlusion` is 0; else returns 1 as soon as anything lies in (tnear,
  * tfar).  `occlusion` is a constant at both call sites, so each gets its
@@ -48,7 +44,7 @@ static inline int trace_ray(const kd_tree *tree, const kd_ray1 *ray, const float
 {
     const kd_node *nodes = tree->nodes;
     const uint32_t neg[3] = {signbit(inv[0]) ? 1u : 0u, signbit(inv[1]) ? 1u : 0u, signbit(inv[2]) ? 1u : 0u};
-    mono_task stack[KD_RAY_STACK];
+    mono_task stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0;
     const kd_node *n = nodes;
     if (!(near <= far)) return 0;
@@ -57,13 +53,12 @@ static inline int trace_ray(const kd_tree *tree, const kd_ray1 *ray, const float
             counts->steps++;
             const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
             const float d = (n->split - ray->org[axis]) * inv[axis];
-            const float d_lo = min_else_second(d * (1.0f - KD_RAY_WIDEN), d * (1.0f + KD_RAY_WIDEN));
-            const float d_hi = max_else_second(d * (1.0f - KD_RAY_WIDEN), d * (1.0f + KD_RAY_WIDEN));
+            const float d_lo = kd_widen_lo(d, KD_RAY_WIDEN), d_hi = kd_widen_hi(d, KD_RAY_WIDEN);
             /* NaN d (a ray lying in the plane): front far = far, back near = near. */
-            const float front_far = min_else_second(d_hi, far), back_near = max_else_second(d_lo, near);
+            const float front_far = kd_min1(d_hi, far), back_near = kd_max1(d_lo, near);
             const uint32_t front = left + neg[axis], back = left + (neg[axis] ^ 1u);
             if (near <= front_far) {
-                if (back_near <= far && sp < KD_RAY_STACK) stack[sp++] = (mono_task){back, back_near, far};
+                if (back_near <= far && sp < KD_TRAVERSAL_STACK) stack[sp++] = (mono_task){back, back_near, far};
                 n = &nodes[front];
                 far = front_far;
             } else {
@@ -89,7 +84,7 @@ static inline int trace_ray(const kd_tree *tree, const kd_ray1 *ray, const float
             if (sp == 0) return 0;
             const mono_task task = stack[--sp];
             near = task.near;
-            far = min_else_second(task.far, limit);
+            far = kd_min1(task.far, limit);
             if (near <= far) {
                 n = &nodes[task.node];
                 break;
@@ -135,7 +130,7 @@ static void trace_packet_lanes(const kd_tree *tree, const kd_ray_box *box, const
         const float ray_inv[3] = {inv[0][l], inv[1][l], inv[2][l]};
         if (hits) {
             kd_hit1 hit = {t[l], u[l], v[l], prim[l]};
-            trace_ray(tree, &ray, ray_inv, near[l], min_else_second(far[l], hit.t), &hit, 0, &counts);
+            trace_ray(tree, &ray, ray_inv, near[l], kd_min1(far[l], hit.t), &hit, 0, &counts);
             t[l] = hit.t, u[l] = hit.u, v[l] = hit.v, prim[l] = hit.prim;
         } else if (trace_ray(tree, &ray, ray_inv, near[l], far[l], NULL, 1, &counts)) {
             mask |= (uint8_t)(1u << l);

@@ -40,7 +40,7 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
                              const uint32_t right_first[3], int live, hit_packet4 *hits, kd_counters *counters)
 {
     const kd_node *nodes = tree->nodes;
-    kd_packet_task stack[KD_RAY_STACK];
+    kd_packet_task stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0;
     uint64_t steps = 0;
     const kd_node *n = nodes;
@@ -57,8 +57,8 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
             /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d
              * (a lane lying in the plane): both parts are then the whole
              * interval. */
-            const __m128 front_far = _mm_min_ps(kd_ray_widen_hi4(d), far);
-            const __m128 back_near = _mm_max_ps(kd_ray_widen_lo4(d), near);
+            const __m128 front_far = _mm_min_ps(kd_widen_hi4(d, KD_RAY_WIDEN), far);
+            const __m128 back_near = _mm_max_ps(kd_widen_lo4(d, KD_RAY_WIDEN), near);
             /* blendv reads the sign bit of inv: set → the right child is in front */
             const __m128 lnear = _mm_blendv_ps(near, back_near, inv), lfar = _mm_blendv_ps(front_far, far, inv);
             const __m128 rnear = _mm_blendv_ps(back_near, near, inv), rfar = _mm_blendv_ps(far, front_far, inv);
@@ -66,10 +66,10 @@ static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 n
             const int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
             if (lmask && rmask) {
                 if (right_first[axis]) {
-                    if (sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){lnear, lfar, left};
+                    if (sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_packet_task){lnear, lfar, left};
                     n = &nodes[left + 1], near = rnear, far = rfar;
                 } else {
-                    if (sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){rnear, rfar, left + 1};
+                    if (sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_packet_task){rnear, rfar, left + 1};
                     n = &nodes[left], near = lnear, far = lfar;
                 }
             } else if (lmask) {

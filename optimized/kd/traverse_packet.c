@@ -35,7 +35,7 @@ static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128
                                const uint32_t neg[3], int live, hit_packet4 *hits, kd_counters *counters)
 {
     const kd_node *nodes = tree->nodes;
-    kd_packet_task stack[KD_RAY_STACK];
+    kd_packet_task stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0;
     uint64_t steps = 0;
     const kd_node *n = nodes;
@@ -49,13 +49,13 @@ static inline int trace_packet(const kd_tree *tree, const ray_packet4 *r, __m128
             const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
             const __m128 d = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->split), r->org[axis]), r->inv_dir[axis]);
             /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d. */
-            const __m128 front_far = _mm_min_ps(kd_ray_widen_hi4(d), far);
-            const __m128 back_near = _mm_max_ps(kd_ray_widen_lo4(d), near);
+            const __m128 front_far = _mm_min_ps(kd_widen_hi4(d, KD_RAY_WIDEN), far);
+            const __m128 back_near = _mm_max_ps(kd_widen_lo4(d, KD_RAY_WIDEN), near);
             const int front = _mm_movemask_ps(_mm_cmple_ps(near, front_far));
             const int back = _mm_movemask_ps(_mm_cmple_ps(back_near, far));
             const uint32_t near_child = left + neg[axis], far_child = left + (neg[axis] ^ 1u);
             if (front) {
-                if (back && sp < KD_RAY_STACK) stack[sp++] = (kd_packet_task){back_near, far, far_child};
+                if (back && sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_packet_task){back_near, far, far_child};
                 n = &nodes[near_child];
                 far = front_far;
             } else {

@@ -2,7 +2,7 @@
  * traverse_omni.c): which lanes of a packet can hit anything, each lane's
  * interval inside the tree's box, and the widened split distance.
  *
- * Exactness, for arbitrary rays (the same argument as frustum.h).  A leaf's
+ * Exactness, for arbitrary rays (the same argument as block.h).  A leaf's
  * records are tested against the ray's own (tnear, tfar), not against the
  * cell's interval, and a hit is kept wherever along the ray it lies (closest
  * wins, ties to the smaller prim in isect_projected_bary.h).  A subtree is
@@ -26,28 +26,21 @@
 #ifndef RTT_OPTIMIZED_TRAVERSE_RAY_H
 #define RTT_OPTIMIZED_TRAVERSE_RAY_H
 
-#include <float.h>
 #include <immintrin.h>
 #include <math.h>
 #include <stdint.h>
 
-#include "kd_build.h"
-#include "kd_tree.h"
 #include "isect_projected_bary.h"
+#include "kd_tree.h"
 #include "packet.h"
-
-/* A ray pushes at most one entry per level: KD_DEPTH_LIMIT (64) plus a
- * margin for trees loaded from a .kdt.  The push is guarded so a deeper
- * (corrupt) tree can lose hits but never write past the stack. */
-#define KD_RAY_STACK 128u
-_Static_assert(KD_RAY_STACK >= 2 * KD_DEPTH_LIMIT, "the traversal stack holds a path of the deepest tree");
+#include "simd4.h"
 
 #define KD_RAY_WIDEN (1.0f / 1048576.0f)  /* 2^-20: ~8 ulps of a split distance */
 
-/* The tree's box grown by a margin relative to its coordinates, so a ray
- * parallel to a face and exactly on it is outside (it cannot hit anything)
- * and rounding at the faces never clips a hit off.  `empty` when the tree
- * holds nothing to hit (no nodes, no leaves, an empty or non-finite box). */
+/* The tree's box grown by kd_tree_margin, so a ray parallel to a face and
+ * exactly on it is outside (it cannot hit anything) and rounding at the
+ * faces never clips a hit off.  `empty` when the tree holds nothing to hit
+ * (no nodes, no leaves, an empty or non-finite box). */
 typedef struct kd_ray_box {
     float lo[3], hi[3];
     int empty;
@@ -57,30 +50,14 @@ static inline void kd_ray_box_init(const kd_tree *tree, kd_ray_box *box)
 {
     const rtt_bounds *b = &tree->bounds;
     const float lo[3] = {b->lo.x, b->lo.y, b->lo.z}, hi[3] = {b->hi.x, b->hi.y, b->hi.z};
-    float scale = 0.0f;
     box->empty = tree->node_count == 0 || tree->leaf_count == 0 || tree->triangle_count == 0;
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < 3; a++)
         if (!(lo[a] <= hi[a]) || !isfinite(lo[a]) || !isfinite(hi[a])) box->empty = 1;
-        scale = fmaxf(scale, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
-    }
-    const float margin = box->empty ? 0.0f : scale * 1e-5f + FLT_MIN;
+    const float margin = box->empty ? 0.0f : kd_tree_margin(tree);
     for (int a = 0; a < 3; a++) {
         box->lo[a] = lo[a] - margin;
         box->hi[a] = hi[a] + margin;
     }
-}
-
-static inline __m128 kd_ray_finite4(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
-
-/* Relative widening that keeps infinities and NaN (x - |x| w would turn
- * +inf into NaN). */
-static inline __m128 kd_ray_widen_lo4(__m128 x)
-{
-    return _mm_min_ps(_mm_mul_ps(x, _mm_set1_ps(1.0f - KD_RAY_WIDEN)), _mm_mul_ps(x, _mm_set1_ps(1.0f + KD_RAY_WIDEN)));
-}
-static inline __m128 kd_ray_widen_hi4(__m128 x)
-{
-    return _mm_max_ps(_mm_mul_ps(x, _mm_set1_ps(1.0f - KD_RAY_WIDEN)), _mm_mul_ps(x, _mm_set1_ps(1.0f + KD_RAY_WIDEN)));
 }
 
 /* Per lane: the interval [near, far] of the ray inside the box, within
@@ -90,22 +67,12 @@ static inline __m128 kd_ray_widen_hi4(__m128 x)
 static inline int kd_ray_packet_setup(const kd_ray_box *box, const ray_packet4 *r, __m128 *near, __m128 *far,
                                       int *valid_mask)
 {
-    __m128 valid = _mm_cmplt_ps(r->tnear, r->tfar), nonzero = _mm_setzero_ps();
-    for (int a = 0; a < 3; a++) {
-        valid = _mm_and_ps(valid, _mm_and_ps(kd_ray_finite4(r->org[a]), kd_ray_finite4(r->dir[a])));
-        nonzero = _mm_or_ps(nonzero, _mm_cmpneq_ps(r->dir[a], _mm_setzero_ps()));
-    }
-    valid = _mm_and_ps(valid, nonzero);
+    const __m128 valid = ray_packet4_valid(r);
     *valid_mask = _mm_movemask_ps(valid);
-    __m128 t0 = r->tnear, t1 = r->tfar;
-    for (int a = 0; a < 3; a++) {
-        __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box->lo[a]), r->org[a]), r->inv_dir[a]);
-        __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(box->hi[a]), r->org[a]), r->inv_dir[a]);
-        t0 = _mm_max_ps(_mm_min_ps(ta, tb), t0);
-        t1 = _mm_min_ps(_mm_max_ps(ta, tb), t1);
-    }
-    t0 = kd_ray_widen_lo4(t0);
-    t1 = kd_ray_widen_hi4(t1);
+    __m128 t0, t1;
+    ray_packet4_slab(r, box->lo, box->hi, r->tnear, r->tfar, &t0, &t1);
+    t0 = kd_widen_lo4(t0, KD_RAY_WIDEN);
+    t1 = kd_widen_hi4(t1, KD_RAY_WIDEN);
     __m128 live = _mm_and_ps(valid, _mm_cmple_ps(t0, t1));
     if (box->empty) live = _mm_setzero_ps();
     *near = _mm_blendv_ps(_mm_set1_ps(INFINITY), t0, live);

@@ -23,7 +23,7 @@
 
 #include "engine/clock.h"
 #include "engine/threads.h"
-#include "frustum.h"
+#include "kernels.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
 

@@ -32,7 +32,7 @@
 #include <time.h>
 
 #include "edge_width.h"
-#include "frustum.h"
+#include "kernels.h"
 #include "shader_proxy.h"
 #include "shadow_cone.h"
 

@@ -27,14 +27,12 @@
  * does (it must reach the point, or R), and it tests both faces; in return
  * one ray gives a penumbra.  A lane whose pending or seen list overflows
  * (more than EW_SEEN_MAX crossings) is counted fully occluded. */
-#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "edge_width.h"
 #include "isect_projected_bary.h"
 
-#define EW_STACK_MAX 256u            /* deeper than any tree the builder makes */
 #define EW_PENDING_MAX 64u
 #define EW_SEEN_MAX 96u
 #define EW_WIDEN (1.0f / 65536.0f)    /* relative widening of plane distances */
@@ -130,22 +128,16 @@ static int visit_leaf(const kd_tree *tree, const rtt_edge_width_model *m, const 
     return decided;
 }
 
-/* Per-lane [entry, exit] of the packet in the root box, widened. */
+/* Per-lane [entry, exit] of the packet in the root box (grown by the
+ * kernels' margin), widened. */
 static void root_interval(const kd_tree *tree, const ray_packet4 *r, __m128 *entry, __m128 *exit)
 {
     const rtt_bounds *b = &tree->bounds;
-    float scale = fmaxf(fmaxf(fmaxf(fabsf(b->lo.x), fabsf(b->hi.x)), fmaxf(fabsf(b->lo.y), fabsf(b->hi.y))),
-                        fmaxf(fabsf(b->lo.z), fabsf(b->hi.z)));
-    float margin = isfinite(scale) ? scale * 1e-5f + FLT_MIN : 0.0f;
-    float lo[3] = {b->lo.x - margin, b->lo.y - margin, b->lo.z - margin};
-    float hi[3] = {b->hi.x + margin, b->hi.y + margin, b->hi.z + margin};
-    __m128 t0 = r->tnear, t1 = r->tfar;
-    for (int a = 0; a < 3; a++) {
-        __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(lo[a]), r->org[a]), r->inv_dir[a]);
-        __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(hi[a]), r->org[a]), r->inv_dir[a]);
-        t0 = _mm_max_ps(_mm_min_ps(ta, tb), t0);
-        t1 = _mm_min_ps(_mm_max_ps(ta, tb), t1);
-    }
+    const float margin = kd_tree_margin(tree);
+    const float lo[3] = {b->lo.x - margin, b->lo.y - margin, b->lo.z - margin};
+    const float hi[3] = {b->hi.x + margin, b->hi.y + margin, b->hi.z + margin};
+    __m128 t0, t1;
+    ray_packet4_slab(r, lo, hi, r->tnear, r->tfar, &t0, &t1);
     /* t0 >= tnear >= 0: scaling widens */
     *entry = _mm_mul_ps(t0, _mm_set1_ps(1.0f - EW_WIDEN));
     *exit = _mm_mul_ps(t1, _mm_set1_ps(1.0f + EW_WIDEN));
@@ -189,7 +181,7 @@ static void traverse(const kd_tree *tree, const rtt_edge_width_model *m, const r
                      ew_lane lanes[4], int alive, kd_counters *counters)
 {
     const kd_node *nodes = tree->nodes;
-    ew_entry stack[EW_STACK_MAX];
+    ew_entry stack[KD_TRAVERSAL_STACK];
     uint32_t sp = 0, node = 0;
     uint64_t steps = 0;
     __m128 near, far;
@@ -208,7 +200,7 @@ static void traverse(const kd_tree *tree, const rtt_edge_width_model *m, const r
                     n = &nodes[s.second], near = s.snear, far = s.sfar;
                     continue;
                 }
-                if (smask && sp < EW_STACK_MAX) stack[sp++] = (ew_entry){s.snear, s.sfar, s.second};
+                if (smask && sp < KD_TRAVERSAL_STACK) stack[sp++] = (ew_entry){s.snear, s.sfar, s.second};
                 n = &nodes[s.first], near = s.fnear, far = s.ffar;
             }
             steps++;

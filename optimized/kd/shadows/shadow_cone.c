@@ -24,38 +24,11 @@
 
 #include "shadow_cone.h"
 
-#include "frustum.h"
+#include "cone.h"
+#include "simd4.h"
 #include "traverse_interval.h"
 
 #define SC_MIN_COS 0.17f /* ~80 degrees, as cone.c: wider cones do not pay */
-
-/* Listing 4.5, as traverse_cone.c: t1, t2 of the cone's disk at the plane
- * (Equation 4.8 with the reciprocals of Listing 4.4), negative distances
- * compensated to +inf; an apex in the plane sends the cone to both sides. */
-static void shadow_cone_split(const void *proxy, uint32_t axis, float split, float near, int *front_left,
-                              float *dmin, float *dmax)
-{
-    (void)near;
-    const kd_cone *c = proxy;
-    float dist = split - c->apex[axis];
-    if (dist == 0.0f) {
-        *front_left = 1, *dmin = -INFINITY, *dmax = INFINITY;
-        return;
-    }
-    float t_a = dist * c->pre[0][axis], t_b = dist * c->pre[1][axis];
-    t_a = t_a < 0.0f ? INFINITY : t_a;
-    t_b = t_b < 0.0f ? INFINITY : t_b;
-    *front_left = dist > 0.0f;
-    *dmin = fminf(t_a, t_b) * (1.0f - KD_WIDEN);
-    *dmax = fmaxf(t_a, t_b) * (1.0f + KD_WIDEN);
-}
-
-static inline float hsum4(__m128 v)
-{
-    v = _mm_add_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-    v = _mm_add_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-    return _mm_cvtss_f32(v);
-}
 
 /* The cone of Figure 4.5 for a group whose rays share their origin (the
  * shading point): apex at the point, axis the mean direction, half angle
@@ -80,7 +53,7 @@ static int shared_apex_cone(kd_block *b, kd_cone *c)
         any |= mask;
     }
     if (!any) return 0;
-    float v[3] = {hsum4(sum[0]), hsum4(sum[1]), hsum4(sum[2])};
+    float v[3] = {kd_hsum4(sum[0]), kd_hsum4(sum[1]), kd_hsum4(sum[2])};
     float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(len > 0.0f)) return 0;
     for (int a = 0; a < 3; a++) v[a] /= len;
@@ -105,26 +78,26 @@ static int shared_apex_cone(kd_block *b, kd_cone *c)
     float cmin = kd_hmin4(cos_min);
     if (!(cmin >= SC_MIN_COS)) return 0;
     /* widened: the rounding of the cosines, and never a zero angle */
-    float sin_b = fminf(sqrtf(fmaxf(0.0f, 1.0f - cmin * cmin)) * (1.0f + 1e-3f) + 1e-5f, 0.985f);
+    float sin_b = kd_min1(sqrtf(kd_max1(1.0f - cmin * cmin, 0.0f)) * (1.0f + 1e-3f) + 1e-5f, 0.985f);
     float tan_b = sin_b / sqrtf(1.0f - sin_b * sin_b);
     for (int a = 0; a < 3; a++) {
         c->apex[a] = apex[a];
         c->axis[a] = v[a];
         b->cone_apex[0][a] = apex[a];
         b->cone_axis[0][a] = v[a];
-        float beta = tan_b * sqrtf(fmaxf(0.0f, 1.0f - v[a] * v[a])); /* Listing 4.4 */
+        float beta = tan_b * sqrtf(kd_max1(1.0f - v[a] * v[a], 0.0f)); /* Listing 4.4 */
         c->pre[0][a] = 1.0f / (v[a] + beta);
         c->pre[1][a] = 1.0f / (v[a] - beta);
     }
     c->tan_angle = tan_b;
-    c->near = fmaxf(0.0f, kd_widen_lo(kd_hmin4(near)));
-    c->far = kd_widen_hi(kd_hmax4(far));
+    c->near = kd_max1(kd_widen_lo(kd_hmin4(near), KD_WIDEN), 0.0f);
+    c->far = kd_widen_hi(kd_hmax4(far), KD_WIDEN);
     b->units = KD_UNITS_CONE_AXIS;
     return c->near <= c->far;
 }
 
 /* One group under its cone: Listing 4.5's interval traversal, packets
- * culled and intersected at leaves (frustum.c). */
+ * culled and intersected at leaves (block.c). */
 static void trace_group_cone(const kd_tree *tree, const ray_packet4 *packets, uint32_t count, uint8_t *lane_masks,
                              int leaf_culling, kd_counters *counters)
 {
@@ -132,7 +105,7 @@ static void trace_group_cone(const kd_tree *tree, const ray_packet4 *packets, ui
     if (!kd_block_init(&b, tree, packets, count, NULL, lane_masks, leaf_culling, counters)) return;
     kd_cone c;
     if (shared_apex_cone(&b, &c))
-        kd_traverse1(&b, &c, shadow_cone_split, c.near, c.far);
+        kd_traverse1(&b, &c, kd_cone_split, c.near, c.far);
     else
         kd_block_trace_cone(&b);
 }
