@@ -34,13 +34,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <pthread.h>
 
+#include "engine/buffer.h"
+#include "engine/clock.h"
+#include "engine/threads.h"
 #include "isect_projected_bary.h"
 #include "kd_build.h"
 #include "kd_clip.h"
-#include "engine/threads.h"
 
 /* 8 bytes: (order-preserving key of the position << 32) | type << 30 | prim.
  * Sorting the integers sorts by position, then end < planar < start, which
@@ -162,15 +162,15 @@ static void task_free(build_task *task)
     for (int a = 0; a < 3; a++) task->events[a] = NULL, task->event_count[a] = 0;
 }
 
-static bool grow(void **array, size_t *capacity, size_t needed, size_t element)
+/* Room for `needed` elements in an array of the builder or the tree,
+ * whose capacity the builder keeps beside it (kd_tree holds plain arrays:
+ * they are the .kdt's).  rtt_buffer grows it; the array stays free()able. */
+static bool reserve(void **array, size_t *capacity, size_t needed, size_t element)
 {
-    if (needed <= *capacity) return true;
-    size_t cap = *capacity ? *capacity : 256;
-    while (cap < needed) cap *= 2;
-    void *p = realloc(*array, cap * element);
-    if (!p) return false;
-    *array = p;
-    *capacity = cap;
+    rtt_buffer buffer = {*array, *capacity};
+    if (!rtt_buffer_reserve(&buffer, needed, element, 0)) return false;
+    *array = buffer.data;
+    *capacity = buffer.capacity;
     return true;
 }
 
@@ -245,10 +245,10 @@ static bool event_opens_prim(kd_event e) { return event_type(e) != EVENT_END; }
 static void make_leaf(builder *b, const build_task *task)
 {
     kd_tree *tree = b->tree;
-    if (!grow((void **)&b->leaf_prims, &b->leaf_prims_capacity, task->count + 1, sizeof *b->leaf_prims) ||
-        !grow((void **)&tree->leaves, &b->leaf_capacity, tree->leaf_count + 1, sizeof *tree->leaves) ||
-        !grow((void **)&tree->triangles, &b->triangle_capacity, (size_t)tree->triangle_count + task->count,
-              sizeof *tree->triangles)) {
+    if (!reserve((void **)&b->leaf_prims, &b->leaf_prims_capacity, task->count + 1, sizeof *b->leaf_prims) ||
+        !reserve((void **)&tree->leaves, &b->leaf_capacity, tree->leaf_count + 1, sizeof *tree->leaves) ||
+        !reserve((void **)&tree->triangles, &b->triangle_capacity, (size_t)tree->triangle_count + task->count,
+                 sizeof *tree->triangles)) {
         b->out_of_memory = true;
         return;
     }
@@ -343,7 +343,7 @@ static bool straddler_events(builder *b, const build_task *task, const rtt_bound
     for (size_t i = 0; i < task->event_count[0]; i++)
         if (event_opens_prim(task->events[0][i]) && b->side[event_prim(task->events[0][i])] == SIDE_BOTH)
             straddlers++;
-    if (!grow((void **)&b->scratch, &b->scratch_capacity, 12 * straddlers + 1, sizeof *b->scratch)) return false;
+    if (!reserve((void **)&b->scratch, &b->scratch_capacity, 12 * straddlers + 1, sizeof *b->scratch)) return false;
     for (int s = 0; s < 2; s++)
         for (int a = 0; a < 3; a++) {
             new_count[s][a] = 0;
@@ -431,7 +431,7 @@ static void split_axis_events(const builder *b, const build_task *task, int axis
 static uint32_t new_node_pair(builder *b)
 {
     kd_tree *tree = b->tree;
-    if (!grow((void **)&tree->nodes, &b->node_capacity, (size_t)tree->node_count + 2, sizeof *tree->nodes)) {
+    if (!reserve((void **)&tree->nodes, &b->node_capacity, (size_t)tree->node_count + 2, sizeof *tree->nodes)) {
         b->out_of_memory = true;
         return UINT32_MAX;
     }
@@ -537,11 +537,12 @@ typedef struct subtree_job {
     build_task root;
 } subtree_job;
 
-static void *subtree_main(void *arg)
+/* Task `task` of rtt_parallel_run: one of the two subtrees. */
+static void subtree_build(void *jobs, uint32_t thread, uint32_t task)
 {
-    subtree_job *job = arg;
+    (void)thread;
+    subtree_job *job = &((subtree_job *)jobs)[task];
     build_tree(&job->b, job->root);
-    return NULL;
 }
 
 static bool subtree_start(const builder *parent, build_task task, subtree_job *job)
@@ -551,9 +552,7 @@ static bool subtree_start(const builder *parent, build_task task, subtree_job *j
                        .max_depth = parent->max_depth, .reference_cap = parent->reference_cap,
                        .pending_references = parent->pending_references};
     job->b.side = malloc((size_t)parent->scene->triangle_count + 1);
-    job->tree.nodes = malloc(256 * sizeof *job->tree.nodes);
-    job->b.node_capacity = 256;
-    if (!job->b.side || !job->tree.nodes) {
+    if (!job->b.side || !reserve((void **)&job->tree.nodes, &job->b.node_capacity, 1, sizeof *job->tree.nodes)) {
         free(job->b.side);
         free(job->tree.nodes);
         task_free(&task);
@@ -581,11 +580,11 @@ static bool splice(builder *b, const kd_tree *sub, uint32_t root_at)
     kd_tree *tree = b->tree;
     const uint32_t node_base = tree->node_count - 1u, leaf_base = tree->leaf_count;
     const uint32_t record_base = tree->triangle_count;
-    if (!grow((void **)&tree->nodes, &b->node_capacity, (size_t)tree->node_count + sub->node_count, sizeof *tree->nodes) ||
-        !grow((void **)&tree->leaves, &b->leaf_capacity, (size_t)tree->leaf_count + sub->leaf_count + 1,
-              sizeof *tree->leaves) ||
-        !grow((void **)&tree->triangles, &b->triangle_capacity, (size_t)tree->triangle_count + sub->triangle_count + 1,
-              sizeof *tree->triangles))
+    const size_t nodes = (size_t)tree->node_count + sub->node_count, leaves = (size_t)tree->leaf_count + sub->leaf_count;
+    const size_t records = (size_t)tree->triangle_count + sub->triangle_count;
+    if (!reserve((void **)&tree->nodes, &b->node_capacity, nodes, sizeof *tree->nodes) ||
+        !reserve((void **)&tree->leaves, &b->leaf_capacity, leaves + 1, sizeof *tree->leaves) ||
+        !reserve((void **)&tree->triangles, &b->triangle_capacity, records + 1, sizeof *tree->triangles))
         return false;
     for (uint32_t i = 0; i < sub->node_count; i++) {
         kd_node node = sub->nodes[i];
@@ -626,12 +625,14 @@ static void build_tree_two_threads(builder *b, build_task *root, bool *split_her
     subtree_job jobs[2];
     bool started[2] = {subtree_start(b, child[0], &jobs[0]), false};
     started[1] = subtree_start(b, child[1], &jobs[1]);
-    pthread_t thread;
-    bool threaded = started[0] && started[1] && pthread_create(&thread, NULL, subtree_main, &jobs[1]) == 0;
-    if (started[0]) subtree_main(&jobs[0]);
-    if (started[1] && !threaded) subtree_main(&jobs[1]);
-    if (threaded) pthread_join(thread, NULL);
-    bool ok = started[0] && started[1] && !jobs[0].b.out_of_memory && !jobs[1].b.out_of_memory;
+    bool ok = started[0] && started[1];
+    if (ok) {
+        rtt_parallel_run(2, 2, subtree_build, jobs);
+    } else {
+        for (int s = 0; s < 2; s++)
+            if (started[s]) task_free(&jobs[s].root);
+    }
+    ok = ok && !jobs[0].b.out_of_memory && !jobs[1].b.out_of_memory;
     /* the right subtree's splits, under the references a one-thread build would have had pending */
     const uint64_t left_growth = jobs[0].b.pending_references - b->pending_references;
     if (ok && jobs[1].b.peak_accepted + left_growth > b->reference_cap) {
@@ -647,13 +648,6 @@ static void build_tree_two_threads(builder *b, build_task *root, bool *split_her
 }
 
 /* ---- the tree ------------------------------------------------------------ */
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Records of every triangle and the root's events of those that have one. */
 static bool root_task(const rtt_scene *scene, kd_triangle *records, build_task *root)
@@ -712,12 +706,10 @@ static bool build_once(builder *b, kd_triangle *records, const kd_build_options 
     if (b->reference_cap < n) b->reference_cap = n; /* every triangle needs one reference */
     b->pending_references = n;
     tree->bounds = root.box;
-    tree->nodes = malloc(256 * sizeof *tree->nodes);
-    if (!tree->nodes) {
+    if (!reserve((void **)&tree->nodes, &b->node_capacity, 1, sizeof *tree->nodes)) {
         task_free(&root);
         return false;
     }
-    b->node_capacity = 256;
     memset(&tree->nodes[0], 0, sizeof tree->nodes[0]);
     tree->node_count = 1;
     bool split_here = false;
@@ -731,7 +723,7 @@ static bool build_once(builder *b, kd_triangle *records, const kd_build_options 
 
 bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *tree, rtt_error *err)
 {
-    const double start = seconds_now();
+    const uint64_t start = rtt_clock_ns();
     memset(tree, 0, sizeof *tree);
     if (scene->triangle_count >= KD_MAX_TRIANGLES)
         return rtt_error_set(err, "%s: %u triangles: the optimized kd-tree holds at most %u", scene->path,
@@ -767,6 +759,6 @@ bool kd_build_sah(const rtt_scene *scene, const kd_build_options *opt, kd_tree *
     info->sah_cost = root_area > 0.0 ? b.sah_sum / root_area : KD_COST_INTERSECT * (double)tree->triangle_count;
     info->memory_bytes = (uint64_t)tree->node_count * sizeof(kd_node) + (uint64_t)tree->leaf_count * sizeof(kd_leaf) +
                          (uint64_t)tree->triangle_count * sizeof(kd_triangle);
-    info->build_seconds = seconds_now() - start;
+    info->build_seconds = 1e-9 * (double)(rtt_clock_ns() - start);
     return true;
 }

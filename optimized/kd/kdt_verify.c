@@ -25,7 +25,6 @@
  * and sweeps, read in order rather than one triangle's path at a time
  * (measured in bench/results/tree-depth.md, "Baked trees"). */
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -126,9 +125,8 @@ static bool check_node(const verifier *v, uint32_t node_index, rtt_bounds cell, 
     return ok;
 }
 
-/* The root's two subtrees checked at once (a second thread for the one
- * above the plane), each with its own error; the one below reports first,
- * as one thread would. */
+/* The root's two subtrees checked at once on two threads, each with its
+ * own error; the one below reports first, as one thread would. */
 
 typedef struct subtree_check {
     verifier v;
@@ -140,11 +138,12 @@ typedef struct subtree_check {
     bool ok;
 } subtree_check;
 
-static void *subtree_check_main(void *arg)
+/* Task `task` of rtt_parallel_run: one of the two subtrees. */
+static void subtree_check_run(void *checks, uint32_t thread, uint32_t task)
 {
-    subtree_check *c = arg;
+    (void)thread;
+    subtree_check *c = &((subtree_check *)checks)[task];
     c->ok = check_node(&c->v, c->node, c->cell, c->items, c->count);
-    return NULL;
 }
 
 static bool check_root_two_threads(const verifier *v, const node_item *items, size_t n)
@@ -160,11 +159,7 @@ static bool check_root_two_threads(const verifier *v, const node_item *items, si
              node_child_items(v, 0, v->tree->bounds, items, n, s, checks[s].items, &checks[s].count, &checks[s].cell);
     }
     if (ok) {
-        pthread_t thread;
-        bool threaded = pthread_create(&thread, NULL, subtree_check_main, &checks[1]) == 0;
-        subtree_check_main(&checks[0]);
-        if (threaded) pthread_join(thread, NULL);
-        else subtree_check_main(&checks[1]);
+        rtt_parallel_run(2, 2, subtree_check_run, checks);
         for (int s = 0; ok && s < 2; s++)
             if (!checks[s].ok) ok = rtt_error_set(v->err, "%s", checks[s].err.message);
     } else if (!checks[0].items || !checks[1].items) {

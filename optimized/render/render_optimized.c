@@ -19,15 +19,13 @@
  * Timers run only when stats are requested and never change results. */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "engine/clock.h"
 #include "engine/threads.h"
+#include "engine_optimized.h"
 #include "kernels.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
-
-#include "engine_optimized.h"
 
 typedef struct render_job {
     const rtt_scene *scene;
@@ -36,32 +34,30 @@ typedef struct render_job {
     uint32_t width, height, tile;
     sp_shading shading;
     sp_tracer tracer;
-    sp_scratch *scratch;            /* one per thread */
+    sp_scratch **scratch;           /* one per thread */
     uint32_t threads;
 } render_job;
 
 /* Primary rays of the tile as quads: packet q holds pixels (x, y), (x+1, y),
- * (x, y+1), (x+1, y+1) of quad q; lanes off the image are inactive. */
-static uint32_t primary_packets(const render_job *job, sp_scratch *s, uint32_t x0, uint32_t y0, uint32_t x1,
-                                uint32_t y1, int32_t *lane_node)
+ * (x, y+1), (x+1, y+1) of quad q; lanes off the image are left out (the
+ * packet of a quad wholly off the image has none), so the block is always
+ * the tile's (tile/2)^2 packets. */
+static void push_primary_packets(const render_job *job, sp_scratch *s, uint32_t x0, uint32_t y0, uint32_t x1,
+                                 uint32_t y1)
 {
     uint32_t side = job->tile / 2u, packets = side * side;
     for (uint32_t q = 0; q < packets; q++) {
         uint32_t qx = x0 + 2u * (q % side), qy = y0 + 2u * (q / side);
         rtt_ray rays[4];
-        int32_t nodes[4] = {-1, -1, -1, -1};
-        uint32_t count = 0;
+        uint32_t pixels[4], count = 0;
         for (uint32_t l = 0; l < 4; l++) {
             uint32_t px = qx + (l & 1u), py = qy + (l >> 1);
             if (px >= x1 || py >= y1) continue;
             rays[count] = rtt_camera_ray(&job->frame, px, py);
-            nodes[count] = sp_level_push(s, 0, &rays[count], py * job->width + px);
-            count++;
+            pixels[count++] = py * job->width + px;
         }
-        ray_packet4_load(&s->packets[q], rays, count);
-        memcpy(&lane_node[4 * q], nodes, sizeof nodes);
+        sp_primary_push(s, rays, pixels, count);
     }
-    return packets;
 }
 
 static void write_pixel(const render_job *job, const sp_node *n)
@@ -85,47 +81,21 @@ static void write_pixel(const render_job *job, const sp_node *n)
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
 {
     render_job *job = context;
-    sp_scratch *s = &job->scratch[thread];
-    if (s->failed) return;
-    uint32_t side = job->tile / 2u, packets = side * side;
-    int32_t lane_node[4 * KD_BLOCK_MAX_PACKETS];
-    s->levels[0].count = 0;
-    if (!sp_ensure_packets(s, packets)) return;
-    primary_packets(job, s, x0, y0, x1, y1, lane_node);
-    if (s->failed) return;
-
-    uint64_t t0 = s->timing ? rtt_clock_ns() : 0, isect_ns = 0;
-    sp_trace_packets(&job->tracer, job->tracer.kernel, s->packets, s->hits, packets,
-                     s->timing ? &s->stats.primary : NULL, s->timing ? &isect_ns : NULL);
-    if (s->timing) {
-        uint64_t total = rtt_clock_ns() - t0;
-        s->stats.ns_primary_intersection += isect_ns;
-        s->stats.ns_primary_traversal += total > isect_ns ? total - isect_ns : 0;
-    }
-    sp_level *primary = &s->levels[0];
-    for (uint32_t q = 0; q < packets; q++) {
-        float t[4], u[4], v[4];
-        uint32_t prim[4];
-        _mm_storeu_ps(t, s->hits[q].t), _mm_storeu_ps(u, s->hits[q].u), _mm_storeu_ps(v, s->hits[q].v);
-        _mm_storeu_si128((__m128i *)prim, s->hits[q].prim);
-        for (uint32_t l = 0; l < 4; l++) {
-            int32_t node = lane_node[4 * q + l];
-            if (node < 0) continue;
-            primary->nodes[node].hit = (rtt_hit){prim[l] == RTT_MISS ? INFINITY : t[l], u[l], v[l], prim[l]};
-        }
-    }
-    s->stats.primary_rays += primary->count;
-
-    sp_shade_tree(&job->shading, &job->tracer, s);
-    if (s->failed) return;
-    for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, &s->levels[0].nodes[i]);
+    sp_scratch *s = job->scratch[thread];
+    if (sp_scratch_failed(s)) return;
+    const uint32_t side = job->tile / 2u;
+    sp_tile_begin(s, side * side);
+    push_primary_packets(job, s, x0, y0, x1, y1);
+    sp_primary_trace(&job->tracer, s);
+    sp_tile_shade(&job->shading, &job->tracer, s);
+    for (uint32_t i = 0; i < sp_tile_pixel_count(s); i++) write_pixel(job, sp_tile_pixel(s, i));
 }
 
 static void gather_stats(const render_job *job, rtt_render_stats *stats)
 {
     memset(stats, 0, sizeof *stats);
     for (uint32_t t = 0; t < job->threads; t++) {
-        const sp_stats *s = &job->scratch[t].stats;
+        const sp_stats *s = sp_scratch_stats(job->scratch[t]);
         stats->primary_rays += s->primary_rays;
         stats->shadow_rays += s->shadow_rays;
         stats->secondary_rays += s->secondary_rays;
@@ -186,17 +156,17 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     job.scratch = calloc(threads, sizeof *job.scratch);
     bool ok = job.scratch != NULL;
     for (uint32_t t = 0; ok && t < threads; t++)
-        ok = sp_scratch_init(&job.scratch[t], job.shading.max_bounces + 1, opt->stats || stats != NULL);
+        ok = (job.scratch[t] = sp_scratch_create(job.shading.max_bounces + 1, opt->stats || stats != NULL)) != NULL;
     if (ok) {
         rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
-        for (uint32_t t = 0; t < threads; t++) ok = ok && !job.scratch[t].failed;
+        for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     if (ok && stats) {
         gather_stats(&job, stats);
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.scratch)
-        for (uint32_t t = 0; t < threads; t++) sp_scratch_free(&job.scratch[t]);
+        for (uint32_t t = 0; t < threads; t++) sp_scratch_destroy(job.scratch[t]);
     free(job.scratch);
     if (!ok) return rtt_error_set(err, "%s: out of memory in the optimized renderer", scene->path);
     return true;

@@ -1,0 +1,149 @@
+/* The shader proxy's per-thread scratch (sp_scratch.h) and the steps of a
+ * tile that only move rays and hits: the primary packets, tracing packets
+ * through the descriptor table's kernels, and storing their hits.  Every
+ * array grows through rtt_buffer; the first failed growth marks the scratch
+ * failed and every later step does nothing. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine/clock.h"
+#include "sp_scratch.h"
+
+sp_scratch *sp_scratch_create(uint32_t level_count, bool timing)
+{
+    sp_scratch *s = calloc(1, sizeof *s);
+    sp_level *levels = calloc(level_count, sizeof *levels);
+    if (s && levels) {
+        *s = (sp_scratch){.levels = levels, .level_count = level_count, .timing = timing};
+        return s;
+    }
+    free(levels);
+    free(s);
+    return NULL;
+}
+
+void sp_scratch_destroy(sp_scratch *s)
+{
+    if (!s) return;
+    for (uint32_t i = 0; i < s->level_count; i++) rtt_buffer_free(&s->levels[i].nodes);
+    free(s->levels);
+    rtt_buffer *buffers[] = {&s->packets,  &s->hits,      &s->occluded,   &s->primary_lanes, &s->shadow_rays,
+                             &s->shadow_clear, &s->surfaces, &s->requests, &s->group_first,  &s->edge_rays,
+                             &s->edge_order, &s->edge_light, &s->edge_occlusion};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) rtt_buffer_free(buffers[i]);
+    free(s);
+}
+
+bool sp_scratch_failed(const sp_scratch *s) { return s->failed; }
+
+const sp_stats *sp_scratch_stats(const sp_scratch *s) { return &s->stats; }
+
+bool sp_reserve(sp_scratch *s, rtt_buffer *buffer, size_t count, size_t element, size_t align)
+{
+    if (rtt_buffer_reserve(buffer, count, element, align)) return true;
+    s->failed = true;
+    return false;
+}
+
+int32_t sp_level_push(sp_scratch *s, uint32_t level, const rtt_ray *ray, uint32_t pixel)
+{
+    sp_level *l = &s->levels[level];
+    if (!SP_RESERVE(s, levels[level].nodes, (size_t)l->count + 1, sp_node)) return -1;
+    sp_node *n = &sp_level_nodes(s, level)[l->count];
+    n->ray = *ray;
+    n->pixel = pixel;
+    n->reflected = n->refracted = -1;
+    n->wr = n->wt = 0.0f;
+    return (int32_t)l->count++;
+}
+
+bool sp_ensure_packets(sp_scratch *s, uint32_t packets)
+{
+    return SP_RESERVE(s, packets, packets, ray_packet4) && SP_RESERVE(s, hits, packets, hit_packet4) &&
+           SP_RESERVE(s, occluded, packets, uint8_t);
+}
+
+/* A kernel over packet_count packets, cut into the blocks it reads. */
+static void trace_blocks(const sp_tracer *tr, const kd_kernel *kernel, kd_query q)
+{
+    const uint32_t total = q.packet_count, block = kernel->block == KD_BLOCK_TILE ? tr->block_packets : total;
+    const ray_packet4 *packets = q.packets;
+    hit_packet4 *hits = q.hits;
+    uint8_t *occluded = q.occluded;
+    for (uint32_t first = 0; first < total; first += block) {
+        q.packets = packets + first;
+        q.packet_count = total - first < block ? total - first : block;
+        q.hits = hits ? hits + first : NULL;
+        q.occluded = occluded ? occluded + first : NULL;
+        kernel->trace(tr->tree, &q);
+    }
+}
+
+void sp_trace_packets(const sp_tracer *tr, const kd_kernel *kernel, const ray_packet4 *packets, hit_packet4 *hits,
+                      uint32_t packet_count, kd_counters *counters, uint64_t *isect_ns)
+{
+    for (uint32_t p = 0; p < packet_count; p++) hit_packet4_clear(&hits[p]);
+    trace_blocks(tr, kernel,
+                 (kd_query){.packets = packets, .packet_count = packet_count, .hits = hits,
+                            .leaf_culling = tr->leaf_culling, .counters = counters, .isect_ns = isect_ns});
+}
+
+void sp_trace_packets_occluded(const sp_tracer *tr, const kd_kernel *kernel, const ray_packet4 *packets,
+                               uint8_t *occluded, uint32_t packet_count)
+{
+    trace_blocks(tr, kernel,
+                 (kd_query){.packets = packets, .packet_count = packet_count, .occluded = occluded,
+                            .leaf_culling = tr->leaf_culling});
+}
+
+void sp_store_hits(sp_scratch *s, uint32_t level, const uint8_t *lanes, uint32_t packet_count)
+{
+    const hit_packet4 *hits = SP_ARRAY(s->hits, hit_packet4);
+    sp_node *nodes = sp_level_nodes(s, level);
+    const uint32_t count = s->levels[level].count;
+    for (uint32_t p = 0, node = 0; p < packet_count; p++) {
+        uint32_t n = lanes ? lanes[p] : (count - node < 4 ? count - node : 4);
+        rtt_hit out[4];
+        hit_packet4_store(&hits[p], out, n);
+        for (uint32_t l = 0; l < n; l++) nodes[node + l].hit = out[l];
+        node += n;
+    }
+}
+
+void sp_tile_begin(sp_scratch *s, uint32_t packets)
+{
+    s->levels[0].count = 0;
+    s->primary_packets = 0;
+    if (!s->failed && sp_ensure_packets(s, packets)) SP_RESERVE(s, primary_lanes, packets, uint8_t);
+}
+
+void sp_primary_push(sp_scratch *s, const rtt_ray *rays, const uint32_t *pixels, uint32_t count)
+{
+    if (s->failed) return;
+    const uint32_t p = s->primary_packets;
+    if (!sp_ensure_packets(s, p + 1) || !SP_RESERVE(s, primary_lanes, (size_t)p + 1, uint8_t)) return;
+    for (uint32_t l = 0; l < count; l++)
+        if (sp_level_push(s, 0, &rays[l], pixels[l]) < 0) return;
+    ray_packet4_load(&SP_ARRAY(s->packets, ray_packet4)[p], rays, count);
+    SP_ARRAY(s->primary_lanes, uint8_t)[p] = (uint8_t)count;
+    s->primary_packets = p + 1;
+}
+
+void sp_primary_trace(const sp_tracer *tr, sp_scratch *s)
+{
+    if (s->failed) return;
+    uint64_t t0 = s->timing ? rtt_clock_ns() : 0, isect_ns = 0;
+    sp_trace_packets(tr, tr->kernel, SP_ARRAY(s->packets, ray_packet4), SP_ARRAY(s->hits, hit_packet4),
+                     s->primary_packets, s->timing ? &s->stats.primary : NULL, s->timing ? &isect_ns : NULL);
+    if (s->timing) {
+        uint64_t total = rtt_clock_ns() - t0;
+        s->stats.ns_primary_intersection += isect_ns;
+        s->stats.ns_primary_traversal += total > isect_ns ? total - isect_ns : 0;
+    }
+    sp_store_hits(s, 0, SP_ARRAY(s->primary_lanes, uint8_t), s->primary_packets);
+    s->stats.primary_rays += s->levels[0].count;
+}
+
+uint32_t sp_tile_pixel_count(const sp_scratch *s) { return s->failed ? 0 : s->levels[0].count; }
+
+const sp_node *sp_tile_pixel(const sp_scratch *s, uint32_t i) { return &sp_level_nodes(s, 0)[i]; }
