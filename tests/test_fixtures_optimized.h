@@ -1,6 +1,7 @@
 /* The fixtures shared by the tests that check optimized traversal kernels
- * against the reference engine, ray by ray (test_optimized_frustum.c,
- * test_optimized_kernels.c): a triangle soup with both engines built on it,
+ * against the reference engine, ray by ray, at every instruction set
+ * (test_optimized_frustum.c, test_optimized_kernels.c, test_optimized_isa.c):
+ * a triangle soup with both engines built on it,
  * the ray sets traced through it, and the tolerance a hit is compared with.
  *
  * Agreement: both miss, or both hit with |t - t_ref| <= 1e-5 * max(1, |t_ref|).
@@ -25,6 +26,7 @@
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
 #include "kernels.h"
+#include "test_isa.h"
 #include "test_random.h"
 
 #define TOLERANCE 1e-5f
@@ -205,16 +207,32 @@ static inline int prim_hit_at(const fixture *f, const rtt_ray *ray, uint32_t pri
     return rtt_reference_intersect_triangle(&wide, tri, &tt, &u, &v) && fabsf(tt - t) <= 2 * t_tolerance(t);
 }
 
-/* A kernel under test: a name of the descriptor table, traced in the
- * instruction set the run chooses (RTT_ISA, else the widest here). */
+/* A kernel under test: a name of the descriptor table and the instruction
+ * set whose copy is traced. */
 typedef struct kernel_case {
     const char *name;
+    rtt_isa isa;
 } kernel_case;
 
+/* The kernels named at every instruction set this CPU runs, SSE4 first
+ * (so out[0..n) are the SSE4 copies), into out (room for n * 3); prints a
+ * note for each set it skips.  Returns the number of cases. */
+static inline size_t kernel_cases_every_isa(const char *const *names, size_t n, kernel_case *out)
+{
+    size_t count = 0;
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        for (size_t i = 0; i < n; i++) out[count++] = (kernel_case){names[i], isa};
+    }
+    return count;
+}
+
+/* The row of exactly that copy. */
 static inline const kd_kernel *kernel_row(const kernel_case *k)
 {
-    const kd_kernel *row = kd_kernel_find(k->name, rtt_isa_resolve(RTT_ISA_AUTO));
+    const kd_kernel *row = kd_kernel_find(k->name, k->isa);
     assert_non_null(row);
+    assert_int_equal(row->isa, k->isa);
     return row;
 }
 

@@ -1,7 +1,8 @@
-/* The optimized kd-tree builder (optimized/kd_build_sah.c): its invariants
- * on random soups (with axis-aligned, coplanar and degenerate triangles
- * mixed in), its SAH cost against the reference builder's, and the closest
- * hits of the optimized engine (every traversal) against brute force. */
+/* The optimized kd-tree builder (optimized/kd/kd_build_sah.c): its
+ * invariants on random soups (with axis-aligned, coplanar and degenerate
+ * triangles mixed in), its SAH cost against the reference builder's, and
+ * the closest hits of the optimized engine (every traversal at every
+ * instruction set this CPU runs) against brute force. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,6 +19,7 @@
 #include "kd_build.h"
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
+#include "test_isa.h"
 #include "test_random.h"
 
 /* `count` triangles of size ~`size` in [-1, 1]^3; every 7th is flat on an
@@ -379,14 +381,17 @@ static float tolerance(float t) { return 1e-5f * fmaxf(1.0f, fabsf(t)); }
  * tolerance of tnear / tfar are unspecified; misses next to an edge are the
  * projected test's documented non-watertightness and counted, not failed,
  * when rare. */
-static void compare_traversal(const rtt_scene *scene, const char *traversal, const rtt_ray *rays, uint32_t n)
+static void compare_traversal(const rtt_scene *scene, const char *traversal, rtt_isa isa, const rtt_ray *rays,
+                              uint32_t n)
 {
     rtt_engine_options opt;
     rtt_engine_options_default(&opt);
     snprintf(opt.traversal, sizeof opt.traversal, "%s", traversal);
+    opt.isa = isa;
     rtt_error err = {{0}};
     rtt_engine *engine = rtt_optimized_engine_create(scene, &opt, &err);
     if (!engine) fail_msg("%s", err.message);
+    const char *label = rtt_engine_kernel_name(engine); /* "mft/avx2" */
     rtt_hit *hits = malloc(n * sizeof *hits);
     uint8_t *occluded = malloc(n);
     assert_non_null(hits);
@@ -416,16 +421,16 @@ static void compare_traversal(const rtt_scene *scene, const char *traversal, con
             continue;
         }
         if (!ok && bad < 5)
-            print_message("%s ray %u: got prim %u t %g, want prim %u t %g\n", traversal, i,
+            print_message("%s ray %u: got prim %u t %g, want prim %u t %g\n", label, i,
                           got->prim, got->t, want.prim, want.t);
         bad += !ok;
         if (occluded[i] != (uint8_t)any && !(any && got->prim == RTT_MISS)) {
-            if (bad < 5) print_message("%s ray %u: occluded %u, want %d\n", traversal, i,
+            if (bad < 5) print_message("%s ray %u: occluded %u, want %d\n", label, i,
                                        occluded[i], any);
             bad++;
         }
     }
-    print_message("%-8s %u rays, %u hits, %u disagreements, %u edge escapes\n", traversal, n,
+    print_message("%-15s %u rays, %u hits, %u disagreements, %u edge escapes\n", label, n,
                   hit_count, bad, edge);
     assert_int_equal(bad, 0);
     assert_true(edge <= n / 1000 + 1);
@@ -451,7 +456,10 @@ static void test_closest_hits_match_brute_force(void **state)
         ray->tnear = i % 5 == 0 ? rng_range(&r, 0, 0.5f) : 0.0f;
         ray->tfar = i % 7 == 0 ? rng_range(&r, 0.5f, 2.0f) : INFINITY;
     }
-    for (uint32_t t = 0; kd_kernel_name_at(t); t++) compare_traversal(scene, kd_kernel_name_at(t), rays, n);
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        for (uint32_t t = 0; kd_kernel_name_at(t); t++) compare_traversal(scene, kd_kernel_name_at(t), isa, rays, n);
+    }
     free(rays);
     rtt_scene_free(scene);
 }

@@ -1,7 +1,8 @@
-/* The proxy kernels (frustum, MFT, cone, MFT-cone; optimized/traverse_*.c)
- * against the reference engine, ray by ray, on random triangle soups:
- * primary-like camera tiles, arbitrary random rays (with NaN, zero and
- * axis-parallel ones mixed in) and shadow-like rays toward one point.
+/* The proxy kernels (frustum, MFT, cone, MFT-cone; optimized/kd/traverse_*.c),
+ * each at every instruction set this CPU runs, against the reference engine,
+ * ray by ray, on random triangle soups: primary-like camera tiles,
+ * arbitrary random rays (with NaN, zero and axis-parallel ones mixed in) and
+ * shadow-like rays toward one point.
  *
  * Agreement: both miss, or both hit with |t - t_ref| <= 1e-5 * max(1, |t_ref|).
  * A different prim is a tie only when both triangles are hit by the ray
@@ -35,12 +36,11 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
     return !(prim_hit_at(f, ray, got->prim, want->t) && prim_hit_at(f, ray, want->prim, got->t));
 }
 
-static const kernel_case kernels[] = {
-    {"frustum"},
-    {"mft"},
-    {"cone"},
-    {"mft-cone"},
-};
+/* The proxy kernels at every instruction set the CPU runs (main). */
+static const char *const kernel_names[] = {"frustum", "mft", "cone", "mft-cone"};
+#define KERNEL_NAMES (sizeof kernel_names / sizeof kernel_names[0])
+static kernel_case kernels[KERNEL_NAMES * 3];
+static size_t kernel_count;
 
 /* Traces `rays` in blocks of tile*tile rays with `k` and counts
  * disagreements with the reference, closest hit and occlusion. */
@@ -74,17 +74,17 @@ static uint32_t disagreements(const fixture *f, const kernel_case *k, const rtt_
             const rtt_ray *ray = &rays[first + i];
             if (hits_disagree(f, ray, &got, &want[first + i])) {
                 if (bad < 5)
-                    print_message("%s tile %u culling %d: ray %u got prim %u t %g, reference prim %u t %g\n", k->name,
-                                  tile, leaf_culling, first + i, got.prim, (double)got.t, want[first + i].prim,
-                                  (double)want[first + i].t);
+                    print_message("%s/%s tile %u culling %d: ray %u got prim %u t %g, reference prim %u t %g\n",
+                                  k->name, rtt_isa_name(k->isa), tile, leaf_culling, first + i, got.prim,
+                                  (double)got.t, want[first + i].prim, (double)want[first + i].t);
                 bad++;
             }
             int got_occ = occ[p] >> l & 1;
             if (got_occ != want_occ[first + i] && !(want[first + i].prim != RTT_MISS &&
                                                     near_interval_end(ray, want[first + i].t))) {
                 if (bad < 5)
-                    print_message("%s tile %u: ray %u occluded %d, reference %d\n", k->name, tile, first + i, got_occ,
-                                  want_occ[first + i]);
+                    print_message("%s/%s tile %u: ray %u occluded %d, reference %d\n", k->name,
+                                  rtt_isa_name(k->isa), tile, first + i, got_occ, want_occ[first + i]);
                 bad++;
             }
         }
@@ -98,7 +98,7 @@ static uint32_t disagreements(const fixture *f, const kernel_case *k, const rtt_
 
 static void check_all_kernels(const fixture *f, const rtt_ray *rays, uint32_t count, uint32_t tile)
 {
-    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++)
+    for (size_t k = 0; k < kernel_count; k++)
         for (int culling = 0; culling <= 1; culling++)
             assert_int_equal(disagreements(f, &kernels[k], rays, count, tile, culling, NULL), 0);
 }
@@ -161,7 +161,7 @@ static void test_nan_rays_miss_and_are_not_occluded(void **state)
     hit_packet4 hits[4];
     uint8_t occ[4];
     for (int p = 0; p < 4; p++) ray_packet4_load(&packets[p], &rays[4 * p], 4);
-    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++) {
+    for (size_t k = 0; k < kernel_count; k++) {
         for (int p = 0; p < 4; p++) hit_packet4_clear(&hits[p]);
         kernel_closest(&kernels[k], f->tree, packets, hits, 4, 1, NULL);
         kernel_occluded(&kernels[k], f->tree, packets, occ, 4, 1, NULL);
@@ -181,7 +181,7 @@ static void test_counters_give_steps_and_tests_per_packet(void **state)
     const fixture *f = *state;
     uint32_t count;
     rtt_ray *rays = primary_rays(64, 8, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &count);
-    for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++) {
+    for (size_t k = 0; k < kernel_count; k++) {
         kd_counters with = {0, 0, 0}, without = {0, 0, 0};
         assert_int_equal(disagreements(f, &kernels[k], rays, count, 8, 1, &with), 0);
         assert_int_equal(disagreements(f, &kernels[k], rays, count, 8, 0, &without), 0);
@@ -189,7 +189,8 @@ static void test_counters_give_steps_and_tests_per_packet(void **state)
         assert_true(with.steps > 0);
         assert_true(with.isects > 0);
         assert_true(without.isects > 0);
-        print_message("%-8s 8x8: N %.2f I %.2f (I without culling %.2f)\n", kernels[k].name,
+        print_message("%-8s %-6s 8x8: N %.2f I %.2f (I without culling %.2f)\n", kernels[k].name,
+                      rtt_isa_name(kernels[k].isa),
                       (double)with.steps / (double)with.packets, (double)with.isects / (double)with.packets,
                       (double)without.isects / (double)without.packets);
     }
@@ -198,6 +199,7 @@ static void test_counters_give_steps_and_tests_per_packet(void **state)
 
 int main(void)
 {
+    kernel_count = kernel_cases_every_isa(kernel_names, KERNEL_NAMES, kernels);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_frustum_kernels_match_reference_on_camera_tiles_of_every_size,
                                         setup_small_soup, teardown),

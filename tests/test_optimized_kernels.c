@@ -1,6 +1,6 @@
-/* The per-ray-interval kernels (mono, packet, omni; optimized/traverse_*.c)
- * against the reference engine, ray by ray, on random triangle soups with a
- * large floor: primary-like camera rays, arbitrary random rays (NaN, Inf,
+/* The per-ray-interval kernels (mono, packet, omni; optimized/kd/traverse_*.c),
+ * each at every instruction set this CPU runs, against the reference engine,
+ * ray by ray, on random triangle soups with a large floor: primary-like camera rays, arbitrary random rays (NaN, Inf,
  * zero, axis-parallel with +-0.0 parts, tnear > tfar, negative tnear mixed
  * in), shadow-like rays toward one point, and rays lying in the tree's split
  * planes.  Also: degenerate trees, hits only lowered, counters.
@@ -132,12 +132,11 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
     return hits_disagree(f, &rest, got, &rest_want);
 }
 
-static const kernel_case kernels[] = {
-    {"mono"},
-    {"packet"},
-    {"omni"},
-};
-#define KERNEL_COUNT (sizeof kernels / sizeof kernels[0])
+/* mono, packet and omni at every instruction set the CPU runs (main). */
+static const char *const kernel_names[] = {"mono", "packet", "omni"};
+#define KERNEL_NAMES (sizeof kernel_names / sizeof kernel_names[0])
+static kernel_case kernels[KERNEL_NAMES * 3];
+static size_t kernel_count;
 
 /* Every ray through `k` in calls of BLOCK_PACKETS packets: hits (cleared
  * first) and occlusion masks, one entry per ray. */
@@ -186,20 +185,23 @@ static uint32_t disagreements(const fixture *f, const kernel_case *k, const rtt_
         const rtt_ray *ray = &rays[i];
         if (hits_disagree(f, ray, &got[i], &want[i])) {
             if (bad < 5)
-                print_message("%s: ray %u got prim %u t %.9g, reference prim %u t %.9g\n", k->name, i, got[i].prim,
-                              (double)got[i].t, want[i].prim, (double)want[i].t);
+                print_message("%s/%s: ray %u got prim %u t %.9g, reference prim %u t %.9g\n", k->name,
+                              rtt_isa_name(k->isa), i, got[i].prim, (double)got[i].t, want[i].prim,
+                              (double)want[i].t);
             bad++;
         }
         int unspecified = (want[i].prim != RTT_MISS && near_interval_end(ray, want[i].t)) ||
                           (got[i].prim != RTT_MISS && near_interval_end(ray, got[i].t));
         if (got_occ[i] != want_occ[i] && !unspecified) {
             if (bad < 5)
-                print_message("%s: ray %u occluded %d, reference %d\n", k->name, i, got_occ[i], want_occ[i]);
+                print_message("%s/%s: ray %u occluded %d, reference %d\n", k->name, rtt_isa_name(k->isa), i,
+                              got_occ[i], want_occ[i]);
             bad++;
         }
     }
-    if (grazing_count) print_message("%s: %u grazing same-triangle hits beyond 1e-5 (isect precision)\n", k->name,
-                                     grazing_count);
+    if (grazing_count)
+        print_message("%s/%s: %u grazing same-triangle hits beyond 1e-5 (isect precision)\n", k->name,
+                      rtt_isa_name(k->isa), grazing_count);
     grazing_count = 0;
     free(want);
     free(got);
@@ -210,7 +212,7 @@ static uint32_t disagreements(const fixture *f, const kernel_case *k, const rtt_
 
 static void check_all_kernels(const fixture *f, const rtt_ray *rays, uint32_t count)
 {
-    for (size_t k = 0; k < KERNEL_COUNT; k++) assert_int_equal(disagreements(f, &kernels[k], rays, count, NULL), 0);
+    for (size_t k = 0; k < kernel_count; k++) assert_int_equal(disagreements(f, &kernels[k], rays, count, NULL), 0);
 }
 
 /* ---- tests ---- */
@@ -293,7 +295,7 @@ static void test_nan_and_inf_lanes_miss_and_are_not_occluded_without_the_loader(
             for (int l = 1; l < 4; l++) v[l] = bad[which];
             *target = _mm_load_ps(v);
             for (int a = 0; a < 3; a++) packet.inv_dir[a] = _mm_div_ps(_mm_set1_ps(1.0f), packet.dir[a]);
-            for (size_t k = 0; k < KERNEL_COUNT; k++) {
+            for (size_t k = 0; k < kernel_count; k++) {
                 hit_packet4 hits;
                 uint8_t occ = 0xFF;
                 hit_packet4_clear(&hits);
@@ -321,7 +323,7 @@ static void test_closest_hit_kernels_only_lower_the_hits_they_are_given(void **s
     rtt_hit *want = malloc(count * sizeof *want);
     assert_non_null(want);
     rtt_engine_intersect(f->reference, rays, want, count);
-    for (size_t k = 0; k < KERNEL_COUNT; k++)
+    for (size_t k = 0; k < kernel_count; k++)
         for (uint32_t p = 0; p < count / 4; p++) {
             ray_packet4 packet;
             ray_packet4_load(&packet, &rays[4 * p], 4);
@@ -396,7 +398,7 @@ static void test_empty_and_leaf_only_trees_built_by_hand_never_hit(void **state)
     ray_packet4 packet;
     ray_packet4_load(&packet, rays, 4);
     for (int t = 0; t < 2; t++)
-        for (size_t k = 0; k < KERNEL_COUNT; k++) {
+        for (size_t k = 0; k < kernel_count; k++) {
             hit_packet4 hits;
             uint8_t occ = 0xFF;
             hit_packet4_clear(&hits);
@@ -411,8 +413,8 @@ static void test_empty_and_leaf_only_trees_built_by_hand_never_hit(void **state)
 }
 
 /* Hits are kept wherever they lie and ties go to the smaller prim, so the
- * order cells are visited in cannot change a result: the three kernels
- * return the same bits. */
+ * order cells are visited in cannot change a result: the three kernels, at
+ * every instruction set, return the bits of mono at SSE4 (kernels[0]). */
 static void test_mono_packet_and_omni_return_identical_hits(void **state)
 {
     const fixture *f = *state;
@@ -421,20 +423,20 @@ static void test_mono_packet_and_omni_return_identical_hits(void **state)
                         primary_rays(64, 64, rtt_v3(0.05f, 0.02f, 0.3f), 2.5f, &count)};
     const uint32_t counts[2] = {8192, count};
     for (int s = 0; s < 2; s++) {
-        rtt_hit *hits[KERNEL_COUNT];
-        uint8_t *occluded[KERNEL_COUNT];
-        for (size_t k = 0; k < KERNEL_COUNT; k++) {
+        rtt_hit *hits[KERNEL_NAMES * 3];
+        uint8_t *occluded[KERNEL_NAMES * 3];
+        for (size_t k = 0; k < kernel_count; k++) {
             hits[k] = malloc(counts[s] * sizeof *hits[k]);
             occluded[k] = malloc(counts[s]);
             assert_non_null(hits[k]);
             assert_non_null(occluded[k]);
             trace_with(f, &kernels[k], sets[s], counts[s], hits[k], occluded[k], NULL);
         }
-        for (size_t k = 1; k < KERNEL_COUNT; k++) {
+        for (size_t k = 1; k < kernel_count; k++) {
             assert_memory_equal(hits[0], hits[k], counts[s] * sizeof *hits[k]);
             assert_memory_equal(occluded[0], occluded[k], counts[s]);
         }
-        for (size_t k = 0; k < KERNEL_COUNT; k++) {
+        for (size_t k = 0; k < kernel_count; k++) {
             free(hits[k]);
             free(occluded[k]);
         }
@@ -454,7 +456,7 @@ static void test_counters_count_and_never_change_results(void **state)
     assert_non_null(without);
     assert_non_null(occ_with);
     assert_non_null(occ_without);
-    for (size_t k = 0; k < KERNEL_COUNT; k++) {
+    for (size_t k = 0; k < kernel_count; k++) {
         const rtt_ray *sets[2] = {rays, random};
         const uint32_t counts[2] = {count, 4096};
         for (int s = 0; s < 2; s++) {
@@ -468,8 +470,9 @@ static void test_counters_count_and_never_change_results(void **state)
             assert_true(counters.isects > 0);
             if (s == 0) /* every primary packet is traced twice (closest, occlusion) */
                 assert_int_equal(counters.packets, 2 * (count / 4));
-            print_message("%-6s %s: N %.2f I %.2f per 2x2 packet (closest + occlusion)\n", kernels[k].name,
-                          s ? "random " : "primary", (double)counters.steps / (double)counters.packets,
+            print_message("%-6s %-6s %s: N %.2f I %.2f per 2x2 packet (closest + occlusion)\n", kernels[k].name,
+                          rtt_isa_name(kernels[k].isa), s ? "random " : "primary",
+                          (double)counters.steps / (double)counters.packets,
                           (double)counters.isects / (double)counters.packets);
         }
     }
@@ -483,6 +486,7 @@ static void test_counters_count_and_never_change_results(void **state)
 
 int main(void)
 {
+    kernel_count = kernel_cases_every_isa(kernel_names, KERNEL_NAMES, kernels);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_camera_rays_match_reference, setup_small_soup, teardown),
         cmocka_unit_test_setup_teardown(test_camera_inside_the_soup_with_mixed_direction_signs_matches_reference,

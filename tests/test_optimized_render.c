@@ -1,7 +1,9 @@
-/* The optimized renderer (optimized/render_optimized.c + shader_proxy.c)
- * against the reference renderer on a small scene built here with every
- * material type (diffuse, specular, mirror, glass slab, glass mirror), a
- * point light and a sphere light.
+/* The optimized renderer (optimized/render/) against the reference renderer
+ * on a small scene built here with every material type (diffuse, specular,
+ * mirror, glass slab, glass mirror), a point light and a sphere light, at
+ * every instruction set this CPU runs; and each instruction set's images
+ * against the SSE4 ones, bit for bit (what makes golden images independent
+ * of the CPU).
  *
  * Thresholds: both renderers evaluate the same formulas in the same order,
  * so pixels differ only where the engines pick different (tied) hits, on
@@ -22,6 +24,7 @@
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
+#include "test_isa.h"
 
 #define MAX_RMSE 2e-3
 #define MAX_SHARE_OVER 0.005
@@ -175,11 +178,15 @@ static void options(rtt_render_options *opt, const char *traversal, uint32_t til
 static void test_every_traversal_renders_the_reference_image_with_hard_shadows(void **state)
 {
     const fixture *f = *state;
-    for (uint32_t t = 0; kd_kernel_name_at(t); t++) {
-        rtt_render_options opt;
-        options(&opt, kd_kernel_name_at(t), 8);
-        opt.shadows = RTT_SHADOWS_HARD;
-        assert_close_to_reference(f, &opt, kd_kernel_name_at(t));
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        for (uint32_t t = 0; kd_kernel_name_at(t); t++) {
+            rtt_render_options opt;
+            options(&opt, kd_kernel_name_at(t), 8);
+            opt.shadows = RTT_SHADOWS_HARD;
+            opt.engine.isa = isa;
+            assert_close_to_reference(f, &opt, kd_kernel_name_at(t));
+        }
     }
 }
 
@@ -187,26 +194,69 @@ static void test_frustum_tiles_of_every_size_with_and_without_culling_match_the_
 {
     const fixture *f = *state;
     const uint32_t tiles[] = {4, 8, 16, 32};
-    for (int i = 0; i < 4; i++)
-        for (int culling = 0; culling <= 1; culling++) {
-            rtt_render_options opt;
-            options(&opt, i % 2 ? "mft" : "frustum", tiles[i]);
-            opt.engine.leaf_culling = culling;
-            assert_close_to_reference(f, &opt, "frustum/mft tile");
-        }
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        for (int i = 0; i < 4; i++)
+            for (int culling = 0; culling <= 1; culling++) {
+                rtt_render_options opt;
+                options(&opt, i % 2 ? "mft" : "frustum", tiles[i]);
+                opt.engine.leaf_culling = culling;
+                opt.engine.isa = isa;
+                assert_close_to_reference(f, &opt, "frustum/mft tile");
+            }
+    }
 }
 
 static void test_multi_sample_and_no_shadows_match_the_reference(void **state)
 {
     const fixture *f = *state;
-    rtt_render_options opt;
-    options(&opt, "mft", 16);
-    opt.shadows = RTT_SHADOWS_MULTI;
-    opt.shadow_samples = 8;
-    assert_close_to_reference(f, &opt, "multi:8");
-    opt.shadows = RTT_SHADOWS_NONE;
-    snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "cone");
-    assert_close_to_reference(f, &opt, "none");
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        rtt_render_options opt;
+        options(&opt, "mft", 16);
+        opt.engine.isa = isa;
+        opt.shadows = RTT_SHADOWS_MULTI;
+        opt.shadow_samples = 8;
+        assert_close_to_reference(f, &opt, "multi:8");
+        opt.shadows = RTT_SHADOWS_NONE;
+        snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "cone");
+        assert_close_to_reference(f, &opt, "none");
+    }
+}
+
+/* Every traversal and shadow method renders, at each instruction set past
+ * SSE4, the SSE4 image bit for bit: colours and every AOV. */
+static void test_every_instruction_set_renders_the_sse4_image_bit_for_bit(void **state)
+{
+    const fixture *f = *state;
+    const rtt_shadow_method methods[] = {RTT_SHADOWS_HARD, RTT_SHADOWS_MULTI, RTT_SHADOWS_CONE, RTT_SHADOWS_PYRAMID,
+                                         RTT_SHADOWS_EDGEWIDTH};
+    const size_t pixels = 64 * 64;
+    uint32_t compared = 0;
+    for (uint32_t t = 0; kd_kernel_name_at(t); t++)
+        for (size_t m = 0; m < sizeof methods / sizeof methods[0]; m++) {
+            rtt_render_options opt;
+            options(&opt, kd_kernel_name_at(t), 8);
+            opt.shadows = methods[m];
+            opt.shadow_samples = 4;
+            opt.aovs = RTT_AOV_DEPTH | RTT_AOV_PRIM | RTT_AOV_NORMAL;
+            opt.engine.isa = RTT_ISA_SSE4;
+            rtt_image *sse4 = render_optimized(f, &opt, NULL);
+            for (rtt_isa isa = isa_next(RTT_ISA_SSE4); isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+                if (!rtt_isa_supported(isa)) continue;
+                opt.engine.isa = isa;
+                rtt_image *wide = render_optimized(f, &opt, NULL);
+                assert_memory_equal(wide->rgb, sse4->rgb, pixels * 3 * sizeof(float));
+                assert_memory_equal(wide->depth, sse4->depth, pixels * sizeof(float));
+                assert_memory_equal(wide->prim, sse4->prim, pixels * sizeof(uint32_t));
+                assert_memory_equal(wide->normal, sse4->normal, pixels * 3 * sizeof(float));
+                rtt_image_free(wide);
+                compared++;
+            }
+            rtt_image_free(sse4);
+        }
+    for (rtt_isa isa = isa_next(RTT_ISA_SSE4); isa < RTT_ISA_COUNT; isa = isa_next(isa)) isa_runs(isa);
+    print_message("%u images compared with their SSE4 twins\n", compared);
 }
 
 static void test_one_and_three_threads_give_identical_images(void **state)
@@ -308,6 +358,7 @@ int main(void)
         cmocka_unit_test(test_every_traversal_renders_the_reference_image_with_hard_shadows),
         cmocka_unit_test(test_frustum_tiles_of_every_size_with_and_without_culling_match_the_reference),
         cmocka_unit_test(test_multi_sample_and_no_shadows_match_the_reference),
+        cmocka_unit_test(test_every_instruction_set_renders_the_sse4_image_bit_for_bit),
         cmocka_unit_test(test_one_and_three_threads_give_identical_images),
         cmocka_unit_test(test_aovs_match_the_reference),
         cmocka_unit_test(test_stats_count_rays_packets_and_never_change_the_image),

@@ -21,6 +21,8 @@
 #ifndef RTT_OPTIMIZED_BLOCK_H
 #define RTT_OPTIMIZED_BLOCK_H
 
+#include "kernel_isa.h"
+
 #include <immintrin.h>
 #include <stdint.h>
 

@@ -1,8 +1,9 @@
 /* The kd-tree's kernel descriptor table (Embree's kernel records; one entry
  * signature for closest hit and occlusion as in madmann91/bvh's one traversal
- * for two queries).  A kernel's name exists only in its row of
- * kernel_table.c; the engine, the renderer, the bench and the tests all
- * find kernels there.  Adding a kernel is one row and its file. */
+ * for two queries).  A kernel's name exists only in its rows of
+ * kernel_table.c, one row per instruction set it is compiled for; the
+ * engine, the renderer, the bench and the tests all find kernels there.
+ * Adding a kernel is one row of the table's row list and its file. */
 #ifndef RTT_OPTIMIZED_KERNELS_H
 #define RTT_OPTIMIZED_KERNELS_H
 
@@ -42,22 +43,31 @@ typedef struct kd_kernel {
 } kd_kernel;
 
 /* The row for `name` ("" → the default, mft) compiled for the widest
- * instruction set not wider than `isa` (already resolved, never AUTO);
- * NULL for an unknown name. */
+ * instruction set that is not wider than `isa` (already resolved, never
+ * AUTO) and that this CPU runs (rtt_isa_supported); NULL for an unknown
+ * name.  The one way baseline code reaches a kernel. */
 const kd_kernel *kd_kernel_find(const char *name, rtt_isa isa);
 /* The i-th distinct kernel name (from 0), NULL past the last. */
 const char *kd_kernel_name_at(uint32_t i);
+/* The i-th row of the table (from 0), whatever this CPU runs; NULL past the
+ * last.  For listings and tests: only kd_kernel_find hands out kernels. */
+const kd_kernel *kd_kernel_row_at(uint32_t i);
 /* Packets per block: 1 for KD_BLOCK_PACKETS, tile*tile/4 for KD_BLOCK_TILE
  * (tile 4, 8, 16 or 32; anything else counts as 8). */
 uint32_t kd_kernel_block_packets(const kd_kernel *kernel, uint32_t tile);
 
-/* The kernels (traverse_*.c). */
-void kd_kernel_mono(const kd_tree *tree, const kd_query *q);
-void kd_kernel_packet(const kd_tree *tree, const kd_query *q);
-void kd_kernel_omni(const kd_tree *tree, const kd_query *q);
-void kd_kernel_frustum(const kd_tree *tree, const kd_query *q);
-void kd_kernel_mft(const kd_tree *tree, const kd_query *q);
-void kd_kernel_cone(const kd_tree *tree, const kd_query *q);
-void kd_kernel_mft_cone(const kd_tree *tree, const kd_query *q);
+/* The kernels (traverse_*.c), one copy per instruction set (kernel_isa.h):
+ * kd_kernel_mono_sse4, kd_kernel_mono_avx2, kd_kernel_mono_avx512, ... */
+#define KD_KERNEL_PROTOTYPES(isa)                                                  \
+    void kd_kernel_mono_##isa(const kd_tree *tree, const kd_query *q);             \
+    void kd_kernel_packet_##isa(const kd_tree *tree, const kd_query *q);           \
+    void kd_kernel_omni_##isa(const kd_tree *tree, const kd_query *q);             \
+    void kd_kernel_frustum_##isa(const kd_tree *tree, const kd_query *q);          \
+    void kd_kernel_mft_##isa(const kd_tree *tree, const kd_query *q);              \
+    void kd_kernel_cone_##isa(const kd_tree *tree, const kd_query *q);             \
+    void kd_kernel_mft_cone_##isa(const kd_tree *tree, const kd_query *q);
+KD_KERNEL_PROTOTYPES(sse4)
+KD_KERNEL_PROTOTYPES(avx2)
+KD_KERNEL_PROTOTYPES(avx512)
 
 #endif

@@ -26,6 +26,8 @@
 #ifndef RTT_OPTIMIZED_TRAVERSE_RAY_H
 #define RTT_OPTIMIZED_TRAVERSE_RAY_H
 
+#include "kernel_isa.h"
+
 #include <immintrin.h>
 #include <math.h>
 #include <stdint.h>

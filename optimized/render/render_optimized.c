@@ -148,6 +148,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                    .kernel = kd_kernel_find(engine_opt->traversal, isa),
                    .secondary = kd_kernel_find("omni", isa),
                    .pyramid = kd_kernel_find("frustum", isa),
+                   .shadows = kd_shadow_kernels_find(isa),
                    .block_packets = (tile / 2u) * (tile / 2u),
                    .leaf_culling = engine_opt->leaf_culling},
     };

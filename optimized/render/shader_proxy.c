@@ -22,17 +22,16 @@
  * Shadow methods: hard and multi:N trace their rays in 2x2 packets through
  * the occlusion kernel of the chosen traversal; cone:N and pyramid:N trace
  * the very same sample rays, each shading point's N samples of a light as
- * one block under one cone or pyramid (shadow_cone.c), so visibility per
- * sample and the images equal multi:N's; edgewidth[:R] traces one ray per
- * point and sphere light from the light's centre (edge_width.c) and uses
- * 1 - its occlusion, point lights keeping the hard shadow ray. */
+ * one block under one cone or pyramid (kd/shadows/shadow_cone.c), so
+ * visibility per sample and the images equal multi:N's; edgewidth[:R]
+ * traces one ray per point and sphere light from the light's centre
+ * (kd/shadows/edge_width.c) and uses 1 - its occlusion, point lights
+ * keeping the hard shadow ray. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "edge_width.h"
 #include "engine/clock.h"
-#include "shadow_cone.h"
 #include "sp_scratch.h"
 
 #define SP_SHADOW_CHUNK 8192u /* shadow rays traced per batch */
@@ -187,9 +186,10 @@ static void trace_shadow_groups(const sp_shading *sh, const sp_tracer *tr, sp_sc
     uint32_t packets = sc_group_packets(group_first, groups);
     if (!packets || !sp_ensure_packets(s, packets)) return;
     uint8_t *clear = SP_ARRAY(s->shadow_clear, uint8_t);
-    sc_trace_groups(tr->tree, sh->shadows == RTT_SHADOWS_CONE ? NULL : tr->pyramid, SP_ARRAY(s->shadow_rays, rtt_ray),
-                    group_first, groups, SP_ARRAY(s->packets, ray_packet4), SP_ARRAY(s->occluded, uint8_t), clear,
-                    tr->leaf_culling, NULL);
+    tr->shadows->trace_groups(tr->tree, sh->shadows == RTT_SHADOWS_CONE ? NULL : tr->pyramid,
+                              SP_ARRAY(s->shadow_rays, rtt_ray), group_first, groups,
+                              SP_ARRAY(s->packets, ray_packet4), SP_ARRAY(s->occluded, uint8_t), clear,
+                              tr->leaf_culling, NULL);
     for (uint32_t i = 0; i < rays; i++) clear[i] = !clear[i];
 }
 
@@ -204,8 +204,8 @@ static void trace_edge_rays(const sp_shading *sh, const sp_tracer *tr, sp_scratc
     for (uint32_t l = 0; l < lights; l++)
         for (uint32_t i = 0; i < edges; i++)
             if (edge_light[i] == l) order[next++] = i;
-    ew_occlusion_stream(tr->tree, &sh->edge_model, SP_ARRAY(s->edge_rays, rtt_ray), order, edges,
-                        SP_ARRAY(s->edge_occlusion, float), NULL);
+    tr->shadows->edge_width_stream(tr->tree, &sh->edge_model, SP_ARRAY(s->edge_rays, rtt_ray), order, edges,
+                                   SP_ARRAY(s->edge_occlusion, float), NULL);
 }
 
 /* Step 3 for nodes [first, end) of level d. */

@@ -24,14 +24,16 @@
 #include "rtt/edge_width.h"
 #include "rtt/render.h"
 #include "rtt/shade.h"
+#include "shadow_kernels.h"
 
-/* How rays reach the tree: rows of the descriptor table (kernels.h), all
- * of one instruction set. */
+/* How rays reach the tree: rows of the descriptor tables (kernels.h,
+ * shadow_kernels.h), all of one instruction set. */
 typedef struct sp_tracer {
     const kd_tree *tree;
     const kd_kernel *kernel;        /* primary rays and hard shadow packets: the chosen traversal */
     const kd_kernel *secondary;     /* reflection and refraction rays: omni */
     const kd_kernel *pyramid;       /* pyramid:N sample groups: one frustum each */
+    const kd_shadow_kernels *shadows; /* cone:N / pyramid:N groups, edge width */
     uint32_t block_packets;         /* tile*tile/4 */
     int leaf_culling;
 } sp_tracer;

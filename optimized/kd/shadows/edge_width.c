@@ -30,8 +30,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "edge_width.h"
+#include "kernel_isa.h"
+
 #include "isect_projected_bary.h"
+#include "shadow_kernels.h"
 
 #define EW_PENDING_MAX 64u
 #define EW_SEEN_MAX 96u

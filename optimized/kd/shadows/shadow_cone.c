@@ -22,9 +22,10 @@
  * and no early stop of the whole group until every ray is blocked. */
 #include <math.h>
 
-#include "shadow_cone.h"
+#include "kernel_isa.h"
 
 #include "cone.h"
+#include "shadow_kernels.h"
 #include "simd4.h"
 #include "traverse_interval.h"
 
@@ -108,13 +109,6 @@ static void trace_group_cone(const kd_tree *tree, const ray_packet4 *packets, ui
         kd_traverse1(&b, &c, kd_cone_split, c.near, c.far);
     else
         kd_block_trace_cone(&b);
-}
-
-uint32_t sc_group_packets(const uint32_t *group_first, uint32_t groups)
-{
-    uint32_t packets = 0;
-    for (uint32_t g = 0; g < groups; g++) packets += (group_first[g + 1] - group_first[g] + 3u) / 4u;
-    return packets;
 }
 
 void sc_trace_groups(const kd_tree *tree, const kd_kernel *pyramid, const rtt_ray *rays, const uint32_t *group_first,
