@@ -11,11 +11,12 @@
  * frustum, MFT and cone kernels trace a block packet by packet, omni-
  * directionally, when its rays share no useful frustum or cone (origins
  * spread out, mixed signs on every axis, rays starting behind a cone's apex:
- * frustum.h, kd_frustum_is_incoherent / kd_cone_build).  What that trades on
+ * kd/block.h, kd_frustum_is_incoherent / kd_cone_build).  What that trades on
  * incoherent streams: the proxy is built and thrown away per block.
  *
  * The engine holds no mutable state after creation, so any number of
  * threads may trace through it at once (scratch lives on the stack). */
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -178,62 +179,49 @@ static void optimized_destroy(rtt_engine *base)
     free(e);
 }
 
-static void miss_all(rtt_hit *hits, size_t n)
+/* The rays in the blocks the kernel reads (consecutive rays, four to a
+ * packet): closest hits into `hits`, or with hits NULL occlusion into
+ * `occluded`.  Scratch on the stack: engines are shared between threads. */
+static void trace_stream(const optimized_engine *e, const rtt_ray *rays, size_t n, rtt_hit *hits, uint8_t *occluded)
 {
-    for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+    const size_t block_rays = 4u * (size_t)kd_kernel_block_packets(e->kernel, e->opt.tile);
+    _Alignas(16) ray_packet4 packets[KD_BLOCK_MAX_PACKETS];
+    _Alignas(16) hit_packet4 out[KD_BLOCK_MAX_PACKETS];
+    uint8_t masks[KD_BLOCK_MAX_PACKETS];
+    for (size_t first = 0; first < n; first += block_rays) {
+        const size_t count = n - first < block_rays ? n - first : block_rays;
+        const uint32_t packet_count = (uint32_t)((count + 3) / 4);
+        for (uint32_t p = 0; p < packet_count; p++) {
+            ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)(count - 4u * p < 4 ? count - 4u * p : 4));
+            hit_packet4_clear(&out[p]);
+            masks[p] = 0;
+        }
+        const kd_query query = {.packets = packets, .packet_count = packet_count, .hits = hits ? out : NULL,
+                                .occluded = hits ? NULL : masks, .leaf_culling = e->opt.leaf_culling};
+        e->kernel->trace(&e->tree, &query);
+        for (size_t i = 0; i < count; i++) {
+            if (hits && i % 4 == 0) hit_packet4_store(&out[i / 4], &hits[first + i], (uint32_t)(count - i));
+            if (!hits) occluded[first + i] = (masks[i / 4] >> (i % 4)) & 1u;
+        }
+    }
 }
 
 static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n)
 {
-    optimized_engine *e = (optimized_engine *)base;
-    if (e->tree.triangle_count == 0) {
-        miss_all(hits, n);
-        return;
-    }
-    const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
-    _Alignas(16) ray_packet4 packets[KD_BLOCK_MAX_PACKETS];
-    _Alignas(16) hit_packet4 out[KD_BLOCK_MAX_PACKETS];
-    for (size_t first = 0; first < n; first += 4u * (size_t)block) {
-        const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
-        const uint32_t packet_count = (uint32_t)((count + 3) / 4);
-        for (uint32_t p = 0; p < packet_count; p++) {
-            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
-            ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
-            hit_packet4_clear(&out[p]);
-        }
-        const kd_query query = {.packets = packets, .packet_count = packet_count, .hits = out,
-                                .leaf_culling = e->opt.leaf_culling};
-        e->kernel->trace(&e->tree, &query);
-        for (uint32_t p = 0; p < packet_count; p++) {
-            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
-            hit_packet4_store(&out[p], &hits[first + 4u * p], (uint32_t)lanes);
-        }
-    }
+    const optimized_engine *e = (const optimized_engine *)base;
+    if (e->tree.triangle_count == 0)
+        for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+    else
+        trace_stream(e, rays, n, hits, NULL);
 }
 
 static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n)
 {
-    optimized_engine *e = (optimized_engine *)base;
-    if (e->tree.triangle_count == 0) {
+    const optimized_engine *e = (const optimized_engine *)base;
+    if (e->tree.triangle_count == 0)
         memset(occluded, 0, n);
-        return;
-    }
-    const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
-    _Alignas(16) ray_packet4 packets[KD_BLOCK_MAX_PACKETS];
-    uint8_t masks[KD_BLOCK_MAX_PACKETS];
-    for (size_t first = 0; first < n; first += 4u * (size_t)block) {
-        const size_t count = n - first < 4u * (size_t)block ? n - first : 4u * (size_t)block;
-        const uint32_t packet_count = (uint32_t)((count + 3) / 4);
-        for (uint32_t p = 0; p < packet_count; p++) {
-            size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
-            ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
-            masks[p] = 0;
-        }
-        const kd_query query = {.packets = packets, .packet_count = packet_count, .occluded = masks,
-                                .leaf_culling = e->opt.leaf_culling};
-        e->kernel->trace(&e->tree, &query);
-        for (size_t i = 0; i < count; i++) occluded[first + i] = (masks[i / 4] >> (i % 4)) & 1u;
-    }
+    else
+        trace_stream(e, rays, n, NULL, occluded);
 }
 
 static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info)

@@ -537,14 +537,6 @@ typedef struct subtree_job {
     build_task root;
 } subtree_job;
 
-/* Task `task` of rtt_parallel_run: one of the two subtrees. */
-static void subtree_build(void *jobs, uint32_t thread, uint32_t task)
-{
-    (void)thread;
-    subtree_job *job = &((subtree_job *)jobs)[task];
-    build_tree(&job->b, job->root);
-}
-
 static bool subtree_start(const builder *parent, build_task task, subtree_job *job)
 {
     memset(job, 0, sizeof *job);
@@ -571,6 +563,14 @@ static void subtree_release(subtree_job *job)
     free(job->b.leaf_prims);
     free(job->b.scratch);
     kd_tree_free(&job->tree);
+}
+
+/* Task `task` of rtt_parallel_run: one of the two subtrees. */
+static void subtree_build(void *jobs, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    subtree_job *job = &((subtree_job *)jobs)[task];
+    build_tree(&job->b, job->root);
 }
 
 /* Appends a subtree built as node `root_at` of the tree: its root goes to

@@ -62,7 +62,9 @@ void kd_block_trace_frustum(kd_block *b)
     b->leaf_frusta = NULL;
 }
 
-/* Thesis Listing 4.2 with 4.1.4's packet/leaf culling: one frustum per block. */
+/* Thesis Listing 4.2 with 4.1.4's packet/leaf culling: one frustum per
+ * block.  Trades: constant work per node whatever the block's size, for
+ * more intersection tests than 2x2 packets (Table 4.1). */
 void kd_kernel_frustum(const kd_tree *tree, const kd_query *q)
 {
     kd_blocks_trace(tree, q, kd_block_trace_frustum);

@@ -34,15 +34,20 @@ typedef void (*kd_split4_fn)(const void *proxy, uint32_t axis, float split, __m1
  * would be a libgcc call per node). */
 static const uint8_t kd_popcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
+/* Stack entries: a subtree and the interval to search it in.  12 bytes for
+ * one proxy; 48 for four (two SSE intervals, the node padded to the
+ * 16-byte alignment of the next entry's vectors). */
 typedef struct kd_entry1 {
     uint32_t node;
     float near, far;
 } kd_entry1;
+_Static_assert(sizeof(kd_entry1) == 12, "kd_entry1 is three words");
 
 typedef struct kd_entry4 {
     __m128 near, far;
     uint32_t node;
 } kd_entry4;
+_Static_assert(sizeof(kd_entry4) == 48, "kd_entry4 is two SSE intervals and a node");
 
 /* One proxy (group 0 of the block), scalar: Listing 4.2 / 4.5. */
 /* always_inline: the kernel's split function is then a known call and is

@@ -34,7 +34,9 @@ void kd_block_trace_mft(kd_block *b)
     b->leaf_frusta = NULL;
 }
 
-/* Thesis 4.1.5: the block's four quadrant frusta in the SSE lanes. */
+/* Thesis 4.1.5: the block's four quadrant frusta in the SSE lanes.
+ * Trades: four intervals per node for fewer visits and tests than one
+ * frustum (Table 4.3). */
 void kd_kernel_mft(const kd_tree *tree, const kd_query *q)
 {
     kd_blocks_trace(tree, q, kd_block_trace_mft);

@@ -97,7 +97,9 @@ static inline void front_order(const ray_packet4 *r, int live, uint32_t right_fi
         right_first[a] = 2 * __builtin_popcount((unsigned)(_mm_movemask_ps(r->inv_dir[a]) & live)) > lanes;
 }
 
-/* Thesis Listing 4.1: omni-directional 2x2 packets, per-lane intervals. */
+/* Thesis Listing 4.1: omni-directional 2x2 packets, per-lane intervals.
+ * Trades: four blends per step more than Listing 2.4, for no fallback on
+ * mixed direction signs. */
 void kd_kernel_omni(const kd_tree *tree, const kd_query *q)
 {
     kd_ray_box box;

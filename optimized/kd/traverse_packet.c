@@ -85,7 +85,8 @@ static inline int common_signs(const ray_packet4 *r, int live, uint32_t neg[3])
 }
 
 /* Thesis Listing 2.4: 2x2 packets whose live rays share direction signs;
- * a packet of mixed signs goes ray by ray through the mono kernel. */
+ * a packet of mixed signs goes ray by ray through the mono kernel.  Trades:
+ * one node fetch for four rays, for the fallback's cost on mixed signs. */
 void kd_kernel_packet(const kd_tree *tree, const kd_query *q)
 {
     kd_ray_box box;

@@ -83,11 +83,13 @@ static inline int kd_ray_packet_setup(const kd_ray_box *box, const ray_packet4 *
 }
 
 /* A stack entry of the 2x2 packet kernels (packet, omni): a subtree and the
- * per-lane interval to search it in. */
+ * per-lane interval to search it in.  48 bytes: two SSE intervals and the
+ * node, padded to keep the next entry's vectors 16-byte aligned. */
 typedef struct kd_packet_task {
     __m128 near, far;
     uint32_t node;
 } kd_packet_task;
+_Static_assert(sizeof(kd_packet_task) == 48, "kd_packet_task is two SSE intervals and a node");
 
 /* One leaf for one packet, lanes active where near <= far: closest hits into
  * *hits, or (hits NULL) occlusion into *occluded.  Narrows *limit, the far

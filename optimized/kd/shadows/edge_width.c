@@ -54,10 +54,12 @@ typedef struct ew_lane {
     uint32_t seen[EW_SEEN_MAX];       /* prims met so far */
 } ew_lane;
 
+/* 48 bytes: a subtree and the lanes' intervals in it (as kd_packet_task). */
 typedef struct ew_entry {
     __m128 near, far;
     uint32_t node;
 } ew_entry;
+_Static_assert(sizeof(ew_entry) == 48, "ew_entry is two SSE intervals and a node");
 
 /* false when the prim was seen already; overflow decides the lane. */
 static bool first_sighting(ew_lane *lane, uint32_t prim)
@@ -217,6 +219,9 @@ static void traverse(const kd_tree *tree, const rtt_edge_width_model *m, const r
     if (counters) counters->steps += steps;
 }
 
+/* Thesis chapter 5, Listing 5.1, four rays from a light's centre.  Trades:
+ * no stop at the first hit (the ray walks to its point or past R) and both
+ * faces tested, for a penumbra from one ray. */
 void ew_occlusion4(const kd_tree *tree, const rtt_edge_width_model *m, const rtt_ray *rays, uint32_t count,
                    float occlusion[4], kd_counters *counters)
 {

@@ -111,6 +111,9 @@ static void trace_group_cone(const kd_tree *tree, const ray_packet4 *packets, ui
         kd_block_trace_cone(&b);
 }
 
+/* Thesis 4.1.9, Figure 4.5 (cone:N) and Table 4.6's pyramid (pyramid:N):
+ * each group under one proxy.  Trades: one block set-up per shading point
+ * and light, for one walk of the tree for its N samples. */
 void sc_trace_groups(const kd_tree *tree, const kd_kernel *pyramid, const rtt_ray *rays, const uint32_t *group_first,
                      uint32_t groups, ray_packet4 *packets, uint8_t *lane_masks, uint8_t *occluded, int leaf_culling,
                      kd_counters *counters)
