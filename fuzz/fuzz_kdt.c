@@ -22,7 +22,7 @@
 
 /* An accepted file's tree, traced with a pinhole bundle and checked against
  * brute force.  The optimized engine checks a baked tree against its
- * triangles before adopting it (optimized/kdt_verify.c: records, root box,
+ * triangles before adopting it (optimized/kd/kdt_verify.c: records, root box,
  * leaf boxes, no triangle left out), so a re-checksummed file whose records
  * disagree with its vertices is refused with one line, not traced. */
 static void trace_bundle(const rtt_scene *scene)

@@ -330,7 +330,7 @@ void fuzz_oracle_check(const fuzz_oracle *oracle, rtt_engine *engine, const char
  * within 1e30 (past it the float plane offset overflows), and with an
  * altitude above 1e-30, so that the reciprocal edge coefficients of a
  * projected test stay finite in float.  The optimized engine documents that
- * it drops the others (optimized/isect_projected_bary.c); their hits are
+ * it drops the others (optimized/isect/isect_projected_bary.c); their hits are
  * optional for it (see plane_test). */
 static uint32_t robust_triangle_count(const rtt_scene *scene)
 {

@@ -1,5 +1,5 @@
 /* The scalar Edge Width Soft Shadows of the reference (Thesis chapter 5):
- * what the SSE packet version (optimized/edge_width.c) is checked against.
+ * what the SSE packet version (optimized/kd/shadows/edge_width.c) is checked against.
  * Private to reference/ and its tests. */
 #ifndef RTT_REFERENCE_EDGE_WIDTH_REFERENCE_H
 #define RTT_REFERENCE_EDGE_WIDTH_REFERENCE_H

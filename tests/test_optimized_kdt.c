@@ -406,7 +406,7 @@ static void test_bad_section_table_refused(void **state)
 /* Random damage with a valid checksum: refused with one line or loaded,
  * never a crash (run under ASan in CI). */
 /* ---- forged files: re-checksummed, so the loader accepts them; the engine
- * replays the builder over the file's planes (optimized/kdt_verify.c) ---- */
+ * replays the builder over the file's planes (optimized/kd/kdt_verify.c) ---- */
 
 /* Loads the forged bytes (which must load) and expects the optimized engine
  * to refuse them with `message` after "path: " (exactly, or as a part when
