@@ -57,6 +57,7 @@ typedef struct bench_trace_spec {
     bool occlusion;
     uint32_t threads, warmup, frames;
     bool count;             /* one extra frame with kd_counters for N and I */
+    rtt_isa isa;            /* our kernels' instruction set (rtt_bench_config.isa) */
 } bench_trace_spec;
 
 /* Times one of our kernels on the blocks.  result (may be NULL) receives one

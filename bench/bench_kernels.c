@@ -85,7 +85,7 @@ bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t 
     kernel_job job = {
         .tree = tree,
         .blocks = blocks,
-        .kernel = kd_kernel_find(kernel_name, rtt_isa_resolve(RTT_ISA_AUTO)),
+        .kernel = kd_kernel_find(kernel_name, rtt_isa_resolve(spec->isa)),
         .occlusion = spec->occlusion,
         .leaf_culling = leaf_culling,
         .threads = spec->threads,

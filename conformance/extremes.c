@@ -666,6 +666,7 @@ bool rtt_extremes_run(const rtt_extremes_config *config, rtt_extremes_report *re
     ctx.spec_count = rtt_conform_expand_engines(config->engines ? config->engines : rtt_conform_default_engines(),
                                                 ctx.specs, 64, err);
     if (ctx.spec_count < 0) return false;
+    rtt_conform_specs_set_isa(ctx.specs, ctx.spec_count, config->isa);
 
     uint32_t base_count = 0;
     float *base = rtt_ext_base_soup(&base_count);
