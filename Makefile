@@ -3,6 +3,10 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
+# CI builds treat warnings as errors (RTT_WERROR); a user's build does not
+ifeq ($(CI),true)
+CMAKE_FLAGS += -DRTT_WERROR=ON
+endif
 
 .PHONY: all deps configure build demo test fuzz sanitize clean
 

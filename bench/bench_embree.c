@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "bench_internal.h"
+#include "engine/threads.h"
 #include "embree_engine.h"
 
 #ifdef RTT_HAVE_EMBREE

@@ -63,7 +63,7 @@ typedef struct bench_trace_spec {
  * value per pixel of the last frame: the prim (RTT_MISS on a miss) or the
  * occlusion bit. */
 bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t width, uint32_t height,
-                      rtt_traversal traversal, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
+                      const char *kernel_name, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
                       uint32_t *result);
 
 /* The Embree peer: one device and scene per variant. */

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "bench_internal.h"
+#include "engine/threads.h"
 #include "kernels.h"
 #include "rtt/image.h"
 
@@ -21,8 +22,8 @@ typedef struct {
 typedef struct kernel_job {
     const kd_tree *tree;
     const bench_blocks *blocks;
-    kd_block_kernel intersect;
-    kd_block_occlusion_kernel occluded;
+    const kd_kernel *kernel;
+    bool occlusion;
     int leaf_culling;
     hit_packet4 *hits;
     uint8_t *masks;
@@ -38,13 +39,15 @@ static void kernel_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     size_t tile = (size_t)(y0 / b->tile) * b->tiles_x + x0 / b->tile;
     size_t first = tile * b->block_packets;
     kd_counters *counters = job->counters ? &job->counters[thread].counters : NULL;
-    if (job->occluded) {
-        job->occluded(job->tree, &b->packets[first], &job->masks[first], b->block_packets, job->leaf_culling,
-                      counters);
-        return;
+    kd_query q = {.packets = &b->packets[first], .packet_count = b->block_packets, .leaf_culling = job->leaf_culling,
+                  .counters = counters};
+    if (job->occlusion) {
+        q.occluded = &job->masks[first];
+    } else {
+        q.hits = &job->hits[first];
+        for (uint32_t p = 0; p < b->block_packets; p++) hit_packet4_clear(&q.hits[p]);
     }
-    for (uint32_t q = 0; q < b->block_packets; q++) hit_packet4_clear(&job->hits[first + q]);
-    job->intersect(job->tree, &b->packets[first], &job->hits[first], b->block_packets, job->leaf_culling, counters);
+    job->kernel->trace(job->tree, &q);
 }
 
 typedef struct frame_context {
@@ -62,34 +65,33 @@ static void store_results(const kernel_job *job, uint32_t *result, size_t pixels
 {
     const bench_blocks *b = job->blocks;
     size_t packets = (size_t)b->tiles_x * b->tiles_y * b->block_packets;
-    for (size_t i = 0; i < pixels; i++) result[i] = job->occluded ? 0u : RTT_MISS;
+    for (size_t i = 0; i < pixels; i++) result[i] = job->occlusion ? 0u : RTT_MISS;
     for (size_t p = 0; p < packets; p++) {
         rtt_hit hits[4] = {{0}};
-        if (!job->occluded) hit_packet4_store(&job->hits[p], hits, 4);
+        if (!job->occlusion) hit_packet4_store(&job->hits[p], hits, 4);
         for (uint32_t l = 0; l < 4; l++) {
             uint32_t pixel = b->pixel[4 * p + l];
             if (pixel == UINT32_MAX) continue;
-            result[pixel] = job->occluded ? (job->masks[p] >> l) & 1u : hits[l].prim;
+            result[pixel] = job->occlusion ? (job->masks[p] >> l) & 1u : hits[l].prim;
         }
     }
 }
 
 bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t width, uint32_t height,
-                      rtt_traversal traversal, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
+                      const char *kernel_name, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
                       uint32_t *result)
 {
     size_t packets = (size_t)blocks->tiles_x * blocks->tiles_y * blocks->block_packets;
     kernel_job job = {
         .tree = tree,
         .blocks = blocks,
-        .intersect = spec->occlusion ? NULL : kd_kernel_for(traversal),
-        .occluded = spec->occlusion ? kd_occlusion_kernel_for(traversal) : NULL,
+        .kernel = kd_kernel_find(kernel_name, rtt_isa_resolve(RTT_ISA_AUTO)),
+        .occlusion = spec->occlusion,
         .leaf_culling = leaf_culling,
         .threads = spec->threads,
     };
-    if (spec->occlusion ? !job.occluded : !job.intersect) {
-        snprintf(row->error, sizeof row->error, "no %s kernel for traversal %s",
-                 spec->occlusion ? "occlusion" : "closest-hit", rtt_traversal_name(traversal));
+    if (!job.kernel) {
+        snprintf(row->error, sizeof row->error, "no kd kernel named %s", kernel_name);
         return true;
     }
     job.hits = spec->occlusion ? NULL : aligned_alloc(64, ((packets * sizeof(hit_packet4) + 63) / 64) * 64);

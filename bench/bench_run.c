@@ -120,15 +120,14 @@ static double agreement(const bench_state *s, const bench_rays *rays)
 /* ---- our kernels and the peer on one ray set (primary or shadow) ---- */
 
 typedef struct kernel_method {
-    const char *family;
-    rtt_traversal traversal;
+    const char *family;  /* the kernel's name in the descriptor table */
     uint32_t tile;       /* block tile; 0 = independent 2x2 packets (scheduled in 8x8 tiles) */
     int leaf_culling;
 } kernel_method;
 
 static void method_label(const kernel_method *m, char *out, size_t size)
 {
-    if (m->tile == 0) snprintf(out, size, "%s%s", m->family, m->traversal == RTT_TRAVERSAL_MONO ? "" : " 2x2");
+    if (m->tile == 0) snprintf(out, size, "%s%s", m->family, strcmp(m->family, "mono") == 0 ? "" : " 2x2");
     else snprintf(out, size, "%s %ux%u", m->family, m->tile, m->tile);
 }
 
@@ -155,7 +154,7 @@ static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_ray
                 progress(s, &row);
                 bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0};
                 bool check = t == 0 && s->have_oracle;
-                if (!bench_kernel_row(s->tree, &blocks, s->width, s->height, methods[m].traversal,
+                if (!bench_kernel_row(s->tree, &blocks, s->width, s->height, methods[m].family,
                                       methods[m].leaf_culling, &spec, &row, check ? s->result : NULL)) {
                     bench_blocks_free(&blocks);
                     return false;
@@ -212,18 +211,18 @@ static bool run_primary(bench_state *s, const bench_rays *rays)
         return false;
     kernel_method methods[32];
     size_t n = 0;
-    methods[n++] = (kernel_method){"mono", RTT_TRAVERSAL_MONO, 0, 1};
-    methods[n++] = (kernel_method){"packet", RTT_TRAVERSAL_PACKET, 0, 1};
-    methods[n++] = (kernel_method){"omni", RTT_TRAVERSAL_OMNI, 0, 1};
+    methods[n++] = (kernel_method){"mono", 0, 1};
+    methods[n++] = (kernel_method){"packet", 0, 1};
+    methods[n++] = (kernel_method){"omni", 0, 1};
     static const uint32_t tiles[] = {4, 8, 16, 32};
     for (size_t k = 0; k < 4; k++) {
         uint32_t tile = tiles[k];
         if (s->config->quick && tile != 8) continue;
-        methods[n++] = (kernel_method){"frustum", RTT_TRAVERSAL_FRUSTUM, tile, 1};
-        methods[n++] = (kernel_method){"frustum", RTT_TRAVERSAL_FRUSTUM, tile, 0};
-        methods[n++] = (kernel_method){"mft", RTT_TRAVERSAL_MFT, tile, 1};
-        methods[n++] = (kernel_method){"cone", RTT_TRAVERSAL_CONE, tile, 1};
-        methods[n++] = (kernel_method){"mft-cone", RTT_TRAVERSAL_MFT_CONE, tile, 1};
+        methods[n++] = (kernel_method){"frustum", tile, 1};
+        methods[n++] = (kernel_method){"frustum", tile, 0};
+        methods[n++] = (kernel_method){"mft", tile, 1};
+        methods[n++] = (kernel_method){"cone", tile, 1};
+        methods[n++] = (kernel_method){"mft-cone", tile, 1};
     }
     return run_kernel_rows(s, RTT_BENCH_PRIMARY, rays, methods, n);
 }
@@ -245,10 +244,10 @@ static bool run_shadow(bench_state *s, const bench_rays *primary)
     static const uint32_t lanes[] = {1, 16};
     ok = ok && run_peer_rows(s, RTT_BENCH_SHADOW, &shadow, lanes, 2);
     kernel_method methods[] = {
-        {"mono", RTT_TRAVERSAL_MONO, 0, 1},          {"packet", RTT_TRAVERSAL_PACKET, 0, 1},
-        {"omni", RTT_TRAVERSAL_OMNI, 0, 1},          {"frustum", RTT_TRAVERSAL_FRUSTUM, 8, 1},
-        {"mft", RTT_TRAVERSAL_MFT, 8, 1},            {"mft", RTT_TRAVERSAL_MFT, 16, 1},
-        {"cone", RTT_TRAVERSAL_CONE, 8, 1},
+        {"mono", 0, 1},          {"packet", 0, 1},
+        {"omni", 0, 1},          {"frustum", 8, 1},
+        {"mft", 8, 1},            {"mft", 16, 1},
+        {"cone", 8, 1},
     };
     ok = ok && run_kernel_rows(s, RTT_BENCH_SHADOW, &shadow, methods, sizeof methods / sizeof methods[0]);
     bench_rays_free(&shadow);
@@ -294,7 +293,7 @@ static bool render_row(bench_state *s, const kernel_method *m, const char *shado
     f.options.width = s->width;
     f.options.height = s->height;
     f.options.threads = threads;
-    f.options.engine.traversal = m->traversal;
+    snprintf(f.options.engine.traversal, sizeof f.options.engine.traversal, "%s", m->family);
     f.options.engine.tile = m->tile ? m->tile : 8u;
     f.options.engine.leaf_culling = m->leaf_culling;
     if (!rtt_shadow_method_parse(shadows, &f.options, &f.err)) {
@@ -330,11 +329,11 @@ static bool run_renders(bench_state *s)
     const rtt_bench_config *c = s->config;
     const uint32_t most = c->threads[c->thread_count - 1];
     kernel_method traversals[] = {
-        {"mono", RTT_TRAVERSAL_MONO, 0, 1},        {"packet", RTT_TRAVERSAL_PACKET, 0, 1},
-        {"omni", RTT_TRAVERSAL_OMNI, 0, 1},        {"frustum", RTT_TRAVERSAL_FRUSTUM, 8, 1},
-        {"frustum", RTT_TRAVERSAL_FRUSTUM, 16, 1}, {"mft", RTT_TRAVERSAL_MFT, 8, 1},
-        {"mft", RTT_TRAVERSAL_MFT, 16, 1},         {"mft", RTT_TRAVERSAL_MFT, 32, 1},
-        {"cone", RTT_TRAVERSAL_CONE, 8, 1},        {"mft-cone", RTT_TRAVERSAL_MFT_CONE, 16, 1},
+        {"mono", 0, 1},        {"packet", 0, 1},
+        {"omni", 0, 1},        {"frustum", 8, 1},
+        {"frustum", 16, 1}, {"mft", 8, 1},
+        {"mft", 16, 1},         {"mft", 32, 1},
+        {"cone", 8, 1},        {"mft-cone", 16, 1},
     };
     for (size_t m = 0; m < sizeof traversals / sizeof traversals[0]; m++) {
         /* --quick: every family once, at tile 8 */
@@ -345,7 +344,7 @@ static bool run_renders(bench_state *s)
     }
     /* Tables 4.6 and 5.1 (shadow methods, on the fastest thread count) and
      * 6.2 (edge width at every thread count), all under MFT. */
-    const kernel_method mft = {"mft", RTT_TRAVERSAL_MFT, c->quick ? 8u : 16u, 1};
+    const kernel_method mft = {"mft", c->quick ? 8u : 16u, 1};
     static const char *const shadows[] = {"none", "multi:4", "multi:16", "multi:32", "cone:16", "pyramid:16",
                                           "edgewidth"};
     for (size_t k = 0; k < sizeof shadows / sizeof shadows[0]; k++) {

@@ -86,7 +86,6 @@ static int parse_args(int argc, char **argv, render_args *args)
     memset(args, 0, sizeof *args);
     args->engine = "optimized";
     rtt_render_options_default(&args->render);
-    args->render.engine.traversal = RTT_TRAVERSAL_MFT;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
@@ -118,11 +117,10 @@ static int parse_args(int argc, char **argv, render_args *args)
                 return cli_usage_error("render", "--engine %s: expected reference, optimized or embree", value);
             args->engine = value;
         } else if (strcmp(arg, "--traversal") == 0) {
-            int t = rtt_traversal_parse(value);
-            if (t < 0)
-                return cli_usage_error("render", "--traversal %s: expected mono, packet, omni, frustum, mft, cone or mft-cone",
-                                       value);
-            args->render.engine.traversal = (rtt_traversal)t;
+            if (strlen(value) >= sizeof args->render.engine.traversal)
+                return cli_usage_error("render", "--traversal %s: no kernel has so long a name", value);
+            strcpy(args->render.engine.traversal, value);
+            args->render.engine.given |= RTT_OPTION_TRAVERSAL;
         } else if (strcmp(arg, "--tile") == 0) {
             uint32_t tile;
             if (!cli_parse_u32(value, 4, 32, &tile) || (tile != 4 && tile != 8 && tile != 16 && tile != 32))
@@ -134,7 +132,8 @@ static int parse_args(int argc, char **argv, render_args *args)
             args->render.engine.leaf_culling = strcmp(value, "on") == 0;
         } else if (strcmp(arg, "--shadows") == 0) {
             rtt_error err = {0};
-            if (!rtt_shadow_method_parse(value, &args->render, &err)) return cli_usage_error("render", "%s", err.message);
+            if (!rtt_shadow_method_parse(value, &args->render, &err))
+                return cli_usage_error("render", "--shadows %s: %s", value, err.message);
         } else if (strcmp(arg, "--threads") == 0) {
             if (!cli_parse_u32(value, 1, 1024, &args->render.threads))
                 return cli_usage_error("render", "--threads %s: expected a whole number from 1 to 1024", value);
@@ -145,8 +144,9 @@ static int parse_args(int argc, char **argv, render_args *args)
             if (!cli_parse_u32(value, 1, 16384, &args->render.height))
                 return cli_usage_error("render", "--height %s: expected a whole number from 1 to 16384", value);
         } else if (strcmp(arg, "--max-bounces") == 0) {
-            if (!cli_parse_u32(value, 1, 16, &args->render.max_bounces))
-                return cli_usage_error("render", "--max-bounces %s: expected a whole number from 1 to 16", value);
+            if (!cli_parse_u32(value, 0, RTT_MAX_BOUNCES, &args->render.max_bounces))
+                return cli_usage_error("render", "--max-bounces %s: expected a whole number from 0 to %u", value,
+                                       RTT_MAX_BOUNCES);
         } else if (strcmp(arg, "--max-depth") == 0) {
             if (!cli_parse_u32(value, 1, 64, &args->render.engine.max_tree_depth))
                 return cli_usage_error("render", "--max-depth %s: expected a whole number from 1 to 64", value);
@@ -163,6 +163,8 @@ static int parse_args(int argc, char **argv, render_args *args)
     }
     if (!args->scene_path) return cli_usage_error("render", "no SCENE given");
     if (args->output_count == 0) args->outputs[args->output_count++] = "render.png";
+    rtt_error err = {0};
+    if (!rtt_render_options_check(args->engine, &args->render, &err)) return cli_usage_error("render", "%s", err.message);
     return -1;
 }
 
@@ -179,7 +181,7 @@ static void print_stats(const rtt_render_stats *s, const char *engine, const ren
     double packets = s->packets ? (double)s->packets : 1.0;
     uint64_t rays = s->primary_rays + s->shadow_rays + s->secondary_rays;
     printf("engine %s, traversal %s, tile %u, leaf culling %s\n", engine,
-           rtt_traversal_name(args->render.engine.traversal), args->render.engine.tile,
+           args->render.engine.traversal[0] ? args->render.engine.traversal : "default", args->render.engine.tile,
            args->render.engine.leaf_culling ? "on" : "off");
     printf("rays: %llu primary, %llu shadow, %llu secondary; %.3g rays/s\n", (unsigned long long)s->primary_rays,
            (unsigned long long)s->shadow_rays, (unsigned long long)s->secondary_rays,
@@ -194,7 +196,7 @@ static void print_stats(const rtt_render_stats *s, const char *engine, const ren
     const char *const names[4] = {"primary traversal   ", "primary intersection", "shading             ",
                                   "secondary           "};
     double sum = stages[0] + stages[1] + stages[2] + stages[3];
-    const uint32_t threads = args->render.threads ? args->render.threads : rtt_cpu_count();
+    const uint32_t threads = args->render.threads ? args->render.threads : (uint32_t)sysconf(_SC_NPROCESSORS_ONLN);
     printf("stages (CPU seconds over %u thread%s, share of their sum):\n", threads, threads == 1 ? "" : "s");
     for (int i = 0; i < 4; i++) printf("  %s %.4f s  %5.1f%%\n", names[i], stages[i], sum > 0 ? 100 * stages[i] / sum : 0.0);
 }
@@ -204,9 +206,7 @@ static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_im
 {
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
     if (!engine) return false;
-    bool ok = strcmp(args->engine, "optimized") == 0
-                  ? rtt_optimized_render(engine, &args->render, image, stats, err)
-                  : rtt_reference_render(scene, engine, &args->render, image, stats, err);
+    bool ok = rtt_render(engine, &args->render, image, stats, err);
     rtt_engine_destroy(engine);
     return ok;
 }

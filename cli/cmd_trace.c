@@ -81,9 +81,10 @@ int cmd_trace(int argc, char **argv)
                 return cli_usage_error("trace", "--engine %s: expected reference, optimized or embree", value);
             engine_name = value;
         } else if (strcmp(arg, "--traversal") == 0) {
-            int t = rtt_traversal_parse(value);
-            if (t < 0) return cli_usage_error("trace", "--traversal %s: unknown traversal", value);
-            opt.traversal = (rtt_traversal)t;
+            if (strlen(value) >= sizeof opt.traversal)
+                return cli_usage_error("trace", "--traversal %s: no kernel has so long a name", value);
+            strcpy(opt.traversal, value);
+            opt.given |= RTT_OPTION_TRAVERSAL;
         } else if (strcmp(arg, "--tile") == 0) {
             if (!cli_parse_u32(value, 4, 32, &opt.tile) || (opt.tile & (opt.tile - 1)))
                 return cli_usage_error("trace", "--tile %s: expected 4, 8, 16 or 32", value);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "conform.h"
 
 typedef struct {
     const char *name;
@@ -32,6 +33,8 @@ static void print_usage(FILE *out)
 
 int main(int argc, char **argv)
 {
+    rtt_error err = {0};
+    if (!rtt_conform_register_engines(&err)) return cli_fail(&err);
     if (argc < 2) {
         print_usage(stderr);
         return RTT_EXIT_USAGE;

@@ -105,6 +105,10 @@ typedef struct rtt_conform_engine_spec {
 
 /* Expands an engine list (see rtt_conform_config) into at most cap specs.
  * Returns the count, or -1 with err on an unknown entry. */
+/* Registers every engine of this build (reference, optimized, and embree
+ * when built with it) by name; idempotent. */
+bool rtt_conform_register_engines(rtt_error *err);
+
 int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs, int cap, rtt_error *err);
 /* Checks an engine list without running anything. */
 bool rtt_conform_engines_valid(const char *engines, rtt_error *err);

@@ -24,47 +24,49 @@ const char *rtt_conform_default_engines(void)
 #endif
 }
 
+/* One spec: engine `cls`, kernel `kernel` (NULL: the engine's default). */
+static void spec_make(rtt_conform_engine_spec *spec, const rtt_engine_class *cls, const char *kernel)
+{
+    spec->name = cls->name;
+    rtt_engine_options_default(&spec->opt);
+    if (kernel) {
+        snprintf(spec->opt.traversal, sizeof spec->opt.traversal, "%s", kernel);
+        spec->opt.given |= RTT_OPTION_TRAVERSAL;
+        snprintf(spec->label, sizeof spec->label, "%s/%s", cls->name, kernel);
+    } else {
+        snprintf(spec->label, sizeof spec->label, "%s", cls->name);
+    }
+}
+
 int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs, int cap, rtt_error *err)
 {
     char buffer[512];
-    if (strlen(list) >= sizeof buffer) return rtt_error_set(err, "--engines: list too long"), -1;
+    if (strlen(list) >= sizeof buffer) return rtt_error_set(err, "engine list: too long"), -1;
     strcpy(buffer, list);
     int n = 0;
     char *save = NULL;
     for (char *item = strtok_r(buffer, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
-        if (strcmp(item, "optimized") == 0) {
-            for (int t = 0; t < RTT_TRAVERSAL_COUNT && n < cap; t++, n++) {
-                specs[n].name = "optimized";
-                rtt_engine_options_default(&specs[n].opt);
-                specs[n].opt.traversal = (rtt_traversal)t;
-                specs[n].opt.tile = 8;
-                snprintf(specs[n].label, sizeof specs[n].label, "optimized/%s", rtt_traversal_name((rtt_traversal)t));
+        char *kernel = strchr(item, '/');
+        if (kernel) *kernel++ = '\0';
+        const rtt_engine_class *cls = rtt_engine_find(item);
+        if (!cls) {
+            rtt_engine_options_check(item, &(rtt_engine_options){0}, err);
+            return -1;
+        }
+        if (!kernel && cls->kernel) { /* an engine with kernels: every one of them */
+            const char *name;
+            for (uint32_t k = 0; (name = cls->kernel(RTT_ACCEL_DEFAULT, k)); k++, n++) {
+                if (n >= cap) return rtt_error_set(err, "engine list: more than %d engines", cap), -1;
+                spec_make(&specs[n], cls, name);
             }
             continue;
         }
-        if (n >= cap) return rtt_error_set(err, "--engines: too many engines"), -1;
-        rtt_engine_options_default(&specs[n].opt);
-        if (strncmp(item, "optimized/", 10) == 0) {
-            int t = rtt_traversal_parse(item + 10);
-            if (t < 0) {
-                rtt_error_set(err, "--engines: unknown traversal \"%s\" (mono, packet, omni, frustum, mft, cone, mft-cone)",
-                              item + 10);
-                return -1;
-            }
-            specs[n].name = "optimized";
-            specs[n].opt.traversal = (rtt_traversal)t;
-        } else if (strcmp(item, "embree") == 0) {
-            specs[n].name = "embree";
-        } else if (strcmp(item, "reference") == 0) {
-            specs[n].name = "reference";
-        } else {
-            rtt_error_set(err, "--engines: unknown engine \"%s\" (reference, optimized, optimized/MODE, embree)", item);
-            return -1;
-        }
-        snprintf(specs[n].label, sizeof specs[n].label, "%.39s", item);
+        if (n >= cap) return rtt_error_set(err, "engine list: more than %d engines", cap), -1;
+        spec_make(&specs[n], cls, kernel);
+        if (!rtt_engine_options_check(cls->name, &specs[n].opt, err)) return -1;
         n++;
     }
-    if (n == 0) return rtt_error_set(err, "--engines: no engine named"), -1;
+    if (n == 0) return rtt_error_set(err, "engine list: no engine named"), -1;
     return n;
 }
 

@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "embree_engine.h"
+#include "rtt/reference.h"
 
 /* The ISA every Embree device is created with (see above). */
 #define EMBREE_DEVICE_CONFIG "isa=sse4.2,verbose=0"
@@ -121,12 +122,28 @@ static void embree_destroy(rtt_engine *engine)
     free(e);
 }
 
+/* Embree renders through the reference renderer, every ray traced by Embree. */
+static bool embree_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out, rtt_render_stats *stats,
+                          rtt_error *err)
+{
+    return rtt_reference_render(engine->scene, engine, opt, out, stats, err);
+}
+
 static const rtt_engine_vtable embree_vtable = {
     .name = "embree",
     .intersect = embree_intersect,
     .occluded = embree_occluded,
+    .render = embree_render,
     .destroy = embree_destroy,
     .tree_info = NULL,
+};
+
+const rtt_engine_class rtt_embree_engine_class = {
+    .name = "embree",
+    .summary = "Embree 3 (robust, SSE4.2) tracing for the reference renderer: the oracle and peer",
+    .uses = 0,
+    .shadow_methods = RTT_REFERENCE_SHADOW_METHODS,
+    .create = rtt_embree_engine_create,
 };
 
 bool rtt_embree_attach_triangles(RTCDevice device, RTCScene target, const rtt_scene *scene)
@@ -162,7 +179,7 @@ static bool attach_triangles(embree_engine *e, const rtt_scene *scene)
 
 rtt_engine *rtt_embree_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err)
 {
-    (void)opt; /* Embree has no traversal modes or tree options */
+    (void)opt; /* Embree has no traversal modes or tree options (its class uses none) */
     embree_engine *e = calloc(1, sizeof *e);
     if (!e) {
         rtt_error_set(err, "%s: out of memory creating the Embree engine", scene->path);

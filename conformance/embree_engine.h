@@ -6,6 +6,7 @@
 
 /* Robust scene flag, high build quality; closest hit and occlusion. */
 rtt_engine *rtt_embree_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err);
+extern const rtt_engine_class rtt_embree_engine_class;
 
 #ifdef RTT_HAVE_EMBREE
 #include <stdbool.h>

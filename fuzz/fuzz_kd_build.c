@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "fuzz_common.h"
+#include "rtt/rtt.h"
 #include "fuzz_oracle.h"
 #include "rtt/engine.h"
 
@@ -195,14 +196,14 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     fuzz_oracle_check(oracle, reference, "reference", false);
     rtt_engine_destroy(reference);
 
-    for (int mode = 0; mode < RTT_TRAVERSAL_COUNT; mode++) {
-        opt.traversal = (rtt_traversal)mode;
+    const char *kernel;
+    for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(RTT_ACCEL_KD, mode)); mode++) {
+        snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
         rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
         if (!optimized)
-            fuzz_fail("optimized engine (%s) refused a valid scene: %s", rtt_traversal_name(opt.traversal),
-                      err.message);
+            fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
         char label[64];
-        snprintf(label, sizeof label, "optimized/%s", rtt_traversal_name(opt.traversal));
+        snprintf(label, sizeof label, "optimized/%s", kernel);
         if (mode == 0)
             fuzz_check_tree_info(optimized, label, scene, true);
         fuzz_oracle_check(oracle, optimized, label, true);
@@ -221,6 +222,7 @@ static bool all_finite(const float *v, size_t n)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
+    if (!rtt_builtin_engines_register(NULL)) fuzz_fail("cannot register the built-in engines");
     byte_reader in = { data, size, 0 };
     uint32_t triangle_count = 1 + next_byte(&in) % MAX_TRIANGLES;
     uint8_t mode = next_byte(&in);

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "fuzz_common.h"
+#include "rtt/rtt.h"
 #include "fuzz_oracle.h"
 #include "rtt/engine.h"
 #include "../scene/kdt_format.h"   /* the header layout and checksum, to repair mutated files */
@@ -93,6 +94,7 @@ static void load_repaired(const uint8_t *data, size_t size)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
+    if (!rtt_builtin_engines_register(NULL)) fuzz_fail("cannot register the built-in engines");
     if (size > 1 << 20)
         return 0;
     load_and_check(data, size);

@@ -1,5 +1,5 @@
-/* The optimized engine behind the engine interface (DESIGN.md; issue 3
- * item 5): the SAH kd-tree of kd_build_sah.c, or the tree of a baked .kdt
+/* The optimized engine behind the engine interface: the SAH kd-tree of
+ * kd_build_sah.c, or the tree of a baked .kdt
  * adopted as is (scene->baked, validated by scene/kdt_file.c; its arrays
  * have kd_tree.h's layout, asserted below, so nothing is rebuilt or copied).
  *
@@ -17,6 +17,7 @@
  * The engine holds no mutable state after creation, so any number of
  * threads may trace through it at once (scratch lives on the stack). */
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -48,20 +49,58 @@ typedef struct optimized_engine {
     kd_tree tree;
     bool owns_tree;           /* false when the arrays belong to scene->baked */
     rtt_engine_options opt;
+    const kd_kernel *kernel;  /* the descriptor-table row the options name */
+    char kernel_label[48];    /* "mft/avx512" */
 } optimized_engine;
 
 static void optimized_destroy(rtt_engine *base);
 static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n);
 static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n);
 static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info);
+static const char *optimized_kernel_name(rtt_engine *base);
 
 static const rtt_engine_vtable optimized_vtable = {
     .name = "optimized",
     .intersect = optimized_intersect,
     .occluded = optimized_occluded,
+    .render = rtt_optimized_render,
     .destroy = optimized_destroy,
     .tree_info = optimized_tree_info,
+    .kernel_name = optimized_kernel_name,
 };
+
+static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
+{
+    if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD)
+        return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
+    if (kd_kernel_find(opt->traversal, RTT_ISA_AVX512)) return true;
+    char names[160] = "";
+    const char *name;
+    for (uint32_t i = 0; (name = kd_kernel_name_at(i)); i++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "", name);
+    return rtt_error_set(err, "unknown kd traversal \"%s\": expected %s", opt->traversal, names);
+}
+
+static const char *optimized_kernel_at(rtt_accel accel, uint32_t i)
+{
+    return accel == RTT_ACCEL_DEFAULT || accel == RTT_ACCEL_KD ? kd_kernel_name_at(i) : NULL;
+}
+
+const rtt_engine_class rtt_optimized_engine_class = {
+    .name = "optimized",
+    .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method",
+    .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
+            RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA,
+    .shadow_methods = RTT_SHADOWS_ALL,
+    .create = rtt_optimized_engine_create,
+    .check = optimized_check,
+    .kernel = optimized_kernel_at,
+};
+
+static const char *optimized_kernel_name(rtt_engine *base)
+{
+    return ((optimized_engine *)base)->kernel_label;
+}
 
 static optimized_engine *as_optimized(rtt_engine *engine)
 {
@@ -78,6 +117,12 @@ const rtt_engine_options *kd_engine_options(rtt_engine *engine)
 {
     optimized_engine *e = as_optimized(engine);
     return e ? &e->opt : NULL;
+}
+
+const kd_kernel *kd_engine_kernel(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->kernel : NULL;
 }
 
 static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
@@ -100,16 +145,15 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
         rtt_engine_options_default(&defaults);
         opt = &defaults;
     }
-    if ((unsigned)opt->traversal >= RTT_TRAVERSAL_COUNT)
-        return rtt_error_set(err, "optimized engine: unknown traversal %d", (int)opt->traversal), NULL;
-    if (opt->tile != 0 && opt->tile != 4 && opt->tile != 8 && opt->tile != 16 && opt->tile != 32)
-        return rtt_error_set(err, "optimized engine: tile %u must be 4, 8, 16 or 32", opt->tile), NULL;
+    if (!rtt_engine_class_check(&rtt_optimized_engine_class, opt, err)) return NULL;
     optimized_engine *e = calloc(1, sizeof *e);
     if (!e) return rtt_error_set(err, "%s: out of memory creating the optimized engine", scene->path), NULL;
     e->base.vt = &optimized_vtable;
     e->base.scene = scene;
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
+    e->kernel = kd_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
+    snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
         adopt_baked(&e->tree, scene->baked);
@@ -148,8 +192,7 @@ static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *
         miss_all(hits, n);
         return;
     }
-    const uint32_t block = kd_kernel_block_packets(e->opt.traversal, e->opt.tile);
-    const kd_block_kernel kernel = kd_kernel_for(e->opt.traversal);
+    const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
     _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
     _Alignas(16) hit_packet4 out[ENGINE_BLOCK_MAX];
     for (size_t first = 0; first < n; first += 4u * (size_t)block) {
@@ -160,7 +203,9 @@ static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *
             ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
             hit_packet4_clear(&out[p]);
         }
-        kernel(&e->tree, packets, out, packet_count, e->opt.leaf_culling, NULL);
+        const kd_query query = {.packets = packets, .packet_count = packet_count, .hits = out,
+                                .leaf_culling = e->opt.leaf_culling};
+        e->kernel->trace(&e->tree, &query);
         for (uint32_t p = 0; p < packet_count; p++) {
             size_t lanes = count - 4u * p < 4 ? count - 4u * p : 4;
             hit_packet4_store(&out[p], &hits[first + 4u * p], (uint32_t)lanes);
@@ -175,8 +220,7 @@ static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *o
         memset(occluded, 0, n);
         return;
     }
-    const uint32_t block = kd_kernel_block_packets(e->opt.traversal, e->opt.tile);
-    const kd_block_occlusion_kernel kernel = kd_occlusion_kernel_for(e->opt.traversal);
+    const uint32_t block = kd_kernel_block_packets(e->kernel, e->opt.tile);
     _Alignas(16) ray_packet4 packets[ENGINE_BLOCK_MAX];
     uint8_t masks[ENGINE_BLOCK_MAX];
     for (size_t first = 0; first < n; first += 4u * (size_t)block) {
@@ -187,7 +231,9 @@ static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *o
             ray_packet4_load(&packets[p], &rays[first + 4u * p], (uint32_t)lanes);
             masks[p] = 0;
         }
-        kernel(&e->tree, packets, masks, packet_count, e->opt.leaf_culling, NULL);
+        const kd_query query = {.packets = packets, .packet_count = packet_count, .occluded = masks,
+                                .leaf_culling = e->opt.leaf_culling};
+        e->kernel->trace(&e->tree, &query);
         for (size_t i = 0; i < count; i++) occluded[first + i] = (masks[i / 4] >> (i % 4)) & 1u;
     }
 }

@@ -407,21 +407,15 @@ void kd_block_trace_packets(kd_block *b)
     b->lane_groups = 0;
 }
 
-void kd_traverse_proxy(rtt_traversal traversal, const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits,
-                       uint8_t *occluded, uint32_t packet_count, int leaf_culling, kd_counters *counters,
-                       uint64_t *isect_ns)
+void kd_blocks_trace(const kd_tree *tree, const kd_query *q, void (*trace)(kd_block *))
 {
-    void (*trace)(kd_block *) = traversal == RTT_TRAVERSAL_MFT       ? kd_block_trace_mft
-                                : traversal == RTT_TRAVERSAL_CONE    ? kd_block_trace_cone
-                                : traversal == RTT_TRAVERSAL_MFT_CONE ? kd_block_trace_mft_cone
-                                                                      : kd_block_trace_frustum;
     kd_block b;
-    for (uint32_t first = 0; first < packet_count; first += KD_BLOCK_MAX_PACKETS) {
-        uint32_t n = packet_count - first < KD_BLOCK_MAX_PACKETS ? packet_count - first : KD_BLOCK_MAX_PACKETS;
-        if (!kd_block_init(&b, tree, packets + first, n, hits ? hits + first : NULL,
-                           occluded ? occluded + first : NULL, leaf_culling, counters))
+    for (uint32_t first = 0; first < q->packet_count; first += KD_BLOCK_MAX_PACKETS) {
+        uint32_t n = q->packet_count - first < KD_BLOCK_MAX_PACKETS ? q->packet_count - first : KD_BLOCK_MAX_PACKETS;
+        if (!kd_block_init(&b, tree, q->packets + first, n, q->hits ? q->hits + first : NULL,
+                           q->occluded ? q->occluded + first : NULL, q->leaf_culling, q->counters))
             continue;
-        b.isect_ns = isect_ns;
+        b.isect_ns = q->isect_ns;
         trace(&b);
     }
 }

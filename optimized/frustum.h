@@ -176,14 +176,9 @@ void kd_block_trace_mft(kd_block *block);
 void kd_block_trace_cone(kd_block *block);
 void kd_block_trace_mft_cone(kd_block *block);
 
-/* The renderer's entry: like the kernels (hits or occluded, the other
- * NULL) for traversal FRUSTUM, MFT, CONE or MFT_CONE, and adds the time
- * spent intersecting leaves to *isect_ns when isect_ns is non-NULL (Table
- * 3.1's split of traversal and intersection; the timers never change
- * results). */
-void kd_traverse_proxy(rtt_traversal traversal, const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits,
-                       uint8_t *occluded, uint32_t packet_count, int leaf_culling, kd_counters *counters,
-                       uint64_t *isect_ns);
+/* A query cut into blocks of at most KD_BLOCK_MAX_PACKETS packets, each
+ * traced by `trace` (one of the four above): the frustum family's entry. */
+void kd_blocks_trace(const kd_tree *tree, const kd_query *q, void (*trace)(kd_block *));
 
 /* The four-lane interval traversal (MFT, 4.1.5), in traverse_mft.c. */
 void kd_traverse4_frusta(kd_block *block, const kd_frustum4 *frusta);

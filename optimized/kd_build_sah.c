@@ -40,7 +40,7 @@
 #include "isect_projected_bary.h"
 #include "kd_build.h"
 #include "kd_clip.h"
-#include "rtt/image.h"
+#include "engine/threads.h"
 
 /* 8 bytes: (order-preserving key of the position << 32) | type << 30 | prim.
  * Sorting the integers sorts by position, then end < planar < start, which

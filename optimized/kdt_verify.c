@@ -32,7 +32,7 @@
 #include "isect_projected_bary.h"
 #include "kd_build.h"
 #include "kd_clip.h"
-#include "rtt/image.h"
+#include "engine/threads.h"
 
 typedef struct verifier {
     const rtt_scene *scene;

@@ -1,59 +1,60 @@
-/* Every traversal kernel of the optimized engine, with the block signatures
- * of packet.h (kd_block_kernel / kd_block_occlusion_kernel).
- *
- *   mono     traverse_mono.c     Thesis Listing 2.2: one ray, explicit stack
- *   packet   traverse_packet.c   Thesis Listing 2.4: 2x2, equal direction signs
- *   omni     traverse_omni.c     Thesis Listing 4.1: omni-directional 2x2
- *   frustum  traverse_frustum.c  Thesis Listing 4.2 + 4.1.4 leaf culling
- *   mft      traverse_mft.c      Thesis 4.1.5 multiple frustum traversal
- *   cone     traverse_cone.c     Thesis Listings 4.3 - 4.5
- *   mft_cone traverse_cone.c     four cones per tile
- *
- * mono/packet/omni read `packet_count` independent 2x2 packets; frustum, mft,
- * cone and mft_cone read one tile of packet_count packets (T*T/4 quads in
- * row-major order of quads).  Closest-hit kernels update `hits` only where a
- * lane finds a closer hit than the one it holds (callers clear them first);
- * occlusion kernels write occluded[i] = 4-bit lane mask of packet i. */
+/* The kd-tree's kernel descriptor table (Embree's kernel records; one entry
+ * signature for closest hit and occlusion as in madmann91/bvh's one traversal
+ * for two queries).  A kernel's name exists only in its row of
+ * kernel_table.c; the engine, the renderer, the bench and the tests all
+ * find kernels there.  Adding a kernel is one row and its file. */
 #ifndef RTT_OPTIMIZED_KERNELS_H
 #define RTT_OPTIMIZED_KERNELS_H
 
 #include "packet.h"
 
-void kd_traverse_mono(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_mono_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_packet(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_packet_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_omni(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_omni_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_frustum(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_frustum_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_mft(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_mft_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_cone(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_cone_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
-void kd_traverse_mft_cone(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-    int leaf_culling, kd_counters *counters);
-void kd_traverse_mft_cone_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-    uint32_t packet_count, int leaf_culling, kd_counters *counters);
+/* What a kernel is asked: `packet_count` packets and either closest hits
+ * (`hits`: lowered only where a lane finds a closer hit than the one it
+ * holds; callers clear them first) or occlusion (`occluded`: packet i gets
+ * its 4-bit lane mask, 1 = occluded); the other pointer NULL.  Counters and
+ * the leaf-intersection timer run only when non-NULL and never change
+ * results. */
+typedef struct kd_query {
+    const ray_packet4 *packets;
+    uint32_t packet_count;
+    hit_packet4 *hits;
+    uint8_t *occluded;
+    int leaf_culling;            /* the frustum family's packet/leaf culling */
+    kd_counters *counters;       /* N and I of Tables 4.1 - 4.5, or NULL */
+    uint64_t *isect_ns;          /* time in leaf intersection (Table 3.1), or NULL */
+} kd_query;
 
-/* The kernels indexed by rtt_traversal (RTT_TRAVERSAL_MONO .. MFT_CONE). */
-kd_block_kernel kd_kernel_for(rtt_traversal traversal);
-kd_block_occlusion_kernel kd_occlusion_kernel_for(rtt_traversal traversal);
+typedef void (*kd_kernel_fn)(const kd_tree *tree, const kd_query *query);
 
-/* Packets per block a kernel reads: 1 for mono/packet/omni, tile*tile/4 for
- * the frustum family (tile 4, 8, 16 or 32). */
-uint32_t kd_kernel_block_packets(rtt_traversal traversal, uint32_t tile);
+/* The block a kernel reads: independent 2x2 packets, or one tile of
+ * tile*tile/4 packets (quads in row-major order) under proxies. */
+typedef enum kd_block_shape { KD_BLOCK_PACKETS = 0, KD_BLOCK_TILE } kd_block_shape;
+
+typedef struct kd_kernel {
+    const char *name;            /* what --traversal calls it */
+    const char *implements;      /* the thesis listing or section */
+    kd_kernel_fn trace;
+    kd_block_shape block;
+    rtt_isa isa;                 /* the instruction set its object was compiled for */
+} kd_kernel;
+
+/* The row for `name` ("" → the default, mft) compiled for the widest
+ * instruction set not wider than `isa` (already resolved, never AUTO);
+ * NULL for an unknown name. */
+const kd_kernel *kd_kernel_find(const char *name, rtt_isa isa);
+/* The i-th distinct kernel name (from 0), NULL past the last. */
+const char *kd_kernel_name_at(uint32_t i);
+/* Packets per block: 1 for KD_BLOCK_PACKETS, tile*tile/4 for KD_BLOCK_TILE
+ * (tile 4, 8, 16 or 32; anything else counts as 8). */
+uint32_t kd_kernel_block_packets(const kd_kernel *kernel, uint32_t tile);
+
+/* The kernels (traverse_*.c). */
+void kd_kernel_mono(const kd_tree *tree, const kd_query *q);
+void kd_kernel_packet(const kd_tree *tree, const kd_query *q);
+void kd_kernel_omni(const kd_tree *tree, const kd_query *q);
+void kd_kernel_frustum(const kd_tree *tree, const kd_query *q);
+void kd_kernel_mft(const kd_tree *tree, const kd_query *q);
+void kd_kernel_cone(const kd_tree *tree, const kd_query *q);
+void kd_kernel_mft_cone(const kd_tree *tree, const kd_query *q);
 
 #endif

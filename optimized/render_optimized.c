@@ -21,6 +21,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "engine/clock.h"
+#include "engine/threads.h"
 #include "frustum.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
@@ -37,13 +39,6 @@ typedef struct render_job {
     sp_scratch *scratch;            /* one per thread */
     uint32_t threads;
 } render_job;
-
-static uint64_t now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
-}
 
 /* Primary rays of the tile as quads: packet q holds pixels (x, y), (x+1, y),
  * (x, y+1), (x+1, y+1) of quad q; lanes off the image are inactive. */
@@ -99,11 +94,11 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     primary_packets(job, s, x0, y0, x1, y1, lane_node);
     if (s->failed) return;
 
-    uint64_t t0 = s->timing ? now_ns() : 0, isect_ns = 0;
-    sp_trace_packets(&job->tracer, job->tracer.traversal, s->packets, s->hits, packets,
+    uint64_t t0 = s->timing ? rtt_clock_ns() : 0, isect_ns = 0;
+    sp_trace_packets(&job->tracer, job->tracer.kernel, s->packets, s->hits, packets,
                      s->timing ? &s->stats.primary : NULL, s->timing ? &isect_ns : NULL);
     if (s->timing) {
-        uint64_t total = now_ns() - t0;
+        uint64_t total = rtt_clock_ns() - t0;
         s->stats.ns_primary_intersection += isect_ns;
         s->stats.ns_primary_traversal += total > isect_ns ? total - isect_ns : 0;
     }
@@ -124,16 +119,6 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     sp_shade_tree(&job->shading, &job->tracer, s);
     if (s->failed) return;
     for (uint32_t i = 0; i < s->levels[0].count; i++) write_pixel(job, &s->levels[0].nodes[i]);
-}
-
-static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
-                          uint32_t width, uint32_t height, uint32_t tile, rtt_error *err)
-{
-    if (tile != 4 && tile != 8 && tile != 16 && tile != 32)
-        return rtt_error_set(err, "--tile %u: the tile side must be 4, 8, 16 or 32", tile);
-    if ((unsigned)opt->engine.traversal >= RTT_TRAVERSAL_COUNT)
-        return rtt_error_set(err, "optimized renderer: unknown traversal %d", (int)opt->engine.traversal);
-    return rtt_render_check(scene, opt, out, width, height, err);
 }
 
 static void gather_stats(const render_job *job, rtt_render_stats *stats)
@@ -157,7 +142,7 @@ static void gather_stats(const render_job *job, rtt_render_stats *stats)
 bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
                           rtt_render_stats *stats, rtt_error *err)
 {
-    const uint64_t start = now_ns();
+    const uint64_t start = rtt_clock_ns();
     rtt_render_options defaults;
     if (!opt) {
         rtt_render_options_default(&defaults);
@@ -169,8 +154,12 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     if (!scene || !tree) return rtt_error_set(err, "optimized renderer: the engine is not an optimized engine");
     const uint32_t width = opt->width ? opt->width : scene->width;
     const uint32_t height = opt->height ? opt->height : scene->height;
-    const uint32_t tile = opt->engine.tile ? opt->engine.tile : 8u;
-    if (!check_request(scene, opt, out, width, height, tile, err)) return false;
+    /* the kernel, tile and culling are the render's: one tree serves every traversal */
+    const rtt_engine_options *engine_opt = &opt->engine;
+    const uint32_t tile = engine_opt->tile ? engine_opt->tile : 8u;
+    if (!rtt_engine_class_check(&rtt_optimized_engine_class, engine_opt, err)) return false;
+    if (!rtt_render_check(scene, opt, out, width, height, err)) return false;
+    const rtt_isa isa = rtt_isa_resolve(engine_opt->isa);
 
     render_job job = {
         .scene = scene,
@@ -180,19 +169,19 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         .height = height,
         .tile = tile,
         .shading = {.scene = scene,
-                    .max_bounces = opt->max_bounces ? opt->max_bounces : scene->max_bounces,
+                    .max_bounces = rtt_render_bounces(opt, scene),
                     .shadows = opt->shadows,
                     .shadow_samples = opt->shadow_samples,
                     .epsilon = rtt_scene_ray_epsilon(scene),
                     .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix)},
         .tracer = {.tree = tree,
-                   .traversal = opt->engine.traversal,
+                   .kernel = kd_kernel_find(engine_opt->traversal, isa),
+                   .secondary = kd_kernel_find("omni", isa),
+                   .pyramid = kd_kernel_find("frustum", isa),
                    .block_packets = (tile / 2u) * (tile / 2u),
-                   .leaf_culling = opt->engine.leaf_culling},
+                   .leaf_culling = engine_opt->leaf_culling},
     };
-    uint32_t threads = opt->threads ? opt->threads : rtt_cpu_count();
-    if (threads == 0) threads = 1;
-    if (threads > 1024u) threads = 1024u;
+    const uint32_t threads = rtt_thread_count(opt->threads);
     job.threads = threads;
     job.scratch = calloc(threads, sizeof *job.scratch);
     bool ok = job.scratch != NULL;
@@ -204,7 +193,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     }
     if (ok && stats) {
         gather_stats(&job, stats);
-        stats->seconds_total = 1e-9 * (double)(now_ns() - start);
+        stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.scratch)
         for (uint32_t t = 0; t < threads; t++) sp_scratch_free(&job.scratch[t]);

@@ -114,45 +114,37 @@ int32_t sp_level_push(sp_scratch *s, uint32_t level, const rtt_ray *ray, uint32_
     return (int32_t)l->count++;
 }
 
-static int is_proxy_traversal(rtt_traversal t)
+/* A kernel over packet_count packets, cut into the blocks it reads. */
+static void trace_blocks(const sp_tracer *tr, const kd_kernel *kernel, kd_query q)
 {
-    return t == RTT_TRAVERSAL_FRUSTUM || t == RTT_TRAVERSAL_MFT || t == RTT_TRAVERSAL_CONE ||
-           t == RTT_TRAVERSAL_MFT_CONE;
+    const uint32_t total = q.packet_count, block = kernel->block == KD_BLOCK_TILE ? tr->block_packets : total;
+    const ray_packet4 *packets = q.packets;
+    hit_packet4 *hits = q.hits;
+    uint8_t *occluded = q.occluded;
+    for (uint32_t first = 0; first < total; first += block) {
+        q.packets = packets + first;
+        q.packet_count = total - first < block ? total - first : block;
+        q.hits = hits ? hits + first : NULL;
+        q.occluded = occluded ? occluded + first : NULL;
+        kernel->trace(tr->tree, &q);
+    }
 }
 
-void sp_trace_packets(const sp_tracer *tr, rtt_traversal traversal, const ray_packet4 *packets, hit_packet4 *hits,
+void sp_trace_packets(const sp_tracer *tr, const kd_kernel *kernel, const ray_packet4 *packets, hit_packet4 *hits,
                       uint32_t packet_count, kd_counters *counters, uint64_t *isect_ns)
 {
-    for (uint32_t p = 0; p < packet_count; p++) {
-        hits[p].t = _mm_set1_ps(INFINITY);
-        hits[p].u = hits[p].v = _mm_setzero_ps();
-        hits[p].prim = _mm_set1_epi32((int)RTT_MISS);
-    }
-    if (!is_proxy_traversal(traversal)) {
-        kd_kernel_for(traversal)(tr->tree, packets, hits, packet_count, tr->leaf_culling, counters);
-        return;
-    }
-    uint32_t block = tr->block_packets ? tr->block_packets : 16u;
-    for (uint32_t first = 0; first < packet_count; first += block) {
-        uint32_t n = packet_count - first < block ? packet_count - first : block;
-        kd_traverse_proxy(traversal, tr->tree, packets + first, hits + first, NULL, n, tr->leaf_culling, counters,
-                          isect_ns);
-    }
+    for (uint32_t p = 0; p < packet_count; p++) hit_packet4_clear(&hits[p]);
+    trace_blocks(tr, kernel,
+                 (kd_query){.packets = packets, .packet_count = packet_count, .hits = hits,
+                            .leaf_culling = tr->leaf_culling, .counters = counters, .isect_ns = isect_ns});
 }
 
-void sp_trace_packets_occluded(const sp_tracer *tr, rtt_traversal traversal, const ray_packet4 *packets,
+void sp_trace_packets_occluded(const sp_tracer *tr, const kd_kernel *kernel, const ray_packet4 *packets,
                                uint8_t *occluded, uint32_t packet_count)
 {
-    if (!is_proxy_traversal(traversal)) {
-        kd_occlusion_kernel_for(traversal)(tr->tree, packets, occluded, packet_count, tr->leaf_culling, NULL);
-        return;
-    }
-    uint32_t block = tr->block_packets ? tr->block_packets : 16u;
-    for (uint32_t first = 0; first < packet_count; first += block) {
-        uint32_t n = packet_count - first < block ? packet_count - first : block;
-        kd_traverse_proxy(traversal, tr->tree, packets + first, NULL, occluded + first, n, tr->leaf_culling, NULL,
-                          NULL);
-    }
+    trace_blocks(tr, kernel,
+                 (kd_query){.packets = packets, .packet_count = packet_count, .occluded = occluded,
+                            .leaf_culling = tr->leaf_culling});
 }
 
 bool sp_ensure_packets(sp_scratch *s, uint32_t packets)
@@ -177,7 +169,7 @@ static void trace_level(const sp_tracer *tr, sp_scratch *s, sp_level *level)
         for (uint32_t l = 0; l < n; l++) rays[l] = level->nodes[4 * p + l].ray;
         ray_packet4_load(&s->packets[p], rays, n);
     }
-    sp_trace_packets(tr, RTT_TRAVERSAL_OMNI, s->packets, s->hits, packets, NULL, NULL);
+    sp_trace_packets(tr, tr->secondary, s->packets, s->hits, packets, NULL, NULL);
     for (uint32_t p = 0; p < packets; p++) {
         rtt_hit hits[4];
         float t[4], u[4], v[4];
@@ -296,7 +288,7 @@ static void trace_shadows(const sp_tracer *tr, sp_scratch *s, uint32_t rays)
         uint32_t n = rays - 4 * p < 4 ? rays - 4 * p : 4;
         ray_packet4_load(&s->packets[p], &s->shadow_rays[4 * p], n);
     }
-    sp_trace_packets_occluded(tr, tr->traversal, s->packets, s->occluded, packets);
+    sp_trace_packets_occluded(tr, tr->kernel, s->packets, s->occluded, packets);
     for (uint32_t i = 0; i < rays; i++) s->shadow_clear[i] = !(s->occluded[i / 4] >> (i % 4) & 1u);
 }
 
@@ -307,7 +299,7 @@ static void trace_shadow_groups(const sp_shading *sh, const sp_tracer *tr, sp_sc
 {
     uint32_t packets = sc_group_packets(s->group_first, groups);
     if (!packets || !sp_ensure_packets(s, packets)) return;
-    sc_trace_groups(tr->tree, sh->shadows, s->shadow_rays, s->group_first, groups, s->packets, s->occluded,
+    sc_trace_groups(tr->tree, sh->shadows == RTT_SHADOWS_CONE ? NULL : tr->pyramid, s->shadow_rays, s->group_first, groups, s->packets, s->occluded,
                     s->shadow_clear, tr->leaf_culling, NULL);
     for (uint32_t i = 0; i < rays; i++) s->shadow_clear[i] = !s->shadow_clear[i];
 }

@@ -12,16 +12,19 @@
 #include <stdint.h>
 
 #include "kd_tree.h"
+#include "kernels.h"
 #include "packet.h"
 #include "rtt/edge_width.h"
 #include "rtt/render.h"
 #include "rtt/shade.h"
 
-/* How rays reach the tree: closest-hit and occlusion over blocks of 2x2
- * packets.  `traversal` picks the kernels (rtt_traversal). */
+/* How rays reach the tree: kernels of the descriptor table (kernels.h),
+ * all of one instruction set. */
 typedef struct sp_tracer {
     const kd_tree *tree;
-    rtt_traversal traversal;        /* primary rays and shadow packets */
+    const kd_kernel *kernel;        /* primary rays and hard shadow packets: the chosen traversal */
+    const kd_kernel *secondary;     /* reflection and refraction rays: omni */
+    const kd_kernel *pyramid;       /* pyramid:N sample groups: one frustum each */
     uint32_t block_packets;         /* tile*tile/4 */
     int leaf_culling;
 } sp_tracer;
@@ -107,9 +110,9 @@ bool sp_ensure_packets(sp_scratch *s, uint32_t packets);
 void sp_shade_tree(const sp_shading *shading, const sp_tracer *tracer, sp_scratch *s);
 
 /* The closest-hit and occlusion kernels of a traversal mode. */
-void sp_trace_packets(const sp_tracer *tracer, rtt_traversal traversal, const ray_packet4 *packets,
+void sp_trace_packets(const sp_tracer *tracer, const kd_kernel *kernel, const ray_packet4 *packets,
                       hit_packet4 *hits, uint32_t packet_count, kd_counters *counters, uint64_t *isect_ns);
-void sp_trace_packets_occluded(const sp_tracer *tracer, rtt_traversal traversal, const ray_packet4 *packets,
+void sp_trace_packets_occluded(const sp_tracer *tracer, const kd_kernel *kernel, const ray_packet4 *packets,
                                uint8_t *occluded, uint32_t packet_count);
 
 

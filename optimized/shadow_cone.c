@@ -18,7 +18,7 @@
  * projected test as the other occlusion kernels, so each ray's answer is
  * that of multi:N's ray; only the order of work differs.  A group too wide
  * for a cone (beyond ~80 degrees) or a frustum is traced packet by packet
- * inside kd_traverse_proxy.  Trades: one block set-up per shading point,
+ * inside the frustum kernel.  Trades: one block set-up per shading point,
  * and no early stop of the whole group until every ray is blocked. */
 #include <math.h>
 
@@ -144,11 +144,10 @@ uint32_t sc_group_packets(const uint32_t *group_first, uint32_t groups)
     return packets;
 }
 
-void sc_trace_groups(const kd_tree *tree, rtt_shadow_method method, const rtt_ray *rays, const uint32_t *group_first,
+void sc_trace_groups(const kd_tree *tree, const kd_kernel *pyramid, const rtt_ray *rays, const uint32_t *group_first,
                      uint32_t groups, ray_packet4 *packets, uint8_t *lane_masks, uint8_t *occluded, int leaf_culling,
                      kd_counters *counters)
 {
-    const rtt_traversal proxy = method == RTT_SHADOWS_CONE ? RTT_TRAVERSAL_CONE : RTT_TRAVERSAL_FRUSTUM;
     uint32_t packet = 0;
     for (uint32_t g = 0; g < groups; g++) {
         uint32_t first = group_first[g], n = group_first[g + 1] - first, count = (n + 3u) / 4u;
@@ -156,11 +155,13 @@ void sc_trace_groups(const kd_tree *tree, rtt_shadow_method method, const rtt_ra
             uint32_t lanes = n - 4u * p < 4u ? n - 4u * p : 4u;
             ray_packet4_load(&packets[packet + p], &rays[first + 4u * p], lanes);
         }
-        if (count && proxy == RTT_TRAVERSAL_CONE)
+        if (count && !pyramid) {
             trace_group_cone(tree, packets + packet, count, lane_masks + packet, leaf_culling, counters);
-        else if (count)
-            kd_traverse_proxy(proxy, tree, packets + packet, NULL, lane_masks + packet, count, leaf_culling, counters,
-                              NULL);
+        } else if (count) {
+            const kd_query q = {.packets = packets + packet, .packet_count = count, .occluded = lane_masks + packet,
+                                .leaf_culling = leaf_culling, .counters = counters};
+            pyramid->trace(tree, &q);
+        }
         for (uint32_t i = 0; i < n; i++) occluded[first + i] = lane_masks[packet + i / 4u] >> (i % 4u) & 1u;
         packet += count;
     }

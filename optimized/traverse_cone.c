@@ -83,26 +83,14 @@ void kd_block_trace_mft_cone(kd_block *b)
     kd_traverse4(b, &c4, cones_split, c4.near, c4.far);
 }
 
-void kd_traverse_cone(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                      int leaf_culling, kd_counters *counters)
+/* Thesis Listings 4.3 - 4.5: one cone per block. */
+void kd_kernel_cone(const kd_tree *tree, const kd_query *q)
 {
-    kd_traverse_proxy(RTT_TRAVERSAL_CONE, tree, packets, hits, NULL, packet_count, leaf_culling, counters, NULL);
+    kd_blocks_trace(tree, q, kd_block_trace_cone);
 }
 
-void kd_traverse_cone_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                               uint32_t packet_count, int leaf_culling, kd_counters *counters)
+/* Thesis 4.1.9: four quadrant cones per block. */
+void kd_kernel_mft_cone(const kd_tree *tree, const kd_query *q)
 {
-    kd_traverse_proxy(RTT_TRAVERSAL_CONE, tree, packets, NULL, occluded, packet_count, leaf_culling, counters, NULL);
-}
-
-void kd_traverse_mft_cone(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                          int leaf_culling, kd_counters *counters)
-{
-    kd_traverse_proxy(RTT_TRAVERSAL_MFT_CONE, tree, packets, hits, NULL, packet_count, leaf_culling, counters, NULL);
-}
-
-void kd_traverse_mft_cone_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                                   uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    kd_traverse_proxy(RTT_TRAVERSAL_MFT_CONE, tree, packets, NULL, occluded, packet_count, leaf_culling, counters, NULL);
+    kd_blocks_trace(tree, q, kd_block_trace_mft_cone);
 }

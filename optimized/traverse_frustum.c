@@ -63,14 +63,8 @@ void kd_block_trace_frustum(kd_block *b)
     b->leaf_frusta = NULL;
 }
 
-void kd_traverse_frustum(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                         int leaf_culling, kd_counters *counters)
+/* Thesis Listing 4.2 with 4.1.4's packet/leaf culling: one frustum per block. */
+void kd_kernel_frustum(const kd_tree *tree, const kd_query *q)
 {
-    kd_traverse_proxy(RTT_TRAVERSAL_FRUSTUM, tree, packets, hits, NULL, packet_count, leaf_culling, counters, NULL);
-}
-
-void kd_traverse_frustum_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                                  uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    kd_traverse_proxy(RTT_TRAVERSAL_FRUSTUM, tree, packets, NULL, occluded, packet_count, leaf_culling, counters, NULL);
+    kd_blocks_trace(tree, q, kd_block_trace_frustum);
 }

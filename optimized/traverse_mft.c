@@ -62,14 +62,8 @@ void kd_block_trace_mft(kd_block *b)
     b->leaf_frusta = NULL;
 }
 
-void kd_traverse_mft(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                     int leaf_culling, kd_counters *counters)
+/* Thesis 4.1.5: the block's four quadrant frusta in the SSE lanes. */
+void kd_kernel_mft(const kd_tree *tree, const kd_query *q)
 {
-    kd_traverse_proxy(RTT_TRAVERSAL_MFT, tree, packets, hits, NULL, packet_count, leaf_culling, counters, NULL);
-}
-
-void kd_traverse_mft_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                              uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    kd_traverse_proxy(RTT_TRAVERSAL_MFT, tree, packets, NULL, occluded, packet_count, leaf_culling, counters, NULL);
+    kd_blocks_trace(tree, q, kd_block_trace_mft);
 }

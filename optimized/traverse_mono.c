@@ -152,22 +152,13 @@ static void trace_packet_lanes(const kd_tree *tree, const kd_ray_box *box, const
     if (counters) counters->steps += counts.steps, counters->isects += counts.isects;
 }
 
-void kd_traverse_mono(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                      int leaf_culling, kd_counters *counters)
+/* Thesis Listing 2.2: one ray at a time, explicit stack; the lanes of each
+ * packet in turn. */
+void kd_kernel_mono(const kd_tree *tree, const kd_query *q)
 {
-    (void)leaf_culling;
     kd_ray_box box;
     kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++) trace_packet_lanes(tree, &box, &packets[p], &hits[p], NULL, counters);
+    for (uint32_t p = 0; p < q->packet_count; p++)
+        trace_packet_lanes(tree, &box, &q->packets[p], q->hits ? &q->hits[p] : NULL,
+                           q->occluded ? &q->occluded[p] : NULL, q->counters);
 }
-
-void kd_traverse_mono_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                               uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    (void)leaf_culling;
-    kd_ray_box box;
-    kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++)
-        trace_packet_lanes(tree, &box, &packets[p], NULL, &occluded[p], counters);
-}
-

@@ -97,42 +97,23 @@ static inline void front_order(const ray_packet4 *r, int live, uint32_t right_fi
         right_first[a] = 2 * __builtin_popcount((unsigned)(_mm_movemask_ps(r->inv_dir[a]) & live)) > lanes;
 }
 
-void kd_traverse_omni(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                      int leaf_culling, kd_counters *counters)
+/* Thesis Listing 4.1: omni-directional 2x2 packets, per-lane intervals. */
+void kd_kernel_omni(const kd_tree *tree, const kd_query *q)
 {
-    (void)leaf_culling;
     kd_ray_box box;
     kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++) {
-        const ray_packet4 *r = &packets[p];
+    for (uint32_t p = 0; p < q->packet_count; p++) {
+        const ray_packet4 *r = &q->packets[p];
+        hit_packet4 *hits = q->hits ? &q->hits[p] : NULL;
         __m128 near, far;
         int valid;
         const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
-        if (counters && valid) counters->packets++;
+        if (q->occluded) q->occluded[p] = 0;
+        if (q->counters && valid) q->counters->packets++;
         if (!live) continue;
         uint32_t right_first[3];
         front_order(r, live, right_first);
-        trace_omni(tree, r, near, _mm_min_ps(far, hits[p].t), right_first, live, &hits[p], counters);
+        int mask = trace_omni(tree, r, near, hits ? _mm_min_ps(far, hits->t) : far, right_first, live, hits, q->counters);
+        if (q->occluded) q->occluded[p] = (uint8_t)mask;
     }
 }
-
-void kd_traverse_omni_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                               uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    (void)leaf_culling;
-    kd_ray_box box;
-    kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++) {
-        const ray_packet4 *r = &packets[p];
-        __m128 near, far;
-        int valid;
-        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
-        occluded[p] = 0;
-        if (counters && valid) counters->packets++;
-        if (!live) continue;
-        uint32_t right_first[3];
-        front_order(r, live, right_first);
-        occluded[p] = (uint8_t)trace_omni(tree, r, near, far, right_first, live, NULL, counters);
-    }
-}
-

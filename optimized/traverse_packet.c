@@ -84,52 +84,33 @@ static inline int common_signs(const ray_packet4 *r, int live, uint32_t neg[3])
     return 1;
 }
 
-void kd_traverse_packet(const kd_tree *tree, const ray_packet4 *packets, hit_packet4 *hits, uint32_t packet_count,
-                        int leaf_culling, kd_counters *counters)
+/* Thesis Listing 2.4: 2x2 packets whose live rays share direction signs;
+ * a packet of mixed signs goes ray by ray through the mono kernel. */
+void kd_kernel_packet(const kd_tree *tree, const kd_query *q)
 {
     kd_ray_box box;
     kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++) {
-        const ray_packet4 *r = &packets[p];
+    for (uint32_t p = 0; p < q->packet_count; p++) {
+        const ray_packet4 *r = &q->packets[p];
+        hit_packet4 *hits = q->hits ? &q->hits[p] : NULL;
         __m128 near, far;
         int valid;
         const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
+        if (q->occluded) q->occluded[p] = 0;
         if (!live) {
-            if (counters && valid) counters->packets++;
+            if (q->counters && valid) q->counters->packets++;
             continue;
         }
         uint32_t neg[3];
         if (!common_signs(r, live, neg)) {
-            kd_traverse_mono(tree, r, &hits[p], 1, leaf_culling, counters);
+            kd_query one = *q;
+            one.packets = r, one.packet_count = 1;
+            one.hits = hits, one.occluded = q->occluded ? &q->occluded[p] : NULL;
+            kd_kernel_mono(tree, &one);
             continue;
         }
-        if (counters) counters->packets++;
-        trace_packet(tree, r, near, _mm_min_ps(far, hits[p].t), neg, live, &hits[p], counters);
+        if (q->counters) q->counters->packets++;
+        int mask = trace_packet(tree, r, near, hits ? _mm_min_ps(far, hits->t) : far, neg, live, hits, q->counters);
+        if (q->occluded) q->occluded[p] = (uint8_t)mask;
     }
 }
-
-void kd_traverse_packet_occluded(const kd_tree *tree, const ray_packet4 *packets, uint8_t *occluded,
-                                 uint32_t packet_count, int leaf_culling, kd_counters *counters)
-{
-    kd_ray_box box;
-    kd_ray_box_init(tree, &box);
-    for (uint32_t p = 0; p < packet_count; p++) {
-        const ray_packet4 *r = &packets[p];
-        __m128 near, far;
-        int valid;
-        const int live = kd_ray_packet_setup(&box, r, &near, &far, &valid);
-        occluded[p] = 0;
-        if (!live) {
-            if (counters && valid) counters->packets++;
-            continue;
-        }
-        uint32_t neg[3];
-        if (!common_signs(r, live, neg)) {
-            kd_traverse_mono_occluded(tree, r, &occluded[p], 1, leaf_culling, counters);
-            continue;
-        }
-        if (counters) counters->packets++;
-        occluded[p] = (uint8_t)trace_packet(tree, r, near, far, neg, live, NULL, counters);
-    }
-}
-

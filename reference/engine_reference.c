@@ -38,12 +38,27 @@ static bool reference_tree_info(rtt_engine *engine, rtt_tree_info *info)
     return true;
 }
 
+static bool reference_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
+                             rtt_render_stats *stats, rtt_error *err)
+{
+    return rtt_reference_render(engine->scene, engine, opt, out, stats, err);
+}
+
 static const rtt_engine_vtable reference_vtable = {
     .name = "reference",
     .intersect = reference_intersect,
     .occluded = reference_occluded,
+    .render = reference_render,
     .destroy = reference_destroy,
     .tree_info = reference_tree_info,
+};
+
+const rtt_engine_class rtt_reference_engine_class = {
+    .name = "reference",
+    .summary = "scalar oracle: recursive kd traversal, watertight test, Whitted shading",
+    .uses = RTT_OPTION_MAX_DEPTH,
+    .shadow_methods = RTT_REFERENCE_SHADOW_METHODS,
+    .create = rtt_reference_engine_create,
 };
 
 rtt_engine *rtt_reference_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err)

@@ -29,6 +29,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "engine/clock.h"
+#include "engine/threads.h"
+
 #include "edge_width_reference.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
@@ -213,26 +216,18 @@ static const char *shadow_method_text(const rtt_render_options *opt, char *buffe
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
                           uint32_t width, uint32_t height, rtt_error *err)
 {
-    if (opt->shadows != RTT_SHADOWS_NONE && opt->shadows != RTT_SHADOWS_HARD && opt->shadows != RTT_SHADOWS_MULTI &&
-        opt->shadows != RTT_SHADOWS_EDGEWIDTH) {
+    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH || !(RTT_REFERENCE_SHADOW_METHODS & (1u << opt->shadows))) {
         char method[64];
-        return rtt_error_set(err, "--shadows %s is not available in the reference renderer (use --engine optimized)",
+        return rtt_error_set(err, "shadow method %s is not drawn by the reference renderer (the optimized one draws it)",
                              shadow_method_text(opt, method, sizeof method));
     }
     return rtt_render_check(scene, opt, out, width, height, err);
 }
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_render_options *opt,
                           rtt_image *out, rtt_render_stats *stats, rtt_error *err)
 {
-    const double start = seconds_now();
+    const double start = rtt_clock_seconds();
     rtt_render_options defaults;
     if (!opt) {
         rtt_render_options_default(&defaults);
@@ -250,7 +245,7 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         .frame = rtt_camera_frame_make(&scene->camera, width, height),
         .width = width,
         .height = height,
-        .max_bounces = opt->max_bounces ? opt->max_bounces : scene->max_bounces,
+        .max_bounces = rtt_render_bounces(opt, scene),
         .shadows = opt->shadows,
         .shadow_samples = opt->shadow_samples,
         .epsilon = rtt_scene_ray_epsilon(scene),
@@ -274,7 +269,7 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         stats->primary_rays = atomic_load(&job.primary);
         stats->shadow_rays = atomic_load(&job.shadow);
         stats->secondary_rays = atomic_load(&job.secondary);
-        stats->seconds_total = seconds_now() - start;
+        stats->seconds_total = rtt_clock_seconds() - start;
     }
     return true;
 }

@@ -49,7 +49,7 @@ expect 2 "usage|unknown command" -- frobnicate
 expect 2 "no SCENE" -- render
 expect 2 "unknown option" -- render "$scene" --bogus
 expect 2 "--engine warp" -- render "$scene" --engine warp
-expect 2 "--traversal zigzag" -- render "$scene" --traversal zigzag
+expect 2 "traversal \"zigzag\"" -- render "$scene" --traversal zigzag
 expect 2 "--tile 7" -- render "$scene" --tile 7
 expect 2 "--shadows multi:0" -- render "$scene" --shadows multi:0
 expect 2 "--shadows multi:257" -- render "$scene" --shadows multi:257

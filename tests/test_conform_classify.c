@@ -16,6 +16,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -111,19 +112,20 @@ static void test_engines_on_the_regression_ray_do_not_mismatch(void **state)
     rtt_engine_intersect(reference, &vertex_ray, &oracle, 1);
     assert_int_not_equal(oracle.prim, RTT_MISS);
     assert_true(oracle.prim < 2); /* the vertex, not the floor behind it */
-    for (int t = 0; t < RTT_TRAVERSAL_COUNT; t++) {
+    const char *kernel;
+    for (uint32_t t = 0; (kernel = rtt_engine_find("optimized")->kernel(RTT_ACCEL_KD, t)); t++) {
         rtt_engine_options opt;
         rtt_engine_options_default(&opt);
-        opt.traversal = (rtt_traversal)t;
+        snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
         opt.tile = 8;
         rtt_engine *engine = rtt_engine_create("optimized", scene, &opt, &err);
-        if (!engine) fail_msg("optimized/%s: %s", rtt_traversal_name((rtt_traversal)t), err.message);
+        if (!engine) fail_msg("optimized/%s: %s", kernel, err.message);
         rtt_hit hit;
         rtt_engine_intersect(engine, &vertex_ray, &hit, 1);
         rtt_conform_category c = classify(scene, &vertex_ray, &hit, &oracle);
         if (c != RTT_CONFORM_AGREE && c != RTT_CONFORM_TIE && c != RTT_CONFORM_GRAZING)
             fail_msg("optimized/%s: prim %u t %a against the reference's prim %u t %a: %s",
-                     rtt_traversal_name((rtt_traversal)t), hit.prim, (double)hit.t, oracle.prim, (double)oracle.t,
+                     kernel, hit.prim, (double)hit.t, oracle.prim, (double)oracle.t,
                      rtt_conform_category_name(c));
         rtt_engine_destroy(engine);
     }
@@ -162,6 +164,7 @@ static void test_tie_at_one_crossing_stays_strict(void **state)
 
 int main(void)
 {
+    if (!rtt_conform_register_engines(NULL)) return 1;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_regression_triangles_are_those_of_the_base_scene),
         cmocka_unit_test(test_grazing_vertex_hit_on_neighbours_is_a_tie),

@@ -24,6 +24,7 @@
 #include "packet.h"
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
+#include "kernels.h"
 #include "test_random.h"
 
 #define TOLERANCE 1e-5f
@@ -204,11 +205,33 @@ static inline int prim_hit_at(const fixture *f, const rtt_ray *ray, uint32_t pri
     return rtt_reference_intersect_triangle(&wide, tri, &tt, &u, &v) && fabsf(tt - t) <= 2 * t_tolerance(t);
 }
 
-/* A kernel under test: its closest-hit and occlusion entry points. */
+/* A kernel under test: a name of the descriptor table, traced in the
+ * instruction set the run chooses (RTT_ISA, else the widest here). */
 typedef struct kernel_case {
     const char *name;
-    kd_block_kernel closest;
-    kd_block_occlusion_kernel occluded;
 } kernel_case;
+
+static inline const kd_kernel *kernel_row(const kernel_case *k)
+{
+    const kd_kernel *row = kd_kernel_find(k->name, rtt_isa_resolve(RTT_ISA_AUTO));
+    assert_non_null(row);
+    return row;
+}
+
+static inline void kernel_closest(const kernel_case *k, const kd_tree *tree, const ray_packet4 *packets,
+                                  hit_packet4 *hits, uint32_t count, int leaf_culling, kd_counters *counters)
+{
+    const kd_query q = {.packets = packets, .packet_count = count, .hits = hits, .leaf_culling = leaf_culling,
+                        .counters = counters};
+    kernel_row(k)->trace(tree, &q);
+}
+
+static inline void kernel_occluded(const kernel_case *k, const kd_tree *tree, const ray_packet4 *packets,
+                                   uint8_t *occluded, uint32_t count, int leaf_culling, kd_counters *counters)
+{
+    const kd_query q = {.packets = packets, .packet_count = count, .occluded = occluded,
+                        .leaf_culling = leaf_culling, .counters = counters};
+    kernel_row(k)->trace(tree, &q);
+}
 
 #endif

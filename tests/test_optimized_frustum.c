@@ -36,10 +36,10 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
 }
 
 static const kernel_case kernels[] = {
-    {"frustum", kd_traverse_frustum, kd_traverse_frustum_occluded},
-    {"mft", kd_traverse_mft, kd_traverse_mft_occluded},
-    {"cone", kd_traverse_cone, kd_traverse_cone_occluded},
-    {"mft-cone", kd_traverse_mft_cone, kd_traverse_mft_cone_occluded},
+    {"frustum"},
+    {"mft"},
+    {"cone"},
+    {"mft-cone"},
 };
 
 /* Traces `rays` in blocks of tile*tile rays with `k` and counts
@@ -64,8 +64,8 @@ static uint32_t disagreements(const fixture *f, const kernel_case *k, const rtt_
         for (uint32_t p = 0; p < np; p++)
             ray_packet4_load(&packets[p], &rays[first + 4 * p], n - 4 * p < 4 ? n - 4 * p : 4);
         for (uint32_t p = 0; p < np; p++) hit_packet4_clear(&hits[p]);
-        k->closest(f->tree, packets, hits, np, leaf_culling, counters);
-        k->occluded(f->tree, packets, occ, np, leaf_culling, NULL);
+        kernel_closest(k, f->tree, packets, hits, np, leaf_culling, counters);
+        kernel_occluded(k, f->tree, packets, occ, np, leaf_culling, NULL);
         for (uint32_t i = 0; i < n; i++) {
             uint32_t p = i / 4, l = i % 4;
             rtt_hit lanes[4];
@@ -163,8 +163,8 @@ static void test_nan_rays_miss_and_are_not_occluded(void **state)
     for (int p = 0; p < 4; p++) ray_packet4_load(&packets[p], &rays[4 * p], 4);
     for (size_t k = 0; k < sizeof kernels / sizeof kernels[0]; k++) {
         for (int p = 0; p < 4; p++) hit_packet4_clear(&hits[p]);
-        kernels[k].closest(f->tree, packets, hits, 4, 1, NULL);
-        kernels[k].occluded(f->tree, packets, occ, 4, 1, NULL);
+        kernel_closest(&kernels[k], f->tree, packets, hits, 4, 1, NULL);
+        kernel_occluded(&kernels[k], f->tree, packets, occ, 4, 1, NULL);
         rtt_hit out[16];
         for (int p = 0; p < 4; p++) hit_packet4_store(&hits[p], &out[4 * p], 4);
         const int nan_rays[4] = {1, 6, 9, 12};

@@ -133,9 +133,9 @@ static int hits_disagree(const fixture *f, const rtt_ray *ray, const rtt_hit *go
 }
 
 static const kernel_case kernels[] = {
-    {"mono", kd_traverse_mono, kd_traverse_mono_occluded},
-    {"packet", kd_traverse_packet, kd_traverse_packet_occluded},
-    {"omni", kd_traverse_omni, kd_traverse_omni_occluded},
+    {"mono"},
+    {"packet"},
+    {"omni"},
 };
 #define KERNEL_COUNT (sizeof kernels / sizeof kernels[0])
 
@@ -155,8 +155,8 @@ static void trace_with(const fixture *f, const kernel_case *k, const rtt_ray *ra
             ray_packet4_load(&packets[p], &rays[first + 4 * p], n - 4 * p < 4 ? n - 4 * p : 4);
             hit_packet4_clear(&packet_hits[p]);
         }
-        k->closest(f->tree, packets, packet_hits, np, 1, counters);
-        k->occluded(f->tree, packets, masks, np, 1, counters);
+        kernel_closest(k, f->tree, packets, packet_hits, np, 1, counters);
+        kernel_occluded(k, f->tree, packets, masks, np, 1, counters);
         for (uint32_t p = 0; p < np; p++) {
             uint32_t lanes = n - 4 * p < 4 ? n - 4 * p : 4;
             hit_packet4_store(&packet_hits[p], &hits[first + 4 * p], lanes);
@@ -297,8 +297,8 @@ static void test_nan_and_inf_lanes_miss_and_are_not_occluded_without_the_loader(
                 hit_packet4 hits;
                 uint8_t occ = 0xFF;
                 hit_packet4_clear(&hits);
-                kernels[k].closest(f->tree, &packet, &hits, 1, 1, NULL);
-                kernels[k].occluded(f->tree, &packet, &occ, 1, 1, NULL);
+                kernel_closest(&kernels[k], f->tree, &packet, &hits, 1, 1, NULL);
+                kernel_occluded(&kernels[k], f->tree, &packet, &occ, 1, 1, NULL);
                 rtt_hit out[4];
                 hit_packet4_store(&hits, out, 4);
                 assert_int_not_equal(out[0].prim, RTT_MISS); /* the good lane hits the floor or the soup */
@@ -335,7 +335,7 @@ static void test_closest_hit_kernels_only_lower_the_hits_they_are_given(void **s
             hits.t = _mm_load_ps(t);
             hits.u = hits.v = _mm_setzero_ps();
             hits.prim = _mm_set1_epi32(123456);
-            kernels[k].closest(f->tree, &packet, &hits, 1, 1, NULL);
+            kernel_closest(&kernels[k], f->tree, &packet, &hits, 1, 1, NULL);
             rtt_hit out[4];
             hit_packet4_store(&hits, out, 4);
             for (int l = 0; l < 4; l++) {
@@ -401,8 +401,8 @@ static void test_empty_and_leaf_only_trees_built_by_hand_never_hit(void **state)
             uint8_t occ = 0xFF;
             hit_packet4_clear(&hits);
             kd_counters counters = {0, 0, 0};
-            kernels[k].closest(trees[t], &packet, &hits, 1, 1, &counters);
-            kernels[k].occluded(trees[t], &packet, &occ, 1, 1, &counters);
+            kernel_closest(&kernels[k], trees[t], &packet, &hits, 1, 1, &counters);
+            kernel_occluded(&kernels[k], trees[t], &packet, &occ, 1, 1, &counters);
             rtt_hit out[4];
             hit_packet4_store(&hits, out, 4);
             for (int l = 0; l < 4; l++) assert_int_equal(out[l].prim, RTT_MISS);

@@ -12,11 +12,13 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
 
+#include "kernels.h"
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
@@ -161,23 +163,23 @@ static void assert_close_to_reference(const fixture *f, const rtt_render_options
     rtt_image_free(b);
 }
 
-static void options(rtt_render_options *opt, rtt_traversal traversal, uint32_t tile)
+static void options(rtt_render_options *opt, const char *traversal, uint32_t tile)
 {
     rtt_render_options_default(opt);
     opt->width = opt->height = 64;
     opt->threads = 2;
-    opt->engine.traversal = traversal;
+    snprintf(opt->engine.traversal, sizeof opt->engine.traversal, "%s", traversal);
     opt->engine.tile = tile;
 }
 
 static void test_every_traversal_renders_the_reference_image_with_hard_shadows(void **state)
 {
     const fixture *f = *state;
-    for (int t = 0; t < RTT_TRAVERSAL_COUNT; t++) {
+    for (uint32_t t = 0; kd_kernel_name_at(t); t++) {
         rtt_render_options opt;
-        options(&opt, (rtt_traversal)t, 8);
+        options(&opt, kd_kernel_name_at(t), 8);
         opt.shadows = RTT_SHADOWS_HARD;
-        assert_close_to_reference(f, &opt, rtt_traversal_name((rtt_traversal)t));
+        assert_close_to_reference(f, &opt, kd_kernel_name_at(t));
     }
 }
 
@@ -188,7 +190,7 @@ static void test_frustum_tiles_of_every_size_with_and_without_culling_match_the_
     for (int i = 0; i < 4; i++)
         for (int culling = 0; culling <= 1; culling++) {
             rtt_render_options opt;
-            options(&opt, i % 2 ? RTT_TRAVERSAL_MFT : RTT_TRAVERSAL_FRUSTUM, tiles[i]);
+            options(&opt, i % 2 ? "mft" : "frustum", tiles[i]);
             opt.engine.leaf_culling = culling;
             assert_close_to_reference(f, &opt, "frustum/mft tile");
         }
@@ -198,12 +200,12 @@ static void test_multi_sample_and_no_shadows_match_the_reference(void **state)
 {
     const fixture *f = *state;
     rtt_render_options opt;
-    options(&opt, RTT_TRAVERSAL_MFT, 16);
+    options(&opt, "mft", 16);
     opt.shadows = RTT_SHADOWS_MULTI;
     opt.shadow_samples = 8;
     assert_close_to_reference(f, &opt, "multi:8");
     opt.shadows = RTT_SHADOWS_NONE;
-    opt.engine.traversal = RTT_TRAVERSAL_CONE;
+    snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "cone");
     assert_close_to_reference(f, &opt, "none");
 }
 
@@ -211,7 +213,7 @@ static void test_one_and_three_threads_give_identical_images(void **state)
 {
     const fixture *f = *state;
     rtt_render_options opt;
-    options(&opt, RTT_TRAVERSAL_FRUSTUM, 8);
+    options(&opt, "frustum", 8);
     opt.shadows = RTT_SHADOWS_MULTI;
     opt.shadow_samples = 4;
     opt.aovs = RTT_AOV_DEPTH | RTT_AOV_PRIM | RTT_AOV_NORMAL;
@@ -231,7 +233,7 @@ static void test_aovs_match_the_reference(void **state)
 {
     const fixture *f = *state;
     rtt_render_options opt;
-    options(&opt, RTT_TRAVERSAL_MFT_CONE, 8);
+    options(&opt, "mft-cone", 8);
     opt.aovs = RTT_AOV_DEPTH | RTT_AOV_PRIM | RTT_AOV_NORMAL;
     rtt_image *a = render_optimized(f, &opt, NULL), *b = render_reference(f, &opt);
     uint32_t prim_differs = 0;
@@ -256,7 +258,7 @@ static void test_stats_count_rays_packets_and_never_change_the_image(void **stat
 {
     const fixture *f = *state;
     rtt_render_options opt;
-    options(&opt, RTT_TRAVERSAL_MFT, 16);
+    options(&opt, "mft", 16);
     opt.stats = true;
     rtt_render_stats stats;
     rtt_image *with = render_optimized(f, &opt, &stats);
@@ -289,7 +291,7 @@ static void test_wrong_tile_and_image_size_are_refused(void **state)
 {
     const fixture *f = *state;
     rtt_render_options opt;
-    options(&opt, RTT_TRAVERSAL_FRUSTUM, 12);
+    options(&opt, "frustum", 12);
     rtt_error err = {{0}};
     rtt_image *image = rtt_image_create(64, 64, 0, &err);
     assert_false(rtt_optimized_render(f->optimized, &opt, image, NULL, &err));

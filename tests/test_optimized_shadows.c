@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -284,10 +285,11 @@ static void test_cone_and_pyramid_see_each_sample_as_multi_does(void **state)
         }
     }
     group_first[points] = points * n;
-    sc_trace_groups(tree, RTT_SHADOWS_CONE, rays, group_first, points, packets, masks, cone, 1, NULL);
-    sc_trace_groups(tree, RTT_SHADOWS_PYRAMID, rays, group_first, points, packets, masks, pyramid, 0, NULL);
+    sc_trace_groups(tree, NULL, rays, group_first, points, packets, masks, cone, 1, NULL);
+    sc_trace_groups(tree, kd_kernel_find("frustum", rtt_isa_resolve(RTT_ISA_AUTO)), rays, group_first, points, packets, masks, pyramid, 0, NULL);
     for (uint32_t p = 0; p < n * points / 4; p++) ray_packet4_load(&packets[p], &rays[4 * p], 4);
-    kd_traverse_mono_occluded(tree, packets, masks, n * points / 4, 1, NULL);
+    kd_kernel_find("mono", rtt_isa_resolve(RTT_ISA_AUTO))
+        ->trace(tree, &(kd_query){.packets = packets, .packet_count = n * points / 4, .occluded = masks, .leaf_culling = 1});
     uint32_t blocked = 0;
     for (uint32_t i = 0; i < n * points; i++) {
         multi[i] = masks[i / 4] >> (i % 4) & 1u;
@@ -311,7 +313,7 @@ static rtt_image *render(rtt_engine *engine, rtt_shadow_method method, uint32_t 
     opt.shadows = method;
     opt.shadow_samples = samples;
     opt.threads = threads;
-    opt.engine.traversal = RTT_TRAVERSAL_MFT;
+    snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "mft");
     if (!rtt_optimized_render(engine, &opt, image, NULL, &err)) fail_msg("render: %s", err.message);
     return image;
 }
@@ -352,7 +354,7 @@ static void test_edgewidth_render_matches_the_reference_renderer(void **state)
         opt.edge_radius = 0.08f;
         opt.edge_leak_fix = fix;
         opt.threads = 2;
-        opt.engine.traversal = RTT_TRAVERSAL_MFT;
+        snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "mft");
         rtt_image *a = rtt_image_create(64, 64, 0, &err), *b = rtt_image_create(64, 64, 0, &err);
         if (!rtt_optimized_render(engine, &opt, a, NULL, &err)) fail_msg("optimized: %s", err.message);
         if (!rtt_reference_render(scene, ref_engine, &opt, b, NULL, &err)) fail_msg("reference: %s", err.message);

@@ -304,7 +304,7 @@ static void test_cone_and_pyramid_shadows_are_refused(void **state)
     opt.shadow_samples = 16;
     assert_false(rtt_reference_render(scene, engine, &opt, image, NULL, &err));
     assert_string_equal(err.message,
-                        "--shadows cone:16 is not available in the reference renderer (use --engine optimized)");
+                        "shadow method cone:16 is not drawn by the reference renderer (the optimized one draws it)");
     opt.shadows = RTT_SHADOWS_PYRAMID;
     assert_false(rtt_reference_render(scene, engine, &opt, image, NULL, &err));
     assert_non_null(strstr(err.message, "pyramid:16"));

@@ -1,10 +1,12 @@
-/* The engine interface: the seam every check uses (DESIGN.md).
+/* The engine interface: the seam every check uses.
  *
- * An engine traces arbitrary streams of rays against one scene.  Three exist:
- * "reference" (reference/), "optimized" (optimized/) and "embree"
- * (conformance/, only when built with RTT_EMBREE).  The registry that maps a
- * name to its constructor lives in conformance/engine_registry.c because only
- * that layer may see all three.  */
+ * An engine traces arbitrary streams of rays against one scene and renders
+ * it.  Engines register themselves by name (rtt_engine_register); the
+ * built-in ones are "reference" (reference/), "optimized" (optimized/) and,
+ * in builds with Embree, "embree" (conformance/, the only layer that links
+ * Embree).  rtt_builtin_engines_register() (include/rtt/rtt.h) registers the
+ * first two.  The interface, the registry and the options check live in
+ * engine/, a library below every engine. */
 #ifndef RTT_ENGINE_H
 #define RTT_ENGINE_H
 
@@ -32,24 +34,48 @@ typedef struct rtt_hit {
 } rtt_hit;
 _Static_assert(sizeof(rtt_hit) == 16, "rtt_hit is a 16-byte file record");
 
-/* Traversal kernels of the optimized engine (Thesis chapters 2 and 4). */
-typedef enum rtt_traversal {
-    RTT_TRAVERSAL_MONO = 0,    /* Listing 2.2, one ray, explicit stack */
-    RTT_TRAVERSAL_PACKET,      /* Listing 2.4, 2x2 packets, equal signs */
-    RTT_TRAVERSAL_OMNI,        /* Listing 4.1, omni-directional 2x2 */
-    RTT_TRAVERSAL_FRUSTUM,     /* Listing 4.2 + 4.1.4 culling */
-    RTT_TRAVERSAL_MFT,         /* 4.1.5 multiple frustum traversal */
-    RTT_TRAVERSAL_CONE,        /* Listings 4.3 - 4.5 */
-    RTT_TRAVERSAL_MFT_CONE,    /* four cones per tile */
-    RTT_TRAVERSAL_COUNT
-} rtt_traversal;
+/* Acceleration structures.  Each has its own kernel descriptor table in the
+ * engine that implements it; kernels are named there and nowhere else. */
+typedef enum rtt_accel {
+    RTT_ACCEL_DEFAULT = 0,   /* the engine's own choice */
+    RTT_ACCEL_KD,            /* SAH kd-tree with perfect splits (the thesis) */
+    RTT_ACCEL_COUNT
+} rtt_accel;
+
+/* Instruction sets the kernels are compiled for.  AUTO takes $RTT_ISA when
+ * it is set (auto, sse4, avx2, avx512), else the widest the CPU has. */
+typedef enum rtt_isa {
+    RTT_ISA_AUTO = 0,
+    RTT_ISA_SSE4,            /* SSE4.1: every x86-64 rtt runs on */
+    RTT_ISA_AVX2,            /* AVX2 + FMA */
+    RTT_ISA_AVX512,          /* AVX-512 F, BW, DQ, VL */
+    RTT_ISA_COUNT
+} rtt_isa;
+
+/* Bits of rtt_engine_options.given and of an engine's `uses`: which options
+ * a caller set on purpose, and which an engine reads.  An option given to an
+ * engine that does not read it is an error (rtt_engine_options_check), so a
+ * setting is never silently ignored. */
+enum {
+    RTT_OPTION_ACCEL = 1u << 0,
+    RTT_OPTION_TRAVERSAL = 1u << 1,
+    RTT_OPTION_TILE = 1u << 2,
+    RTT_OPTION_LEAF_CULLING = 1u << 3,
+    RTT_OPTION_MAX_DEPTH = 1u << 4,
+    RTT_OPTION_ISA = 1u << 5,
+};
+
+#define RTT_TRAVERSAL_NAME_MAX 32u
 
 typedef struct rtt_engine_options {
-    rtt_traversal traversal;   /* optimized engine only */
-    uint32_t tile;             /* frustum tile side: 4, 8, 16, 32 (default 8) */
+    rtt_accel accel;
+    char traversal[RTT_TRAVERSAL_NAME_MAX]; /* a kernel of the accel's table; "" → the engine's default */
+    uint32_t tile;             /* block tile side: 4, 8, 16, 32 (0 → 8) */
     int leaf_culling;          /* packet/leaf culling on (1, default) or off (0) */
-    uint32_t max_tree_depth;   /* 0 → rtt_kd_default_max_depth */
-    uint32_t threads;          /* 0 → one per core */
+    uint32_t max_tree_depth;   /* 1..64; 0 → rtt_kd_default_max_depth */
+    rtt_isa isa;
+    uint32_t threads;          /* build threads; 0 → one per core */
+    uint32_t given;            /* RTT_OPTION_* bits the caller set on purpose */
 } rtt_engine_options;
 
 typedef struct rtt_engine rtt_engine;
@@ -62,6 +88,7 @@ typedef struct rtt_engine rtt_engine;
  * indifferent (bench/results/tree-depth.md).  N counts the
  * triangles the builder keeps. */
 uint32_t rtt_kd_default_max_depth(uint32_t triangles);
+#define RTT_KD_DEPTH_LIMIT 64u
 
 /* What `rtt info` reports of an engine's acceleration structure. */
 typedef struct rtt_tree_info {
@@ -75,14 +102,25 @@ typedef struct rtt_tree_info {
     uint64_t memory_bytes;
 } rtt_tree_info;
 
-/* What an engine implements.  Engines embed `rtt_engine` as their first member. */
+struct rtt_render_options;
+struct rtt_render_stats;
+struct rtt_image;
+
+/* What an engine instance implements.  Engines embed `rtt_engine` as their
+ * first member. */
 typedef struct rtt_engine_vtable {
     const char *name;
     void (*intersect)(rtt_engine *, const rtt_ray *rays, rtt_hit *hits, size_t n);
     void (*occluded)(rtt_engine *, const rtt_ray *rays, uint8_t *occluded, size_t n);
+    /* the whole image; options already checked by rtt_render */
+    bool (*render)(rtt_engine *, const struct rtt_render_options *, struct rtt_image *,
+                   struct rtt_render_stats *, rtt_error *);
     void (*destroy)(rtt_engine *);
-    /* optional (NULL when the engine has no kd-tree, e.g. Embree) */
+    /* optional (NULL when the engine has no tree of its own to describe, e.g. Embree) */
     bool (*tree_info)(rtt_engine *, rtt_tree_info *);
+    /* the kernel and instruction set the engine traces with, for reports
+     * (NULL: the engine has none to name) */
+    const char *(*kernel_name)(rtt_engine *);
 } rtt_engine_vtable;
 
 struct rtt_engine {
@@ -90,19 +128,63 @@ struct rtt_engine {
     const rtt_scene *scene;
 };
 
-/* name: "reference", "optimized" or "embree".  opt may be NULL (defaults). */
+/* An engine as the registry knows it, before any scene: its constructor,
+ * the options it reads and the shadow methods its renderer draws. */
+typedef struct rtt_engine_class {
+    const char *name;
+    const char *summary;                 /* one line for --help */
+    uint32_t uses;                       /* RTT_OPTION_* bits it reads */
+    uint32_t shadow_methods;             /* bit (1 << rtt_shadow_method) per method it renders */
+    rtt_engine *(*create)(const rtt_scene *, const rtt_engine_options *, rtt_error *);
+    /* optional: engine-specific checks (kernel names, accel) beyond the
+     * generic ones; called by rtt_engine_options_check */
+    bool (*check)(const rtt_engine_options *, rtt_error *);
+    /* optional: the i-th kernel name of the accel's table (i from 0), NULL
+     * past the last; `rtt render --help` and the bench list them */
+    const char *(*kernel)(rtt_accel accel, uint32_t i);
+} rtt_engine_class;
+
+/* Adds a class to the registry (at most 16; a second class of the same name
+ * replaces the first).  Thread-safe; classes must outlive the process. */
+bool rtt_engine_register(const rtt_engine_class *cls, rtt_error *err);
+/* NULL when no engine of that name is registered. */
+const rtt_engine_class *rtt_engine_find(const char *name);
+/* The i-th registered class, NULL past the last. */
+const rtt_engine_class *rtt_engine_class_at(uint32_t i);
+
+/* Checks `opt` for engine `name`: known accel, a traversal of its table,
+ * tile 0/4/8/16/32, depth 0..64, a known instruction set the CPU has, and no
+ * option in `opt->given` that the engine does not read.  One line in err. */
+bool rtt_engine_options_check(const char *name, const rtt_engine_options *opt, rtt_error *err);
+/* The same for a class in hand (engine constructors called directly use it). */
+bool rtt_engine_class_check(const rtt_engine_class *cls, const rtt_engine_options *opt, rtt_error *err);
+
+/* name: a registered engine.  opt may be NULL (defaults).  Checks the
+ * options (rtt_engine_options_check) before building anything. */
 rtt_engine *rtt_engine_create(const char *name, const rtt_scene *scene, const rtt_engine_options *opt,
                               rtt_error *err);
 void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n);
 void rtt_engine_occluded(rtt_engine *engine, const rtt_ray *rays, uint8_t *occluded, size_t n);
 void rtt_engine_destroy(rtt_engine *engine);
-/* False when the engine has no kd-tree to describe. */
+/* False when the engine has no tree to describe. */
 bool rtt_engine_tree_info(rtt_engine *engine, rtt_tree_info *info);
+/* "mft/avx512" style: the kernel and instruction set in use; "" when none. */
+const char *rtt_engine_kernel_name(rtt_engine *engine);
 
-/* Fills defaults: mono traversal, tile 8, leaf culling on. */
+/* Fills defaults: the engine's default accel and traversal, tile 8, leaf
+ * culling on, ISA auto, nothing given. */
 void rtt_engine_options_default(rtt_engine_options *opt);
-const char *rtt_traversal_name(rtt_traversal t);
-/* Returns -1 for an unknown name. */
-int rtt_traversal_parse(const char *name);
+
+/* Instruction sets by name ("auto", "sse4", "avx2", "avx512"). */
+const char *rtt_isa_name(rtt_isa isa);
+bool rtt_isa_parse(const char *name, rtt_isa *out);
+/* Whether this CPU (and OS) can run code of that instruction set. */
+bool rtt_isa_supported(rtt_isa isa);
+/* The instruction set AUTO stands for here: $RTT_ISA when set and valid,
+ * else the widest supported.  A concrete request is returned as is. */
+rtt_isa rtt_isa_resolve(rtt_isa requested);
+/* Accels by name ("kd"). */
+const char *rtt_accel_name(rtt_accel accel);
+bool rtt_accel_parse(const char *name, rtt_accel *out);
 
 #endif

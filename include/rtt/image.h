@@ -40,13 +40,5 @@ typedef struct rtt_image_metrics {
  * [0,1] like the PNG a user sees. */
 bool rtt_image_compare(const rtt_image *a, const rtt_image *b, rtt_image_metrics *out, rtt_error *err);
 
-/* Tile scheduler: every renderer hands tiles to threads through it.  The
- * callback renders one tile; tiles are independent, so the image is the same
- * for any thread count.  threads 0 → one per core. */
-typedef void (*rtt_tile_fn)(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1);
-typedef void (*rtt_progress_fn)(void *context, uint32_t done, uint32_t total);
-void rtt_tiles_run(uint32_t width, uint32_t height, uint32_t tile, uint32_t threads, rtt_tile_fn fn,
-                   void *context, rtt_progress_fn progress, void *progress_context);
-uint32_t rtt_cpu_count(void);
 
 #endif

@@ -16,6 +16,9 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
 bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
                           rtt_render_stats *stats, rtt_error *err);
 
+/* The optimized engine for the registry (rtt_engine_register). */
+extern const rtt_engine_class rtt_optimized_engine_class;
+
 /* Builds the tree and writes the versioned .kdt ("RTTest offline"). */
 bool rtt_optimized_bake(const rtt_scene *scene, const rtt_engine_options *opt, const char *path, rtt_error *err);
 

@@ -18,6 +18,8 @@ typedef enum rtt_shadow_method {
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
+#define RTT_SHADOWS_ALL 0x3Fu                 /* every rtt_shadow_method bit */
+#define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {
     RTT_AOV_DEPTH = 1 << 0,
@@ -32,7 +34,7 @@ typedef struct rtt_render_options {
     uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256 (default 16) */
     float edge_radius;               /* edgewidth: R, early-exit width (0 → default) */
     bool edge_leak_fix;              /* edgewidth: entry/exit must share a vertex */
-    uint32_t max_bounces;            /* 0 → the scene's */
+    uint32_t max_bounces;            /* 0..RTT_MAX_BOUNCES; RTT_BOUNCES_OF_SCENE → the scene's (default) */
     uint32_t aovs;                   /* rtt_aov bits */
     bool stats;                      /* gather counters (never changes results) */
     rtt_engine_options engine;       /* traversal, tile, leaf culling */
@@ -57,6 +59,20 @@ typedef struct rtt_render_stats {
 
 void rtt_render_options_default(rtt_render_options *opt);
 struct rtt_image;
+
+/* The one render entry: checks the options for the engine
+ * (rtt_render_options_check) and the image (rtt_render_check), then renders
+ * through the engine's own renderer.  stats may be NULL. */
+bool rtt_render(rtt_engine *engine, const rtt_render_options *opt, struct rtt_image *out, rtt_render_stats *stats,
+                rtt_error *err);
+
+/* The render options engine `name` can honour: its engine options
+ * (rtt_engine_options_check), a shadow method its renderer draws, a sample
+ * count and radius in range, bounces 0..RTT_MAX_BOUNCES or the scene's. */
+bool rtt_render_options_check(const char *name, const rtt_render_options *opt, rtt_error *err);
+/* The bounce limit a render uses: the options' unless they leave it to the scene. */
+uint32_t rtt_render_bounces(const rtt_render_options *opt, const rtt_scene *scene);
+const char *rtt_shadow_method_name(rtt_shadow_method method);
 /* The checks every renderer makes before it starts: a known shadow method
  * with a sample count in 1..RTT_MAX_SHADOW_SAMPLES (multi, cone, pyramid)
  * or a valid edge-width radius, a non-empty width x height that `out` has,

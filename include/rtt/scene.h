@@ -22,9 +22,10 @@
 #define RTT_DEFAULT_BEZIER_LEVEL 4u     /* Quake III patch subdivisions per side */
 #define RTT_DEFAULT_AMBIENT 0.05f
 
-/* The deepest reflection/refraction recursion a scene may ask for (0: no
- * secondary rays).  Scene files and baked trees are held to it: the
- * renderers recurse (or keep one shading level per bounce) that deep. */
+/* The deepest reflection/refraction recursion scene files and renders allow
+ * (0: no secondary rays).  Scene files, baked trees and render options are
+ * held to it: the renderers recurse (or keep one shading level per bounce)
+ * that deep. */
 #define RTT_MAX_BOUNCES 64u
 
 /* The thesis' five fixed-function shader types (Listing 4.7). */

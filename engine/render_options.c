@@ -1,71 +1,17 @@
-/* The engine-independent half of the engine interface: dispatch through the
- * vtable, option defaults and names.  Engine construction by name lives in
- * conformance/engine_registry.c, the only layer that sees every engine. */
-#include <math.h>
-#include <stdio.h>
+/* Render options: defaults, the shadow-method syntax, and the checks every
+ * renderer relies on; rtt_render, the one render entry. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/render.h"
-
-static const char *const traversal_names[RTT_TRAVERSAL_COUNT] = {
-    "mono", "packet", "omni", "frustum", "mft", "cone", "mft-cone",
-};
-
-void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n)
-{
-    engine->vt->intersect(engine, rays, hits, n);
-}
-
-void rtt_engine_occluded(rtt_engine *engine, const rtt_ray *rays, uint8_t *occluded, size_t n)
-{
-    engine->vt->occluded(engine, rays, occluded, n);
-}
-
-void rtt_engine_destroy(rtt_engine *engine)
-{
-    if (engine) engine->vt->destroy(engine);
-}
-
-bool rtt_engine_tree_info(rtt_engine *engine, rtt_tree_info *info)
-{
-    memset(info, 0, sizeof *info);
-    return engine->vt->tree_info ? engine->vt->tree_info(engine, info) : false;
-}
-
-uint32_t rtt_kd_default_max_depth(uint32_t triangles)
-{
-    double depth = round(2.0 + log2(triangles > 1 ? (double)triangles : 1.0));
-    return depth < 8.0 ? 8u : depth > 64.0 ? 64u : (uint32_t)depth;
-}
-
-void rtt_engine_options_default(rtt_engine_options *opt)
-{
-    memset(opt, 0, sizeof *opt);
-    opt->traversal = RTT_TRAVERSAL_MONO;
-    opt->tile = 8;
-    opt->leaf_culling = 1;
-}
-
-const char *rtt_traversal_name(rtt_traversal t)
-{
-    return (unsigned)t < RTT_TRAVERSAL_COUNT ? traversal_names[t] : "unknown";
-}
-
-int rtt_traversal_parse(const char *name)
-{
-    for (int i = 0; i < RTT_TRAVERSAL_COUNT; i++)
-        if (strcmp(name, traversal_names[i]) == 0) return i;
-    return -1;
-}
 
 void rtt_render_options_default(rtt_render_options *opt)
 {
     memset(opt, 0, sizeof *opt);
     opt->shadows = RTT_SHADOWS_HARD;
     opt->shadow_samples = 16;
+    opt->max_bounces = RTT_BOUNCES_OF_SCENE;
     rtt_engine_options_default(&opt->engine);
 }
 
@@ -75,7 +21,7 @@ static bool parse_sample_count(const char *text, const char *count, rtt_render_o
     char *end = NULL;
     long n = strtol(count, &end, 10);
     if (*count == '\0' || *end != '\0' || n < 1 || n > (long)RTT_MAX_SHADOW_SAMPLES)
-        return rtt_error_set(err, "--shadows %s: the sample count must be a whole number from 1 to %u", text,
+        return rtt_error_set(err, "shadow method \"%s\": the sample count must be a whole number from 1 to %u", text,
                              RTT_MAX_SHADOW_SAMPLES);
     opt->shadow_samples = (uint32_t)n;
     return true;
@@ -100,18 +46,25 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         char *end = NULL;
         float r = strtof(text + 10, &end);
         if (text[10] == '\0' || *end != '\0' || !(r > 0.0f) || r > 1e30f)
-            return rtt_error_set(err, "--shadows %s: the radius R must be a positive number", text);
+            return rtt_error_set(err, "shadow method \"%s\": the radius R must be a positive number", text);
         opt->shadows = RTT_SHADOWS_EDGEWIDTH;
         opt->edge_radius = r;
         return true;
     }
-    return rtt_error_set(err, "--shadows %s: expected none, hard, multi:N, cone:N, pyramid:N or edgewidth[:R]",
+    return rtt_error_set(err, "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N or edgewidth[:R]",
                          text);
+}
+
+static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth"};
+
+const char *rtt_shadow_method_name(rtt_shadow_method method)
+{
+    return (unsigned)method <= RTT_SHADOWS_EDGEWIDTH ? method_names[method] : "unknown";
 }
 
 static const char *sampled_method_name(rtt_shadow_method m)
 {
-    return m == RTT_SHADOWS_MULTI ? "multi" : m == RTT_SHADOWS_CONE ? "cone" : m == RTT_SHADOWS_PYRAMID ? "pyramid" : NULL;
+    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID ? method_names[m] : NULL;
 }
 
 bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out, uint32_t width,
@@ -121,10 +74,10 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
     if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
         return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
     if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
-        return rtt_error_set(err, "--shadows %s:%u: the sample count must be a whole number from 1 to %u", sampled,
+        return rtt_error_set(err, "shadow method %s:%u: the sample count must be a whole number from 1 to %u", sampled,
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
-        return rtt_error_set(err, "--shadows edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
+        return rtt_error_set(err, "shadow method edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (width == 0 || height == 0)
         return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
     if (out->width != width || out->height != height)
@@ -137,4 +90,41 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
     if (scene->triangle_count > 0 && (!scene->materials || !scene->triangle_material))
         return rtt_error_set(err, "%s: the scene has no materials (rtt_scene_finish was not called)", scene->path);
     return true;
+}
+
+uint32_t rtt_render_bounces(const rtt_render_options *opt, const rtt_scene *scene)
+{
+    return opt->max_bounces == RTT_BOUNCES_OF_SCENE ? scene->max_bounces : opt->max_bounces;
+}
+
+bool rtt_render_options_check(const char *name, const rtt_render_options *opt, rtt_error *err)
+{
+    if (!rtt_engine_options_check(name, &opt->engine, err)) return false;
+    const rtt_engine_class *cls = rtt_engine_find(name);
+    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
+        return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
+    if (!(cls->shadow_methods & (1u << opt->shadows)))
+        return rtt_error_set(err, "engine \"%s\" does not render %s shadows", name,
+                             rtt_shadow_method_name(opt->shadows));
+    if (opt->max_bounces != RTT_BOUNCES_OF_SCENE && opt->max_bounces > RTT_MAX_BOUNCES)
+        return rtt_error_set(err, "max bounces %u: at most %u", opt->max_bounces, RTT_MAX_BOUNCES);
+    return true;
+}
+
+bool rtt_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out, rtt_render_stats *stats,
+                rtt_error *err)
+{
+    rtt_render_options defaults;
+    if (!opt) {
+        rtt_render_options_default(&defaults);
+        opt = &defaults;
+    }
+    if (!engine || !out) return rtt_error_set(err, "render: no engine or no image given");
+    if (!engine->vt->render) return rtt_error_set(err, "engine \"%s\" cannot render", engine->vt->name);
+    if (!rtt_render_options_check(engine->vt->name, opt, err)) return false;
+    const rtt_scene *scene = engine->scene;
+    uint32_t width = opt->width ? opt->width : scene->width, height = opt->height ? opt->height : scene->height;
+    if (!rtt_render_check(scene, opt, out, width, height, err)) return false;
+    if (stats) memset(stats, 0, sizeof *stats);
+    return engine->vt->render(engine, opt, out, stats, err);
 }

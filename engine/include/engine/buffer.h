@@ -1,0 +1,24 @@
+/* A growable array: the one place scratch memory grows.  Capacity doubles
+ * (at least `count` elements), so pushes are amortised O(1); contents are
+ * kept on growth.  Growth past SIZE_MAX / element bytes fails cleanly. */
+#ifndef RTT_ENGINE_BUFFER_H
+#define RTT_ENGINE_BUFFER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef struct rtt_buffer {
+    void *data;
+    size_t capacity;      /* elements */
+} rtt_buffer;
+
+/* Room for `count` elements of `element` bytes, aligned to `align` (a power
+ * of two, at most 64; 0 → malloc's).  False (buffer unchanged) when out of
+ * memory. */
+bool rtt_buffer_reserve(rtt_buffer *b, size_t count, size_t element, size_t align);
+void rtt_buffer_free(rtt_buffer *b);
+
+/* Typed use: RTT_BUFFER_RESERVE(&s->rays, n, rtt_ray) */
+#define RTT_BUFFER_RESERVE(b, count, type) rtt_buffer_reserve((b), (count), sizeof(type), _Alignof(type))
+
+#endif
