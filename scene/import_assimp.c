@@ -1,7 +1,7 @@
 /* Mesh files through Assimp's C API: OBJ/MTL, PLY, OFF, 3DS, glTF, STL and
  * whatever else Assimp reads.
  *
- * Global triangle order (DESIGN.md).  No post-processing step is requested:
+ * Global triangle order (docs/ARCHITECTURE.md).  No post-processing step is requested:
  * aiProcess_Triangulate cuts quads at a concave corner and larger polygons by
  * ear clipping, FindDegenerates and SortByPType drop or regroup faces, and
  * PreTransformVertices merges meshes by material, so each would break the
@@ -47,7 +47,7 @@
  * weights are scaled down to sum to at most 1.  Formats without materials
  * (OFF, PLY, STL: Assimp invents one, white and for PLY even specular) and
  * Assimp's placeholder for files that name none ("DefaultMaterial", e.g. an
- * OBJ without MTL) get rtt's grey diffuse default (DESIGN.md: no material
+ * OBJ without MTL) get rtt's grey diffuse default (docs/ARCHITECTURE.md: no material
  * -> grey diffuse).
  *
  * Errors are one line, "path: what is wrong": Assimp's message reduced to

@@ -1,5 +1,5 @@
 /* The scene model: assembling a scene from what the loaders find, filling in
- * the defaults of DESIGN.md ("model only what a scene requires"), and
+ * the defaults of docs/ARCHITECTURE.md ("model only what a scene requires"), and
  * loading any supported file with the reader its kind names
  * (rtt_file_kind_of, file_kind.c).
  *

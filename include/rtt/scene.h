@@ -1,6 +1,6 @@
 /* The scene model shared by every engine ("model only what a scene requires").
  *
- * A scene is geometry in the global triangle order of DESIGN.md (meshes in
+ * A scene is geometry in the global triangle order of docs/ARCHITECTURE.md (meshes in
  * file order, faces in file order, polygons fan-triangulated in order) plus
  * whatever else the scene file names; everything else takes the defaults
  * below.  Engines read the struct directly and never modify it.  */
