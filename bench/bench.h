@@ -1,5 +1,5 @@
 /* rtt bench: the thesis' tables on one scene, raced against Embree on the
- * same rays in the same process (issue 7; Thesis Tables 3.1, 4.1 - 4.6, 5.1,
+ * same rays in the same process (Thesis Tables 3.1, 4.1 - 4.6, 5.1,
  * 6.2).  Library code: it never prints; reports come back as text (table,
  * Markdown, JSON, TSV) for cli/ to print or write.
  *

@@ -1,5 +1,5 @@
 /* Our traversal kernels alone on ready tile blocks (the primary-visibility
- * race of issue 3): per tile, clear the hit records and call the kernel of
+ * race against Embree): per tile, clear the hit records and call the kernel of
  * the traversal once on the tile's block, exactly as render_optimized.c
  * calls it for primary rays, but without ray generation and shading.  Tiles
  * go to threads through rtt_tiles_run, as in the renderer and as the Embree

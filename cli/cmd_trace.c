@@ -1,5 +1,5 @@
 /* rtt trace: rays.bin through an engine to hits.bin (the outside-tool seam
- * of DESIGN.md: any program can check any engine's hits). */
+ * of docs/ARCHITECTURE.md: any program can check any engine's hits). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

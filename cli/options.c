@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "cli.h"
 #include "options.h"
@@ -379,12 +378,6 @@ int cli_check_engine_options(const cli_parsed *p, const char *engine, const rtt_
     return cli_refuse(p, NULL, "%s", err.message);
 }
 
-bool cli_is_baked_scene(const char *path)
-{
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    return dot && (!slash || dot > slash) && strcasecmp(dot, ".kdt") == 0;
-}
-
 /* The optimized engine is the one that adopts a .kdt's tree as is (the
  * reference builds its own from the file's triangles). */
 static bool adopts_baked_tree(const char *engine)
@@ -394,7 +387,11 @@ static bool adopts_baked_tree(const char *engine)
 
 int cli_check_scene_options(const cli_parsed *p, const char *scene_path, const char *engine)
 {
-    if (!cli_is_baked_scene(scene_path)) return CLI_CONTINUE;
+    const rtt_file_kind kind = rtt_file_kind_of(scene_path);
+    if (kind == RTT_FILE_MESH && cli_given(p, "--bezier-level"))
+        return cli_refuse(p, "--bezier-level", "%s is a mesh file: it has no Quake III patches to tessellate",
+                          scene_path);
+    if (kind != RTT_FILE_KDT) return CLI_CONTINUE;
     if (cli_given(p, "--bezier-level"))
         return cli_refuse(p, "--bezier-level", "%s holds triangles, its patches tessellated when it was baked; "
                           "rebake the source scene with rtt bake --bezier-level", scene_path);

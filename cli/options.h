@@ -169,13 +169,11 @@ extern const char *const cli_on_off[];
     {.name = "--bezier-level", .value_name = "N", .help = "Quake III patch tessellation, 1 to 64 (default 4)",  \
      .kind = CLI_U32, CLI_FIELD(type, member), .lo = 1, .hi = 64}
 
-/* Whether `path` names a baked .kdt scene (by its extension, as the scene
- * loader picks its reader). */
-bool cli_is_baked_scene(const char *path);
-/* Refuses the options the kind of scene file at `scene_path` makes
- * meaningless: --bezier-level for a .kdt (its patches are tessellated in the
- * file), and --max-depth when `engine` (NULL: none) adopts the .kdt's tree as
- * is. */
+/* Refuses the options the kind of scene file at `scene_path`
+ * (rtt_file_kind_of, as the loader picks its reader) makes meaningless:
+ * --bezier-level for a .kdt (its patches were tessellated when it was
+ * baked) and for a mesh file (it has none), and --max-depth when `engine`
+ * (NULL: none) adopts the .kdt's tree as is. */
 int cli_check_scene_options(const cli_parsed *parsed, const char *scene_path, const char *engine);
 
 #endif

@@ -1,4 +1,4 @@
-/* The hit-by-hit conformance suite (DESIGN.md "Conformance"): ray sets,
+/* The hit-by-hit conformance suite (docs/ARCHITECTURE.md "Conformance"): ray sets,
  * the comparison of one engine's hits against an oracle's, the tolerance on
  * t, and the report (a text table and JSON).  conformance/README.md states
  * every rule and threshold used here.  Library code: it never prints; the

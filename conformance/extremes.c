@@ -1,4 +1,4 @@
-/* The numerical-extremes suite (DESIGN.md "Conformance", Extremes): scenes
+/* The numerical-extremes suite (docs/ARCHITECTURE.md "Conformance", Extremes): scenes
  * built in code, run through the reference and every engine named, each
  * result one check on one engine.  The reference is compared with brute
  * force over every triangle; every other engine with the reference.

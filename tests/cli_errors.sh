@@ -142,6 +142,8 @@ expect 2 "--max-depth 10: engine \"optimized\" adopts" -- bench "$work/baked.kdt
 expect 2 "--max-depth 10: engine \"optimized\" adopts" -- \
     trace "$work/baked.kdt" --rays "$work/rays.bin" -o "$work/h.bin" --max-depth 10
 expect 2 "--bezier-level 2: .*baked\.kdt holds triangles" -- bake "$work/baked.kdt" -o "$work/b2.kdt" --bezier-level 2
+expect 2 "--bezier-level 2: .*cube\.obj is a mesh file: it has no Quake III patches" -- \
+    triangles "$src/scenes/meshes/cube.obj" -o "$work/t.bin" --bezier-level 2
 
 # what works: --opt=value is --opt value; --isa=sse4; --max-bounces 0; the
 # reference builds its own tree from a .kdt, so --max-depth applies there
