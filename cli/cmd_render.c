@@ -62,7 +62,7 @@ static const cli_option render_options[] = {
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--edge-leak-fix", .help = "with --shadows edgewidth: entry and exit polygons must share a vertex",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.edge_leak_fix)},
-    {.name = "--threads", .value_name = "N", .help = "render threads, 1 to 1024 (default: one per core)",
+    {.name = "--threads", .value_name = "N", .help = "threads for the tree build and the render, 1 to 1024 (default: one per core)",
      .kind = CLI_U32, CLI_FIELD(render_args, render.threads), .lo = 1, .hi = 1024},
     {.name = "--width", .value_name = "W", .help = "image width, 1 to 16384 (default: the scene's)",
      .kind = CLI_U32, CLI_FIELD(render_args, render.width), .lo = 1, .hi = 16384},
@@ -187,6 +187,7 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
 static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
                                char *engine_used, size_t engine_used_size, rtt_error *err)
 {
+    args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
     if (!engine) return false;
     bool ok = rtt_render(engine, &args->render, image, stats, err);
