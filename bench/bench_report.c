@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bench.h"
+#include "bench_internal.h"
 
 /* ---- a growing string ---- */
 
@@ -455,22 +456,13 @@ char *rtt_bench_report_markdown(const rtt_bench_report *rep)
 
 /* ---- TSV for plots and the cross-scene summary ---- */
 
-static void base_name(const char *path, char out[64])
-{
-    const char *slash = strrchr(path, '/');
-    const char *start = slash ? slash + 1 : path;
-    size_t n = strcspn(start, ".");
-    if (n > 63) n = 63;
-    memcpy(out, start, n);
-    out[n] = '\0';
-}
 
 char *rtt_bench_report_tsv(const rtt_bench_report *rep)
 {
     text t = {0};
     char scene[64];
     if (rep->view[0]) snprintf(scene, sizeof scene, "%s", rep->view);
-    else base_name(rep->scene, scene);
+    else bench_base_name(rep->scene, scene);
     for (size_t i = 0; i < rep->row_count; i++) {
         const rtt_bench_row *r = &rep->rows[i];
         if (r->error[0]) continue;
