@@ -1,5 +1,5 @@
 /* rtt bench: the thesis' tables on one scene, raced against Embree on the
- * same rays in the same process (issue 7; Thesis Tables 3.1, 4.1 - 4.6, 5.1,
+ * same rays in the same process (Thesis Tables 3.1, 4.1 - 4.6, 5.1,
  * 6.2).  Library code: it never prints; reports come back as text (table,
  * Markdown, JSON, TSV) for cli/ to print or write.
  *
@@ -53,6 +53,8 @@ typedef struct rtt_bench_config {
     bool embree;                            /* race the peer (default when built with it) */
     bool quick;                             /* one frame, no warm-up, one tile per family */
     uint32_t max_tree_depth;                /* the kd-tree's depth bound, 0 → the builder's default */
+    rtt_isa isa;                            /* the kernels' instruction set; RTT_ISA_AUTO (default):
+                                               $RTT_ISA when set, else the widest the CPU has */
     const char *image_dir;                  /* write each render row's image here (EXR), or NULL */
     /* Called before each row from the running thread (the CLI prints it). */
     void (*progress)(void *context, const char *row);

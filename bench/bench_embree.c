@@ -96,14 +96,14 @@ bench_embree *bench_embree_create(const rtt_scene *scene, bool native, bool robu
     }
     rtcSetDeviceErrorFunction(peer->device, record_error, peer);
     rtcSetDeviceMemoryMonitorFunction(peer->device, monitor_memory, peer);
-    double start = bench_now();
+    double start = rtt_clock_seconds();
     peer->scene = rtcNewScene(peer->device);
     if (peer->scene) {
         rtcSetSceneFlags(peer->scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
         rtcSetSceneBuildQuality(peer->scene, RTC_BUILD_QUALITY_HIGH);
         if (scene->triangle_count == 0 || attach_triangles(peer, scene)) rtcCommitScene(peer->scene);
     }
-    double seconds = bench_now() - start;
+    double seconds = rtt_clock_seconds() - start;
     if (!peer->scene || peer->first_error[0]) {
         rtt_error_set(err, "%s: %s", scene->path, peer->first_error[0] ? peer->first_error : "embree: no scene");
         bench_embree_destroy(peer);

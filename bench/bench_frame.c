@@ -9,13 +9,6 @@
 #include "bench_internal.h"
 #include "rtt/shade.h"
 
-double bench_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int compare_doubles(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -30,9 +23,9 @@ void bench_time_frames(bench_frame_fn fn, void *context, uint32_t warmup, uint32
     if (frames > MAX_FRAMES) frames = MAX_FRAMES;
     for (uint32_t f = 0; f < warmup; f++) fn(context);
     for (uint32_t f = 0; f < frames; f++) {
-        double start = bench_now();
+        double start = rtt_clock_seconds();
         fn(context);
-        times[f] = bench_now() - start;
+        times[f] = rtt_clock_seconds() - start;
     }
     qsort(times, frames, sizeof times[0], compare_doubles);
     row->frames = frames;

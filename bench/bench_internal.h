@@ -7,11 +7,11 @@
 #include <stdint.h>
 
 #include "bench.h"
+#include "engine/clock.h"
 #include "kd_tree.h"
 #include "packet.h"
 
 /* Monotonic seconds. */
-double bench_now(void);
 
 /* Runs fn `warmup` times untimed, then `frames` times timed, and fills
  * row->frames, seconds (median), seconds_min and fps. */
@@ -57,6 +57,7 @@ typedef struct bench_trace_spec {
     bool occlusion;
     uint32_t threads, warmup, frames;
     bool count;             /* one extra frame with kd_counters for N and I */
+    rtt_isa isa;            /* our kernels' instruction set (rtt_bench_config.isa) */
 } bench_trace_spec;
 
 /* Times one of our kernels on the blocks.  result (may be NULL) receives one
@@ -84,6 +85,9 @@ bool bench_embree_row(bench_embree *peer, const bench_rays *rays, uint32_t lanes
 void bench_embree_destroy(bench_embree *peer);
 
 /* Appends a row (zeroed, then copied); false when out of memory. */
+/* The file name of `path` without directories and extensions, at most 63 bytes. */
+void bench_base_name(const char *path, char out[64]);
+
 bool bench_report_push(rtt_bench_report *report, const rtt_bench_row *row);
 
 #endif

@@ -1,5 +1,5 @@
 /* Our traversal kernels alone on ready tile blocks (the primary-visibility
- * race of issue 3): per tile, clear the hit records and call the kernel of
+ * race against Embree): per tile, clear the hit records and call the kernel of
  * the traversal once on the tile's block, exactly as render_optimized.c
  * calls it for primary rays, but without ray generation and shading.  Tiles
  * go to threads through rtt_tiles_run, as in the renderer and as the Embree
@@ -85,7 +85,7 @@ bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t 
     kernel_job job = {
         .tree = tree,
         .blocks = blocks,
-        .kernel = kd_kernel_find(kernel_name, rtt_isa_resolve(RTT_ISA_AUTO)),
+        .kernel = kd_kernel_find(kernel_name, rtt_isa_resolve(spec->isa)),
         .occlusion = spec->occlusion,
         .leaf_culling = leaf_culling,
         .threads = spec->threads,

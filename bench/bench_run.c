@@ -152,7 +152,8 @@ static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_ray
                 row.leaf_culling = methods[m].leaf_culling;
                 row.rays = rays->active;
                 progress(s, &row);
-                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0};
+                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0,
+                                         s->config->isa};
                 bool check = t == 0 && s->have_oracle;
                 if (!bench_kernel_row(s->tree, &blocks, s->width, s->height, methods[m].family,
                                       methods[m].leaf_culling, &spec, &row, check ? s->result : NULL)) {
@@ -187,7 +188,8 @@ static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays 
                 row.lanes = lanes[l];
                 row.rays = rays->active;
                 progress(s, &row);
-                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, false};
+                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, false,
+                                         RTT_ISA_AUTO};
                 /* The first Embree result becomes the oracle the others are checked against. */
                 bool make_oracle = !s->have_oracle && t == 0;
                 uint32_t *out = t == 0 ? (make_oracle ? s->oracle : s->result) : NULL;
@@ -296,6 +298,7 @@ static bool render_row(bench_state *s, const kernel_method *m, const char *shado
     snprintf(f.options.engine.traversal, sizeof f.options.engine.traversal, "%s", m->family);
     f.options.engine.tile = m->tile ? m->tile : 8u;
     f.options.engine.leaf_culling = m->leaf_culling;
+    f.options.engine.isa = s->config->isa;
     if (!rtt_shadow_method_parse(shadows, &f.options, &f.err)) {
         row_error(&row, "", f.err.message);
         return bench_report_push(s->report, &row);
@@ -435,6 +438,7 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     rtt_engine_options_default(&options);
     options.threads = 1; /* the build row is a one-core build */
     options.max_tree_depth = config->max_tree_depth;
+    options.isa = config->isa;
     s.engine = rtt_optimized_engine_create(scene, &options, err);
     if (!s.engine) return false;
     s.tree = kd_engine_tree(s.engine);

@@ -79,7 +79,7 @@ static bool read_light(const view_reader *r, const cJSON *view, rtt_light *light
     return true;
 }
 
-static void base_name(const char *path, char out[64])
+void bench_base_name(const char *path, char out[64])
 {
     const char *slash = strrchr(path, '/');
     const char *start = slash ? slash + 1 : path;
@@ -94,7 +94,7 @@ bool rtt_bench_apply_view(rtt_scene *scene, const char *views_path, const char *
 {
     char derived[64];
     if (!name) {
-        base_name(scene->path, derived);
+        bench_base_name(scene->path, derived);
         name = derived;
     }
     FILE *file = fopen(views_path, "rb");

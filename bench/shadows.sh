@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soft-shadow trade (issue 4; Thesis Table 4.6 and Table 5.1), measured.
+# The soft-shadow trade (Thesis Table 4.6 and Table 5.1), measured.
 #
 #   bench/shadows.sh [RTT]        RTT: the rtt binary (default build/cli/rtt)
 #

@@ -69,7 +69,7 @@ def main():
     md.append("")
 
     md += ["## Edge width: cost and error against hard shadows", "",
-           "Target (issue 4): at most 1.3× the time of hard shadows, and lower RMSE than hard on every scene.", "",
+           "Target: at most 1.3× the time of hard shadows, and lower RMSE than hard on every scene.", "",
            "| scene | method | time × hard | RMSE × hard | lower error than hard |", "|---|---|---:|---:|---|"]
     for s in summary:
         for r in scenes[s]:

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rtt builds and tests with; does nothing when all are present.
 # Uses sudo when not root. The benchmark/test data packages are fetched separately
-# (ci/fetch-data.sh) into a cache, never installed system-wide.
+# (bench/fetch-scenes.sh) into a cache, never installed system-wide.
 set -euo pipefail
 
 packages=(

@@ -15,8 +15,6 @@ enum { RTT_EXIT_OK = 0, RTT_EXIT_BAD_INPUT = 1, RTT_EXIT_USAGE = 2 };
 
 /* Prints "rtt: <message>" on stderr and returns RTT_EXIT_BAD_INPUT. */
 int cli_fail(const rtt_error *err);
-/* Prints "rtt <command>: <message>" and a hint to --help; returns RTT_EXIT_USAGE. */
-int cli_usage_error(const char *command, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 bool cli_is_help(const char *arg);
 
 /* Strict number parsing for option values; false on junk or out of range. */
@@ -32,14 +30,9 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err);
 /* Loads SCENE (any supported kind) with the standard load options. */
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err);
 
-/* The subcommands; argv[0] is the subcommand name. */
-int cmd_render(int argc, char **argv);
-int cmd_bake(int argc, char **argv);
-int cmd_info(int argc, char **argv);
-int cmd_triangles(int argc, char **argv);
-int cmd_trace(int argc, char **argv);
-int cmd_conform(int argc, char **argv);
-int cmd_compare(int argc, char **argv);
-int cmd_bench(int argc, char **argv);
+/* The subcommands (options.h: cli_command), each in its cmd_*.c. */
+struct cli_command;
+extern const struct cli_command render_command, bake_command, info_command, triangles_command, trace_command,
+    conform_command, compare_command, bench_command;
 
 #endif

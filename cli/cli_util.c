@@ -2,7 +2,6 @@
  * parsing and atomic file output. */
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,17 +13,6 @@ int cli_fail(const rtt_error *err)
 {
     fprintf(stderr, "rtt: %s\n", err->message[0] ? err->message : "unknown error");
     return RTT_EXIT_BAD_INPUT;
-}
-
-int cli_usage_error(const char *command, const char *fmt, ...)
-{
-    va_list args;
-    va_start(args, fmt);
-    fprintf(stderr, "rtt %s: ", command);
-    vfprintf(stderr, fmt, args);
-    fprintf(stderr, " (see rtt %s --help)\n", command);
-    va_end(args);
-    return RTT_EXIT_USAGE;
 }
 
 bool cli_is_help(const char *arg)

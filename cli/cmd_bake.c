@@ -6,62 +6,61 @@
 #include <strings.h>
 
 #include "cli.h"
+#include "options.h"
 #include "rtt/engine.h"
 #include "rtt/optimized.h"
 
-static const char bake_help[] =
-    "usage: rtt bake SCENE -o scene.kdt [--max-depth N] [--bezier-level N]\n"
-    "\n"
-    "Builds the optimized engine's SAH kd-tree (perfect splits, C_trav = 1,\n"
-    "C_isect = 5) for SCENE and writes it, with the whole scene (geometry,\n"
-    "materials, lights, camera), as a versioned, checksummed .kdt.  The output\n"
-    "is written to a temporary and renamed, so an existing file is replaced only\n"
-    "by a complete one.\n"
-    "\n"
-    "  -o FILE           the .kdt to write (required)\n"
-    "  --max-depth N     tree depth bound, 1 to 64 (default round(2 + log2 N), at least 8)\n"
-    "  --bezier-level N  Quake III patch tessellation (default 4)\n"
-    "\n"
-    "Exit status: 0 success, 1 bad input, 2 bad usage.\n";
+typedef struct bake_args {
+    const char *scene_path, *out_path;
+    uint32_t bezier_level;
+    rtt_engine_options engine;
+} bake_args;
 
-int cmd_bake(int argc, char **argv)
+static bool parse_kdt_path(const char *value, void *field, rtt_error *why)
 {
-    const char *scene_path = NULL, *out_path = NULL;
-    uint32_t bezier_level = 0;
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    for (int i = 1; i < argc; i++) {
-        if (cli_is_help(argv[i])) {
-            fputs(bake_help, stdout);
-            return RTT_EXIT_OK;
-        }
-        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--max-depth") == 0 ||
-            strcmp(argv[i], "--bezier-level") == 0) {
-            if (i + 1 >= argc) return cli_usage_error("bake", "%s needs a value", argv[i]);
-            const char *option = argv[i], *value = argv[++i];
-            if (strcmp(option, "-o") == 0) out_path = value;
-            else if (strcmp(option, "--max-depth") == 0 && !cli_parse_u32(value, 1, 64, &opt.max_tree_depth))
-                return cli_usage_error("bake", "--max-depth %s: expected 1 to 64", value);
-            else if (strcmp(option, "--bezier-level") == 0 && !cli_parse_u32(value, 1, 64, &bezier_level))
-                return cli_usage_error("bake", "--bezier-level %s: expected 1 to 64", value);
-        } else if (argv[i][0] == '-') {
-            return cli_usage_error("bake", "unknown option \"%s\"", argv[i]);
-        } else if (scene_path) {
-            return cli_usage_error("bake", "more than one SCENE given");
-        } else {
-            scene_path = argv[i];
-        }
-    }
-    if (!scene_path) return cli_usage_error("bake", "no SCENE given");
-    if (!out_path) return cli_usage_error("bake", "no output given (-o scene.kdt)");
-    const char *dot = strrchr(out_path, '.');
-    if (!dot || strcasecmp(dot, ".kdt") != 0)
-        return cli_usage_error("bake", "-o %s: the output must end in .kdt", out_path);
+    const char *dot = strrchr(value, '.');
+    if (!dot || strcasecmp(dot, ".kdt") != 0) return rtt_error_set(why, "the output must end in .kdt");
+    *(const char **)field = value;
+    return true;
+}
+
+static const cli_option bake_options[] = {
+    {.name = "--output", .short_name = 'o', .value_name = "FILE", .help = "the .kdt to write (required)",
+     .kind = CLI_CUSTOM, CLI_FIELD(bake_args, out_path), .parse = parse_kdt_path},
+    CLI_OPTIONS_KD_TREE(bake_args, engine),
+    CLI_OPTION_BEZIER_LEVEL(bake_args, bezier_level),
+};
+
+static void bake_defaults(void *args)
+{
+    rtt_engine_options_default(&((bake_args *)args)->engine);
+}
+
+static int bake(void *opaque, const cli_parsed *parsed)
+{
+    const bake_args *args = opaque;
+    int rc;
+    if (!args->out_path) return cli_refuse(parsed, NULL, "no output given (-o scene.kdt)");
+    /* the tree is the optimized engine's: its options check applies */
+    if ((rc = cli_check_engine_options(parsed, "optimized", &args->engine)) != CLI_CONTINUE) return rc;
+    if ((rc = cli_check_scene_options(parsed, args->scene_path, NULL)) != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(scene_path, bezier_level, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
     if (!scene) return cli_fail(&err);
-    bool ok = rtt_optimized_bake(scene, &opt, out_path, &err);
+    bool ok = rtt_optimized_bake(scene, &args->engine, args->out_path, &err);
     rtt_scene_free(scene);
     return ok ? RTT_EXIT_OK : cli_fail(&err);
 }
+
+const cli_command bake_command = {
+    .name = "bake", .summary = "build the kd-tree offline and save it as .kdt", .run = bake,
+    CLI_ARGS(bake_args, bake_defaults), CLI_ROWS(bake_options), CLI_SCENE_OPERAND(bake_args),
+    .engine_offset = offsetof(bake_args, engine),
+    .synopsis = "SCENE -o scene.kdt [options]",
+    .description = "Builds the optimized engine's SAH kd-tree (perfect splits, C_trav = 1,\n"
+                   "C_isect = 5) for SCENE and writes it, with the whole scene (geometry,\n"
+                   "materials, lights, camera), as a versioned, checksummed .kdt.  The output\n"
+                   "is written to a temporary and renamed, so an existing file is replaced only\n"
+                   "by a complete one.  SCENE may be a .kdt itself: its tree is built anew.\n",
+};

@@ -4,47 +4,39 @@
 #include <string.h>
 
 #include "cli.h"
+#include "options.h"
 #include "rtt/image.h"
 
-static const char compare_help[] =
-    "usage: rtt compare A.exr B.exr [--json] [--max-rmse X] [--max-error X] [--max-share X]\n"
-    "\n"
-    "Prints RMSE over all RGB samples, the largest channel error, and the share of\n"
-    "pixels with any channel off by more than 1/255 (colours clamped to [0,1]).\n"
-    "With thresholds, exits 1 when a metric exceeds its bound.\n"
-    "\n"
-    "Exit status: 0 success, 1 bad input or a threshold exceeded, 2 bad usage.\n";
+typedef struct compare_args {
+    const char *paths[2];
+    bool json;
+    float limits[3]; /* rmse, max error, share; negative = unchecked */
+} compare_args;
 
-int cmd_compare(int argc, char **argv)
+static const cli_option compare_options[] = {
+    {.name = "--json", .help = "the metrics as one JSON object", .kind = CLI_FLAG, CLI_FIELD(compare_args, json)},
+    {.name = "--max-rmse", .value_name = "X", .help = "exit 1 when the RMSE exceeds X",
+     .kind = CLI_FLOAT, CLI_FIELD(compare_args, limits[0]), .min = 0.0f},
+    {.name = "--max-error", .value_name = "X", .help = "exit 1 when the largest channel error exceeds X",
+     .kind = CLI_FLOAT, CLI_FIELD(compare_args, limits[1]), .min = 0.0f},
+    {.name = "--max-share", .value_name = "X",
+     .help = "exit 1 when the share of pixels off by more than 1/255 exceeds X",
+     .kind = CLI_FLOAT, CLI_FIELD(compare_args, limits[2]), .min = 0.0f},
+};
+
+static void compare_defaults(void *opaque)
 {
-    const char *paths[2] = {NULL, NULL};
-    int path_count = 0;
-    bool json = false;
-    float limits[3] = {-1.0f, -1.0f, -1.0f}; /* rmse, max error, share; negative = unchecked */
-    static const char *const limit_flags[3] = {"--max-rmse", "--max-error", "--max-share"};
-    for (int i = 1; i < argc; i++) {
-        if (cli_is_help(argv[i])) {
-            fputs(compare_help, stdout);
-            return RTT_EXIT_OK;
-        }
-        if (strcmp(argv[i], "--json") == 0) {
-            json = true;
-            continue;
-        }
-        int limit = -1;
-        for (int k = 0; k < 3; k++)
-            if (strcmp(argv[i], limit_flags[k]) == 0) limit = k;
-        if (limit >= 0) {
-            if (i + 1 >= argc || !cli_parse_float(argv[i + 1], &limits[limit]) || limits[limit] < 0.0f)
-                return cli_usage_error("compare", "%s needs a non-negative number", argv[i]);
-            i++;
-            continue;
-        }
-        if (argv[i][0] == '-') return cli_usage_error("compare", "unknown option \"%s\"", argv[i]);
-        if (path_count == 2) return cli_usage_error("compare", "expected exactly two images");
-        paths[path_count++] = argv[i];
-    }
-    if (path_count != 2) return cli_usage_error("compare", "expected two images");
+    compare_args *args = opaque;
+    for (int k = 0; k < 3; k++) args->limits[k] = -1.0f;
+}
+
+static int compare(void *opaque, const cli_parsed *parsed)
+{
+    (void)parsed;
+    const compare_args *args = opaque;
+    const char *const *paths = args->paths;
+    const float *limits = args->limits;
+    static const char *const metric_names[3] = {"rmse", "error", "share"};
 
     rtt_error err = {0};
     rtt_image *a = rtt_image_read_exr(paths[0], &err);
@@ -61,7 +53,7 @@ int cmd_compare(int argc, char **argv)
         }
         return cli_fail(&err);
     }
-    if (json)
+    if (args->json)
         printf("{\"rmse\": %.9g, \"max_error\": %.9g, \"share_over_1_255\": %.9g, \"pixels_over_1_255\": %llu}\n",
                m.rmse, m.max_error, m.share_over_1_255, (unsigned long long)m.pixels_over_1_255);
     else
@@ -70,10 +62,21 @@ int cmd_compare(int argc, char **argv)
     const double values[3] = {m.rmse, m.max_error, m.share_over_1_255};
     for (int k = 0; k < 3; k++) {
         if (limits[k] >= 0.0f && values[k] > limits[k]) {
-            fprintf(stderr, "rtt: %s vs %s: %s %.6g exceeds %.6g\n", paths[0], paths[1], limit_flags[k] + 6,
+            fprintf(stderr, "rtt: %s vs %s: %s %.6g exceeds %.6g\n", paths[0], paths[1], metric_names[k],
                     values[k], limits[k]);
             return RTT_EXIT_BAD_INPUT;
         }
     }
     return RTT_EXIT_OK;
 }
+
+const cli_command compare_command = {
+    .name = "compare", .summary = "image metrics: RMSE, max error, share of pixels over 1/255", .run = compare,
+    CLI_ARGS(compare_args, compare_defaults), CLI_ROWS(compare_options),
+    .synopsis = "A.exr B.exr [options]",
+    .description = "Prints RMSE over all RGB samples, the largest channel error, and the share of\n"
+                   "pixels with any channel off by more than 1/255 (colours clamped to [0,1]).\n",
+    .operand = "IMAGE", .operand_min = 2, .operand_max = 2, .operand_offset = offsetof(compare_args, paths),
+    .operands_wrong = "expected two images, A.exr and B.exr",
+    .exit_status = "0 success, 1 bad input or a threshold exceeded, 2 bad usage.",
+};

@@ -6,57 +6,101 @@
 #include <string.h>
 
 #include "cli.h"
+#include "options.h"
 #include "conform.h"
 #include "extremes.h"
 
-static const char conform_help[] =
-    "usage: rtt conform SCENE [--rays primary|shadow|random|extreme|all] [--engines E,E,..]\n"
-    "                         [--max-rays N] [--seed N] [--json]\n"
-    "       rtt conform --extremes [--engines E,E,..] [--meshes DIR] [--max-rays N] [--json]\n"
-    "\n"
-    "Traces the same rays through each engine and compares every hit with the\n"
-    "reference's: agree, tie (a neighbour hit at the same point: both triangles'\n"
-    "planes crossed at the same t), boundary (a hit within tolerance of tnear or\n"
-    "tfar), t-mismatch, and hit/miss disagreements split into grazing (the hit lies\n"
-    "on an edge, or one engine slipped past an edge to a farther hit) and other.\n"
-    "Fails when any engine has a t-mismatch, a non-grazing hit/miss or an occluded()\n"
-    "disagreement, or more grazing hit/miss than 0.05% (optimized) or 1% (embree) of\n"
-    "the primary, shadow and random rays.  On the extreme set, and in the --extremes\n"
-    "checks that aim at vertices and edges or run along planes, grazing hit/miss is\n"
-    "reported, not bounded (the rays graze by design); watertightness is checked\n"
-    "apart.  Rules: conformance/README.md.\n"
-    "\n"
-    "  --rays SET       primary, shadow, random, extreme, a comma list, or all (default)\n"
-    "  --engines LIST   optimized (every traversal mode, tile 8), optimized/MODE,\n"
-    "                   embree, reference (default: optimized,embree)\n"
-    "  --max-rays N     rays per set (default 65536; primary renders smaller to fit)\n"
-    "  --seed N         seed of the random and extreme sets\n"
-    "  --json           the report as JSON on stdout\n"
-    "  --extremes       scaled and translated scenes, degenerate triangles, a deep tree,\n"
-    "                   NaN/Inf input, watertightness from inside closed meshes\n"
-    "  --meshes DIR     benchmark meshes for watertightness (default\n"
-    "                   ${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes; skipped when absent)\n"
-    "\n"
-    "Exit status: 0 conformant, 1 a threshold exceeded or bad input, 2 bad usage.\n";
+typedef struct conform_args {
+    const char *scene_path, *meshes;
+    bool json, extremes;
+    uint32_t max_rays, seed;
+    rtt_conform_config config;
+    rtt_engine_options engine; /* what --isa sets, for the engines that read it */
+} conform_args;
 
-static bool parse_sets(const char *text, bool sets[RTT_CONFORM_RAY_SET_COUNT])
+static bool parse_sets(const char *text, void *field, rtt_error *why)
 {
+    bool *sets = field, known = true;
     char buffer[128];
-    if (strlen(text) >= sizeof buffer) return false;
+    if (strlen(text) >= sizeof buffer) return rtt_error_set(why, "too long a list");
     strcpy(buffer, text);
     for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) sets[i] = false;
     char *save = NULL;
     int named = 0;
-    for (char *item = strtok_r(buffer, ",", &save); item; item = strtok_r(NULL, ",", &save), named++) {
-        if (strcmp(item, "all") == 0) {
-            for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) sets[i] = true;
-            continue;
-        }
-        int s = rtt_conform_ray_set_parse(item);
-        if (s < 0) return false;
-        sets[s] = true;
+    for (char *item = strtok_r(buffer, ",", &save); item && known; item = strtok_r(NULL, ",", &save), named++) {
+        int set = strcmp(item, "all") == 0 ? RTT_CONFORM_RAY_SET_COUNT : rtt_conform_ray_set_parse(item);
+        known = set >= 0;
+        for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) sets[i] |= set == i || set == RTT_CONFORM_RAY_SET_COUNT;
     }
-    return named > 0;
+    return named > 0 && known ? true
+                              : rtt_error_set(why, "expected primary, shadow, random, extreme, a comma list, or all");
+}
+
+static bool parse_engines(const char *value, void *field, rtt_error *why)
+{
+    if (!rtt_conform_engines_valid(value, why)) return false;
+    *(const char **)field = value;
+    return true;
+}
+
+static const cli_option conform_options[] = {
+    {.name = "--rays", .value_name = "SET", .help = "primary, shadow, random, extreme, a comma list, or all (default)",
+     .kind = CLI_CUSTOM, CLI_FIELD(conform_args, config.sets), .parse = parse_sets},
+    {.name = "--engines", .value_name = "LIST",
+     .help = "comma list of engines: optimized (every traversal kernel, tile 8), optimized/KERNEL, embree, "
+             "reference (default: optimized,embree)",
+     .kind = CLI_CUSTOM, CLI_FIELD(conform_args, config.engines), .parse = parse_engines},
+    CLI_OPTION_ISA(conform_args, engine),
+    {.name = "--max-rays", .value_name = "N",
+     .help = "rays per set, 16 to 100000000 (default 65536; primary renders smaller to fit)",
+     .kind = CLI_U32, CLI_FIELD(conform_args, max_rays), .lo = 16, .hi = 100000000u},
+    {.name = "--seed", .value_name = "N", .help = "seed of the random and extreme sets",
+     .kind = CLI_U32, CLI_FIELD(conform_args, seed), .lo = 0, .hi = UINT32_MAX},
+    {.name = "--json", .help = "the report as JSON on stdout", .kind = CLI_FLAG, CLI_FIELD(conform_args, json)},
+    {.name = "--extremes",
+     .help = "scaled and translated scenes, degenerate triangles, a deep tree, NaN/Inf input, watertightness "
+             "from inside closed meshes",
+     .kind = CLI_FLAG, CLI_FIELD(conform_args, extremes)},
+    {.name = "--meshes", .value_name = "DIR",
+     .help = "with --extremes: benchmark meshes for watertightness (default "
+             "${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes; skipped when absent)",
+     .kind = CLI_STRING, CLI_FIELD(conform_args, meshes)},
+};
+
+/* --isa goes to the listed engines that read an instruction-set choice: at
+ * least one must, and each must accept it. */
+static int check_isa(const cli_parsed *parsed, const conform_args *args)
+{
+    if (!cli_given(parsed, "--isa")) return CLI_CONTINUE;
+    const char *list = args->config.engines ? args->config.engines : rtt_conform_default_engines();
+    rtt_conform_engine_spec specs[64];
+    rtt_error err = {{0}};
+    int count = rtt_conform_expand_engines(list, specs, 64, &err);
+    if (count < 0) return cli_refuse(parsed, "--engines", "%s", err.message);
+    rtt_conform_specs_set_isa(specs, count, args->engine.isa);
+    int readers = 0;
+    for (int i = 0; i < count; i++) {
+        if (!(specs[i].opt.given & RTT_OPTION_ISA)) continue;
+        readers++;
+        int rc = cli_check_engine_options(parsed, specs[i].name, &specs[i].opt);
+        if (rc != CLI_CONTINUE) return rc;
+    }
+    return readers ? CLI_CONTINUE
+                   : cli_refuse(parsed, "--isa", "none of the engines %s reads an instruction-set choice", list);
+}
+
+/* The options one mode reads and the other does not. */
+static int check_applicable(const cli_parsed *parsed, const conform_args *args)
+{
+    if (args->extremes) {
+        if (args->scene_path) return cli_refuse(parsed, "--extremes", "builds its own scenes: give no SCENE");
+        if (cli_given(parsed, "--rays")) return cli_refuse(parsed, "--rays", "--extremes traces rays of its own");
+        if (cli_given(parsed, "--seed")) return cli_refuse(parsed, "--seed", "--extremes has no random rays to seed");
+    } else {
+        if (!args->scene_path) return cli_refuse(parsed, NULL, "no SCENE given");
+        if (cli_given(parsed, "--meshes")) return cli_refuse(parsed, "--meshes", "only --extremes reads meshes");
+    }
+    return check_isa(parsed, args);
 }
 
 static int print_and_free(char *text)
@@ -71,87 +115,70 @@ static int print_and_free(char *text)
     return RTT_EXIT_OK;
 }
 
-static int run_extremes(const char *engines, const char *meshes, size_t max_rays, bool json)
+static int run_extremes(const conform_args *args)
 {
     rtt_extremes_config config;
     rtt_extremes_config_default(&config);
-    if (engines) config.engines = engines;
-    if (meshes) config.mesh_dir = meshes;
-    if (max_rays) config.max_rays = max_rays;
+    if (args->config.engines) config.engines = args->config.engines;
+    if (args->meshes) config.mesh_dir = args->meshes;
+    if (args->max_rays) config.max_rays = args->max_rays;
+    config.isa = args->engine.isa;
     rtt_extremes_report report;
     rtt_error err = {{0}};
     if (!rtt_extremes_run(&config, &report, &err)) return cli_fail(&err);
-    int rc = print_and_free(json ? rtt_extremes_report_json(&report) : rtt_extremes_report_table(&report));
+    int rc = print_and_free(args->json ? rtt_extremes_report_json(&report) : rtt_extremes_report_table(&report));
     bool pass = report.pass;
     rtt_extremes_report_free(&report);
     return rc != RTT_EXIT_OK ? rc : pass ? RTT_EXIT_OK : RTT_EXIT_BAD_INPUT;
 }
 
-int cmd_conform(int argc, char **argv)
+static void conform_defaults(void *opaque)
 {
-    rtt_conform_config config;
-    rtt_conform_config_default(&config);
-    const char *scene_path = NULL, *meshes = NULL;
-    bool json = false, extremes = false;
-    uint32_t max_rays = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if (cli_is_help(arg)) {
-            fputs(conform_help, stdout);
-            return RTT_EXIT_OK;
-        }
-        if (strcmp(arg, "--json") == 0) {
-            json = true;
-            continue;
-        }
-        if (strcmp(arg, "--extremes") == 0) {
-            extremes = true;
-            continue;
-        }
-        if (arg[0] != '-' || arg[1] == '\0') {
-            if (scene_path) return cli_usage_error("conform", "more than one SCENE given");
-            scene_path = arg;
-            continue;
-        }
-        if (i + 1 >= argc) return cli_usage_error("conform", "%s needs a value", arg);
-        const char *value = argv[++i];
-        if (strcmp(arg, "--rays") == 0) {
-            if (!parse_sets(value, config.sets))
-                return cli_usage_error("conform", "--rays %s: expected primary, shadow, random, extreme or all", value);
-        } else if (strcmp(arg, "--engines") == 0) {
-            rtt_error err = {{0}};
-            if (!rtt_conform_engines_valid(value, &err)) return cli_usage_error("conform", "%s", err.message);
-            config.engines = value;
-        } else if (strcmp(arg, "--max-rays") == 0) {
-            if (!cli_parse_u32(value, 16, 100000000u, &max_rays))
-                return cli_usage_error("conform", "--max-rays %s: expected a whole number from 16 to 100000000", value);
-            config.max_rays = max_rays;
-        } else if (strcmp(arg, "--seed") == 0) {
-            uint32_t seed;
-            if (!cli_parse_u32(value, 0, UINT32_MAX, &seed))
-                return cli_usage_error("conform", "--seed %s: expected a whole number", value);
-            config.seed = seed;
-        } else if (strcmp(arg, "--meshes") == 0) {
-            meshes = value;
-        } else {
-            return cli_usage_error("conform", "unknown option %s", arg);
-        }
-    }
-    if (extremes) {
-        if (scene_path) return cli_usage_error("conform", "--extremes builds its own scenes: give no SCENE");
-        return run_extremes(config.engines, meshes, max_rays, json);
-    }
-    if (!scene_path) return cli_usage_error("conform", "no SCENE given");
+    conform_args *args = opaque;
+    rtt_conform_config_default(&args->config);
+    rtt_engine_options_default(&args->engine);
+}
+
+static int conform(void *opaque, const cli_parsed *parsed)
+{
+    conform_args *args = opaque;
+    int rc = check_applicable(parsed, args);
+    if (rc != CLI_CONTINUE) return rc;
+    if (args->extremes) return run_extremes(args);
+    if (args->max_rays) args->config.max_rays = args->max_rays;
+    if (cli_given(parsed, "--seed")) args->config.seed = args->seed;
+    args->config.isa = args->engine.isa;
 
     rtt_error err = {{0}};
-    rtt_scene *scene = cli_load_scene(scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
     if (!scene) return cli_fail(&err);
     rtt_conform_report report;
-    bool ran = rtt_conform_run(scene, &config, &report, &err);
+    bool ran = rtt_conform_run(scene, &args->config, &report, &err);
     rtt_scene_free(scene);
     if (!ran) return cli_fail(&err);
-    int rc = print_and_free(json ? rtt_conform_report_json(&report) : rtt_conform_report_table(&report));
+    int rc_print = print_and_free(args->json ? rtt_conform_report_json(&report) : rtt_conform_report_table(&report));
     bool pass = report.pass;
     rtt_conform_report_free(&report);
-    return rc != RTT_EXIT_OK ? rc : pass ? RTT_EXIT_OK : RTT_EXIT_BAD_INPUT;
+    return rc_print != RTT_EXIT_OK ? rc_print : pass ? RTT_EXIT_OK : RTT_EXIT_BAD_INPUT;
 }
+
+const cli_command conform_command = {
+    .name = "conform", .summary = "hit-by-hit agreement of the engines", .run = conform,
+    CLI_ARGS(conform_args, conform_defaults), CLI_ROWS(conform_options),
+    .engine_offset = offsetof(conform_args, engine),
+    .synopsis = "SCENE [options]\n--extremes [options]",
+    .description =
+        "Traces the same rays through each engine and compares every hit with the\n"
+        "reference's: agree, tie (a neighbour hit at the same point: both triangles'\n"
+        "planes crossed at the same t), boundary (a hit within tolerance of tnear or\n"
+        "tfar), t-mismatch, and hit/miss disagreements split into grazing (the hit lies\n"
+        "on an edge, or one engine slipped past an edge to a farther hit) and other.\n"
+        "Fails when any engine has a t-mismatch, a non-grazing hit/miss or an occluded()\n"
+        "disagreement, or more grazing hit/miss than 0.05% (optimized) or 1% (embree) of\n"
+        "the primary, shadow and random rays.  On the extreme set, and in the --extremes\n"
+        "checks that aim at vertices and edges or run along planes, grazing hit/miss is\n"
+        "reported, not bounded (the rays graze by design); watertightness is checked\n"
+        "apart.  Rules: conformance/README.md.\n",
+    .operand = "SCENE", .operand_min = 0, .operand_max = 1, .operand_offset = offsetof(conform_args, scene_path),
+    .exit_status = "0 conformant, 1 a threshold exceeded or bad input, 2 bad usage.",
+};

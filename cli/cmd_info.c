@@ -3,17 +3,24 @@
 #include <string.h>
 
 #include "cli.h"
+#include "options.h"
 #include "rtt/engine.h"
 
-static const char info_help[] =
-    "usage: rtt info SCENE|scene.kdt [--engine optimized|reference|both] [--max-depth N]\n"
-    "\n"
-    "Prints triangles (and degenerate ones), vertices, meshes, materials, lights,\n"
-    "bounds, and for each engine's kd-tree: build time (the optimized builder uses\n"
-    "every core), depth against its bound, nodes, leaves, SAH cost, references and\n"
-    "duplication against the reference cap, and memory.\n"
-    "\n"
-    "Exit status: 0 success, 1 bad input, 2 bad usage.\n";
+typedef enum info_engines { INFO_BOTH, INFO_OPTIMIZED, INFO_REFERENCE } info_engines;
+static const char *const info_engine_choices[] = {"both", "optimized", "reference", NULL};
+
+typedef struct info_args {
+    const char *scene_path;
+    int engines; /* info_engines */
+    rtt_engine_options engine;
+} info_args;
+
+static const cli_option info_options[] = {
+    {.name = "--engine", .value_name = "NAME",
+     .help = "whose kd-tree to describe: both (default), optimized or reference",
+     .kind = CLI_CHOICE, CLI_FIELD(info_args, engines), .choices = info_engine_choices},
+    CLI_OPTIONS_KD_TREE(info_args, engine),
+};
 
 static const char *const material_type_names[] = {"diffuse", "specular", "reflective", "transparent",
                                                   "transparent_reflective"};
@@ -60,43 +67,47 @@ static bool print_tree(const char *engine_name, const rtt_scene *scene, const rt
     return true;
 }
 
-int cmd_info(int argc, char **argv)
+/* The engine options and the scene file must suit every engine described. */
+static int check_applicable(const cli_parsed *parsed, const info_args *args, const char *const engines[2])
 {
-    const char *scene_path = NULL, *which = "both";
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    for (int i = 1; i < argc; i++) {
-        if (cli_is_help(argv[i])) {
-            fputs(info_help, stdout);
-            return RTT_EXIT_OK;
-        }
-        if (strcmp(argv[i], "--engine") == 0 || strcmp(argv[i], "--max-depth") == 0) {
-            if (i + 1 >= argc) return cli_usage_error("info", "%s needs a value", argv[i]);
-            const char *value = argv[++i];
-            if (argv[i - 1][2] == 'e') {
-                if (strcmp(value, "optimized") && strcmp(value, "reference") && strcmp(value, "both"))
-                    return cli_usage_error("info", "--engine %s: expected optimized, reference or both", value);
-                which = value;
-            } else if (!cli_parse_u32(value, 1, 64, &opt.max_tree_depth)) {
-                return cli_usage_error("info", "--max-depth %s: expected 1 to 64", value);
-            }
-        } else if (argv[i][0] == '-') {
-            return cli_usage_error("info", "unknown option \"%s\"", argv[i]);
-        } else if (scene_path) {
-            return cli_usage_error("info", "more than one SCENE given");
-        } else {
-            scene_path = argv[i];
-        }
+    for (int i = 0; i < 2 && engines[i]; i++) {
+        int rc = cli_check_engine_options(parsed, engines[i], &args->engine);
+        if (rc == CLI_CONTINUE) rc = cli_check_scene_options(parsed, args->scene_path, engines[i]);
+        if (rc != CLI_CONTINUE) return rc;
     }
-    if (!scene_path) return cli_usage_error("info", "no SCENE given");
+    return CLI_CONTINUE;
+}
+
+static void info_defaults(void *args)
+{
+    rtt_engine_options_default(&((info_args *)args)->engine);
+}
+
+static int info(void *opaque, const cli_parsed *parsed)
+{
+    const info_args *args = opaque;
+    const char *engines[2] = {args->engines == INFO_REFERENCE ? "reference" : "optimized",
+                              args->engines == INFO_BOTH ? "reference" : NULL};
+    int rc = check_applicable(parsed, args, engines);
+    if (rc != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
     if (!scene) return cli_fail(&err);
     print_scene(scene);
     bool ok = true;
-    if (strcmp(which, "reference") != 0) ok = print_tree("optimized", scene, &opt, &err);
-    if (ok && strcmp(which, "optimized") != 0) ok = print_tree("reference", scene, &opt, &err);
+    for (int i = 0; ok && i < 2 && engines[i]; i++) ok = print_tree(engines[i], scene, &args->engine, &err);
     rtt_scene_free(scene);
     return ok ? RTT_EXIT_OK : cli_fail(&err);
 }
+
+const cli_command info_command = {
+    .name = "info", .summary = "triangles, bounds, tree depth, leaves, SAH cost, duplication", .run = info,
+    CLI_ARGS(info_args, info_defaults), CLI_ROWS(info_options), CLI_SCENE_OPERAND(info_args),
+    .engine_offset = offsetof(info_args, engine),
+    .synopsis = "SCENE|scene.kdt [options]",
+    .description = "Prints triangles (and degenerate ones), vertices, meshes, materials, lights,\n"
+                   "bounds, and for each engine's kd-tree: build time (the optimized builder uses\n"
+                   "every core), depth against its bound, nodes, leaves, SAH cost, references and\n"
+                   "duplication against the reference cap, and memory.\n",
+};

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "options.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/optimized.h"
@@ -13,159 +14,100 @@
 
 #define MAX_OUTPUTS 4
 
-static const char render_help[] =
-    "usage: rtt render SCENE [-o out.exr|out.png]... [options]\n"
-    "\n"
-    "Renders SCENE (scene .json, mesh file, Quake III .bsp or baked .kdt).\n"
-    "\n"
-    "  -o FILE               output image, .exr (float, with AOVs) or .png (sRGB);\n"
-    "                        may be given more than once (default render.png)\n"
-    "  --engine E            optimized (default), reference, or embree (the\n"
-    "                        reference renderer tracing through Embree)\n"
-    "  --traversal T         optimized kernel: mono, packet, omni, frustum, mft\n"
-    "                        (default), cone, mft-cone\n"
-    "  --tile N              frustum tile side: 4, 8 (default), 16, 32\n"
-    "  --leaf-culling on|off packet/leaf culling (default on)\n"
-    "  --shadows S           none, hard (default), multi:N, cone:N, pyramid:N,\n"
-    "                        edgewidth[:R]   (N = 1..256 samples)\n"
-    "  --edge-leak-fix       edgewidth: entry and exit polygons must share a vertex\n"
-    "  --threads N           worker threads (default: one per core)\n"
-    "  --width W --height H  image size (default: the scene's)\n"
-    "  --max-bounces N       reflection/refraction depth (default: the scene's)\n"
-    "  --max-depth N         kd-tree depth bound, 1 to 64 (reference and optimized;\n"
-    "                        default round(2 + log2 N), at least 8)\n"
-    "  --bezier-level N      Quake III patch tessellation (default 4)\n"
-    "  --aov LIST            extra EXR channels: depth,prim,normal\n"
-    "  --stats               print rays, N and I per 2x2 packet, stage times\n"
-    "\n"
-    "Exit status: 0 success, 1 bad input, 2 bad usage.\n";
-
-typedef struct {
+typedef struct render_args {
     const char *scene_path;
     const char *outputs[MAX_OUTPUTS];
-    int output_count;
+    uint32_t output_count;
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
 } render_args;
 
-static bool has_image_extension(const char *path)
+static bool has_extension(const char *path, const char *extension)
 {
     const char *dot = strrchr(path, '.');
-    return dot && (strcasecmp(dot, ".exr") == 0 || strcasecmp(dot, ".png") == 0);
+    return dot && strcasecmp(dot, extension) == 0;
 }
 
-static bool parse_aovs(const char *list, uint32_t *aovs)
+static bool parse_output(const char *value, void *field, rtt_error *why)
 {
-    char buffer[128];
-    if (strlen(list) >= sizeof buffer) return false;
-    strcpy(buffer, list);
-    *aovs = 0;
-    for (char *save = NULL, *name = strtok_r(buffer, ",", &save); name; name = strtok_r(NULL, ",", &save)) {
-        if (strcmp(name, "depth") == 0) *aovs |= RTT_AOV_DEPTH;
-        else if (strcmp(name, "prim") == 0) *aovs |= RTT_AOV_PRIM;
-        else if (strcmp(name, "normal") == 0) *aovs |= RTT_AOV_NORMAL;
-        else return false;
+    if (!has_extension(value, ".exr") && !has_extension(value, ".png"))
+        return rtt_error_set(why, "unknown image format (use .exr or .png)");
+    *(const char **)field = value;
+    return true;
+}
+
+static bool parse_shadows(const char *value, void *field, rtt_error *why)
+{
+    return rtt_shadow_method_parse(value, field, why);
+}
+
+/* --aov's names, bit k of rtt_aov for name k */
+static const char *const aov_names[] = {"depth", "prim", "normal", NULL};
+_Static_assert(RTT_AOV_DEPTH == 1 << 0 && RTT_AOV_PRIM == 1 << 1 && RTT_AOV_NORMAL == 1 << 2, "aov_names' bits");
+
+/* the help lines below state these bounds */
+_Static_assert(RTT_MAX_BOUNCES == 64, "--max-bounces help: 0 to 64");
+_Static_assert(RTT_MAX_SHADOW_SAMPLES == 256, "--shadows help: N = 1..256");
+
+static const cli_option render_options[] = {
+    {.name = "--output", .short_name = 'o', .value_name = "FILE",
+     .help = "output image: .exr (float, with AOVs) or .png (sRGB); up to 4 of them (default render.png)",
+     .kind = CLI_CUSTOM, CLI_FIELD(render_args, outputs), .parse = parse_output, .repeat_max = MAX_OUTPUTS,
+     .count_offset = offsetof(render_args, output_count)},
+    CLI_OPTION_ENGINE(render_args, engine),
+    CLI_OPTIONS_KD_ENGINE(render_args, render.engine),
+    {.name = "--shadows", .value_name = "METHOD",
+     .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R]",
+     .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
+    {.name = "--edge-leak-fix", .help = "with --shadows edgewidth: entry and exit polygons must share a vertex",
+     .kind = CLI_FLAG, CLI_FIELD(render_args, render.edge_leak_fix)},
+    {.name = "--threads", .value_name = "N", .help = "threads for the tree build and the render, 1 to 1024 (default: one per core)",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.threads), .lo = 1, .hi = 1024},
+    {.name = "--width", .value_name = "W", .help = "image width, 1 to 16384 (default: the scene's)",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.width), .lo = 1, .hi = 16384},
+    {.name = "--height", .value_name = "H", .help = "image height, 1 to 16384 (default: the scene's)",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.height), .lo = 1, .hi = 16384},
+    {.name = "--max-bounces", .value_name = "N",
+     .help = "reflection/refraction depth, 0 (none) to 64 (default: the scene's)",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.max_bounces), .lo = 0, .hi = RTT_MAX_BOUNCES},
+    CLI_OPTION_BEZIER_LEVEL(render_args, bezier_level),
+    {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
+     .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
+    {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
+                                "stage times",
+     .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
+};
+
+/* What the parsed options ask that the engine, the scene file or the
+ * outputs cannot honour. */
+static int check_applicable(const cli_parsed *parsed, const render_args *args)
+{
+    int rc = cli_check_engine_options(parsed, args->engine, &args->render.engine);
+    if (rc != CLI_CONTINUE) return rc;
+    rtt_error err = {{0}};
+    if (!rtt_render_options_check(args->engine, &args->render, &err))
+        return cli_refuse(parsed, cli_given(parsed, "--shadows") ? "--shadows" : NULL, "%s", err.message);
+    if (args->render.edge_leak_fix && args->render.shadows != RTT_SHADOWS_EDGEWIDTH)
+        return cli_refuse(parsed, "--edge-leak-fix", "applies to --shadows edgewidth only (shadows are %s)",
+                          rtt_shadow_method_name(args->render.shadows));
+    if (args->render.aovs) {
+        uint32_t exr = 0;
+        for (uint32_t i = 0; i < args->output_count; i++) exr += has_extension(args->outputs[i], ".exr");
+        if (exr == 0 && args->output_count > 1)
+            return cli_refuse(parsed, "--aov", "no output is EXR and PNG has no AOV channels; add an .exr");
+        if (exr == 0)
+            return cli_refuse(parsed, "--aov", "PNG output %s%s has no AOV channels; write an .exr", args->outputs[0],
+                              cli_given(parsed, "--output") ? "" : " (the default)");
     }
-    return *aovs != 0;
+    return cli_check_scene_options(parsed, args->scene_path, args->engine);
 }
 
-static bool takes_a_value(const char *option)
+static void render_defaults(void *opaque)
 {
-    static const char *const valued[] = {"-o", "--engine", "--traversal", "--tile", "--leaf-culling", "--shadows",
-                                         "--threads", "--width", "--height", "--max-bounces", "--max-depth", "--bezier-level",
-                                         "--aov"};
-    for (size_t i = 0; i < sizeof valued / sizeof valued[0]; i++)
-        if (strcmp(option, valued[i]) == 0) return true;
-    return false;
-}
-
-/* Returns -1 when the arguments are fine, else the exit code. */
-static int parse_args(int argc, char **argv, render_args *args)
-{
-    memset(args, 0, sizeof *args);
+    render_args *args = opaque;
     args->engine = "optimized";
     rtt_render_options_default(&args->render);
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes_value = true;
-        if (cli_is_help(arg)) {
-            fputs(render_help, stdout);
-            return RTT_EXIT_OK;
-        } else if (strcmp(arg, "--stats") == 0) {
-            args->render.stats = true;
-            takes_value = false;
-        } else if (strcmp(arg, "--edge-leak-fix") == 0) {
-            args->render.edge_leak_fix = true;
-            takes_value = false;
-        } else if (arg[0] != '-') {
-            if (args->scene_path) return cli_usage_error("render", "more than one SCENE given (\"%s\")", arg);
-            args->scene_path = arg;
-            takes_value = false;
-        } else if (!takes_a_value(arg)) {
-            return cli_usage_error("render", "unknown option \"%s\"", arg);
-        } else if (!value) {
-            return cli_usage_error("render", "%s needs a value", arg);
-        } else if (strcmp(arg, "-o") == 0) {
-            if (args->output_count == MAX_OUTPUTS) return cli_usage_error("render", "at most %d outputs", MAX_OUTPUTS);
-            if (!has_image_extension(value))
-                return cli_usage_error("render", "-o %s: unknown image format (use .exr or .png)", value);
-            args->outputs[args->output_count++] = value;
-        } else if (strcmp(arg, "--engine") == 0) {
-            if (strcmp(value, "reference") && strcmp(value, "optimized") && strcmp(value, "embree"))
-                return cli_usage_error("render", "--engine %s: expected reference, optimized or embree", value);
-            args->engine = value;
-        } else if (strcmp(arg, "--traversal") == 0) {
-            if (strlen(value) >= sizeof args->render.engine.traversal)
-                return cli_usage_error("render", "--traversal %s: no kernel has so long a name", value);
-            strcpy(args->render.engine.traversal, value);
-            args->render.engine.given |= RTT_OPTION_TRAVERSAL;
-        } else if (strcmp(arg, "--tile") == 0) {
-            uint32_t tile;
-            if (!cli_parse_u32(value, 4, 32, &tile) || (tile != 4 && tile != 8 && tile != 16 && tile != 32))
-                return cli_usage_error("render", "--tile %s: expected 4, 8, 16 or 32", value);
-            args->render.engine.tile = tile;
-        } else if (strcmp(arg, "--leaf-culling") == 0) {
-            if (strcmp(value, "on") && strcmp(value, "off"))
-                return cli_usage_error("render", "--leaf-culling %s: expected on or off", value);
-            args->render.engine.leaf_culling = strcmp(value, "on") == 0;
-        } else if (strcmp(arg, "--shadows") == 0) {
-            rtt_error err = {0};
-            if (!rtt_shadow_method_parse(value, &args->render, &err))
-                return cli_usage_error("render", "--shadows %s: %s", value, err.message);
-        } else if (strcmp(arg, "--threads") == 0) {
-            if (!cli_parse_u32(value, 1, 1024, &args->render.threads))
-                return cli_usage_error("render", "--threads %s: expected a whole number from 1 to 1024", value);
-        } else if (strcmp(arg, "--width") == 0) {
-            if (!cli_parse_u32(value, 1, 16384, &args->render.width))
-                return cli_usage_error("render", "--width %s: expected a whole number from 1 to 16384", value);
-        } else if (strcmp(arg, "--height") == 0) {
-            if (!cli_parse_u32(value, 1, 16384, &args->render.height))
-                return cli_usage_error("render", "--height %s: expected a whole number from 1 to 16384", value);
-        } else if (strcmp(arg, "--max-bounces") == 0) {
-            if (!cli_parse_u32(value, 0, RTT_MAX_BOUNCES, &args->render.max_bounces))
-                return cli_usage_error("render", "--max-bounces %s: expected a whole number from 0 to %u", value,
-                                       RTT_MAX_BOUNCES);
-        } else if (strcmp(arg, "--max-depth") == 0) {
-            if (!cli_parse_u32(value, 1, 64, &args->render.engine.max_tree_depth))
-                return cli_usage_error("render", "--max-depth %s: expected a whole number from 1 to 64", value);
-        } else if (strcmp(arg, "--bezier-level") == 0) {
-            if (!cli_parse_u32(value, 1, 64, &args->bezier_level))
-                return cli_usage_error("render", "--bezier-level %s: expected a whole number from 1 to 64", value);
-        } else if (strcmp(arg, "--aov") == 0) {
-            if (!parse_aovs(value, &args->render.aovs))
-                return cli_usage_error("render", "--aov %s: expected a list of depth, prim, normal", value);
-        } else {
-            return cli_usage_error("render", "unknown option \"%s\"", arg);
-        }
-        if (takes_value) i++;
-    }
-    if (!args->scene_path) return cli_usage_error("render", "no SCENE given");
-    if (args->output_count == 0) args->outputs[args->output_count++] = "render.png";
-    rtt_error err = {0};
-    if (!rtt_render_options_check(args->engine, &args->render, &err)) return cli_usage_error("render", "%s", err.message);
-    return -1;
 }
 
 /* Progress on a terminal only: a line rewritten in place on stderr. */
@@ -176,13 +118,54 @@ static void print_progress(void *context, uint32_t done, uint32_t total)
         fprintf(stderr, "\rrendering: %3u%%%s", (unsigned)(100.0 * done / total), done == total ? "\n" : "");
 }
 
-static void print_stats(const rtt_render_stats *s, const char *engine, const render_args *args)
+/* The first accel the class has kernels for: what "the engine's default"
+ * stands for. */
+static rtt_accel default_accel(const rtt_engine_class *cls)
+{
+    for (int a = RTT_ACCEL_DEFAULT + 1; cls->kernel && a < RTT_ACCEL_COUNT; a++)
+        if (cls->kernel((rtt_accel)a, 0)) return (rtt_accel)a;
+    return RTT_ACCEL_DEFAULT;
+}
+
+/* What the render really used, for --stats: the engine, its acceleration
+ * structure, its kernel and instruction set, and tile and leaf culling only
+ * for an engine that reads them. */
+static void describe_engine(rtt_engine *engine, const char *name, const rtt_engine_options *opt, char *out,
+                            size_t size)
+{
+    const rtt_engine_class *cls = rtt_engine_find(name);
+    const char *kernel = rtt_engine_kernel_name(engine);
+    rtt_tree_info tree;
+    size_t used = (size_t)snprintf(out, size, "engine %s", name);
+    bool own_tree = !(cls->uses & RTT_OPTION_ACCEL) && rtt_engine_tree_info(engine, &tree);
+    if (cls->uses & RTT_OPTION_ACCEL)
+        used += (size_t)snprintf(out + used, size - used, ", accel %s",
+                                 rtt_accel_name(opt->accel != RTT_ACCEL_DEFAULT ? opt->accel : default_accel(cls)));
+    else if (own_tree)
+        used += (size_t)snprintf(out + used, size - used, ", accel kd (its own)");
+    if (kernel[0]) {
+        used += (size_t)snprintf(out + used, size - used, ", kernel %s", kernel);
+        const char *isa = strrchr(kernel, '/');
+        const char *asked = rtt_isa_name(rtt_isa_resolve(opt->isa));
+        if ((opt->given & RTT_OPTION_ISA) && isa && strcmp(isa + 1, asked) != 0)
+            used += (size_t)snprintf(out + used, size - used, " (asked for %s: the kernel has no %s build)", asked,
+                                     asked);
+    } else {
+        used += (size_t)snprintf(out + used, size - used, "%s", own_tree || (cls->uses & RTT_OPTION_ACCEL)
+                                                                    ? ", no kernel choice"
+                                                                    : ", its own acceleration structure and kernels");
+    }
+    if (cls->uses & RTT_OPTION_TILE)
+        used += (size_t)snprintf(out + used, size - used, ", tile %u", opt->tile ? opt->tile : 8u);
+    if (cls->uses & RTT_OPTION_LEAF_CULLING)
+        snprintf(out + used, size - used, ", leaf culling %s", opt->leaf_culling ? "on" : "off");
+}
+
+static void print_stats(const rtt_render_stats *s, const char *engine_used, const render_args *args)
 {
     double packets = s->packets ? (double)s->packets : 1.0;
     uint64_t rays = s->primary_rays + s->shadow_rays + s->secondary_rays;
-    printf("engine %s, traversal %s, tile %u, leaf culling %s\n", engine,
-           args->render.engine.traversal[0] ? args->render.engine.traversal : "default", args->render.engine.tile,
-           args->render.engine.leaf_culling ? "on" : "off");
+    printf("%s\n", engine_used);
     printf("rays: %llu primary, %llu shadow, %llu secondary; %.3g rays/s\n", (unsigned long long)s->primary_rays,
            (unsigned long long)s->shadow_rays, (unsigned long long)s->secondary_rays,
            s->seconds_total > 0 ? rays / s->seconds_total : 0.0);
@@ -202,37 +185,52 @@ static void print_stats(const rtt_render_stats *s, const char *engine, const ren
 }
 
 static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
-                               rtt_error *err)
+                               char *engine_used, size_t engine_used_size, rtt_error *err)
 {
+    args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
     if (!engine) return false;
     bool ok = rtt_render(engine, &args->render, image, stats, err);
+    describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
     rtt_engine_destroy(engine);
     return ok;
 }
 
-int cmd_render(int argc, char **argv)
+static int render(void *opaque, const cli_parsed *parsed)
 {
-    render_args args;
-    int status = parse_args(argc, argv, &args);
-    if (status >= 0) return status;
+    render_args *args = opaque;
+    if (args->output_count == 0) args->outputs[args->output_count++] = "render.png";
+    int status = check_applicable(parsed, args);
+    if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args.scene_path, args.bezier_level, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
     if (!scene) return cli_fail(&err);
-    uint32_t width = args.render.width ? args.render.width : scene->width;
-    uint32_t height = args.render.height ? args.render.height : scene->height;
-    args.render.width = width;
-    args.render.height = height;
-    if (isatty(STDERR_FILENO)) args.render.progress = print_progress;
+    uint32_t width = args->render.width ? args->render.width : scene->width;
+    uint32_t height = args->render.height ? args->render.height : scene->height;
+    args->render.width = width;
+    args->render.height = height;
+    if (isatty(STDERR_FILENO)) args->render.progress = print_progress;
 
-    rtt_image *image = rtt_image_create(width, height, args.render.aovs, &err);
+    rtt_image *image = rtt_image_create(width, height, args->render.aovs, &err);
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
-    bool ok = image && render_with_engine(scene, &args, image, &stats, &err);
-    for (int i = 0; ok && i < args.output_count; i++) ok = rtt_image_write(image, args.outputs[i], &err);
-    if (ok && args.render.stats) print_stats(&stats, args.engine, &args);
+    char engine_used[256] = "";
+    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
+    if (ok && args->render.stats) print_stats(&stats, engine_used, args);
     rtt_image_free(image);
     rtt_scene_free(scene);
     return ok ? RTT_EXIT_OK : cli_fail(&err);
 }
+
+const cli_command render_command = {
+    .name = "render", .summary = "render a scene to EXR or PNG", .run = render,
+    CLI_ARGS(render_args, render_defaults), CLI_ROWS(render_options), CLI_SCENE_OPERAND(render_args),
+    .engine_offset = offsetof(render_args, render.engine),
+    .synopsis = "SCENE [-o out.exr|out.png]... [options]",
+    .description = "Renders SCENE (scene .json, mesh file, Quake III .bsp or baked .kdt).  An option\n"
+                   "the chosen engine, scene file or output does not use is refused, not ignored.\n",
+    .environment = "RTT_ISA=auto|sse4|avx2|avx512 picks the instruction set when --isa is not\n"
+                   "given.\n",
+};

@@ -1,4 +1,4 @@
-/* The hit-by-hit conformance suite (DESIGN.md "Conformance"): ray sets,
+/* The hit-by-hit conformance suite (docs/ARCHITECTURE.md "Conformance"): ray sets,
  * the comparison of one engine's hits against an oracle's, the tolerance on
  * t, and the report (a text table and JSON).  conformance/README.md states
  * every rule and threshold used here.  Library code: it never prints; the
@@ -90,6 +90,8 @@ typedef struct rtt_conform_config {
     const char *engines;
     size_t max_rays;
     uint64_t seed;
+    rtt_isa isa;           /* given to each listed engine that reads an instruction-set choice;
+                              RTT_ISA_AUTO (default): each engine's own ($RTT_ISA, else the widest) */
 } rtt_conform_config;
 
 void rtt_conform_config_default(rtt_conform_config *config);
@@ -110,6 +112,9 @@ typedef struct rtt_conform_engine_spec {
 bool rtt_conform_register_engines(rtt_error *err);
 
 int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs, int cap, rtt_error *err);
+/* Gives instruction set `isa` to each spec whose engine reads one (AUTO
+ * leaves the specs as they are). */
+void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa);
 /* Checks an engine list without running anything. */
 bool rtt_conform_engines_valid(const char *engines, rtt_error *err);
 

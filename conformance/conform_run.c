@@ -70,6 +70,16 @@ int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs,
     return n;
 }
 
+void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa)
+{
+    for (int i = 0; isa != RTT_ISA_AUTO && i < count; i++) {
+        const rtt_engine_class *cls = rtt_engine_find(specs[i].name);
+        if (!cls || !(cls->uses & RTT_OPTION_ISA)) continue;
+        specs[i].opt.isa = isa;
+        specs[i].opt.given |= RTT_OPTION_ISA;
+    }
+}
+
 bool rtt_conform_engines_valid(const char *engines, rtt_error *err)
 {
     rtt_conform_engine_spec specs[64];
@@ -154,6 +164,7 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
     rtt_conform_engine_spec specs[64];
     int n_specs = rtt_conform_expand_engines(config->engines ? config->engines : rtt_conform_default_engines(), specs, 64, err);
     if (n_specs < 0) return false;
+    rtt_conform_specs_set_isa(specs, n_specs, config->isa);
 
     rtt_engine *reference = rtt_engine_create("reference", scene, NULL, err);
     if (!reference) return false;

@@ -122,18 +122,11 @@ static void embree_destroy(rtt_engine *engine)
     free(e);
 }
 
-/* Embree renders through the reference renderer, every ray traced by Embree. */
-static bool embree_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out, rtt_render_stats *stats,
-                          rtt_error *err)
-{
-    return rtt_reference_render(engine->scene, engine, opt, out, stats, err);
-}
-
 static const rtt_engine_vtable embree_vtable = {
     .name = "embree",
     .intersect = embree_intersect,
     .occluded = embree_occluded,
-    .render = embree_render,
+    .render = rtt_reference_render_engine, /* the reference renderer, every ray traced by Embree */
     .destroy = embree_destroy,
     .tree_info = NULL,
 };

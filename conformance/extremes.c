@@ -1,4 +1,4 @@
-/* The numerical-extremes suite (DESIGN.md "Conformance", Extremes): scenes
+/* The numerical-extremes suite (docs/ARCHITECTURE.md "Conformance", Extremes): scenes
  * built in code, run through the reference and every engine named, each
  * result one check on one engine.  The reference is compared with brute
  * force over every triangle; every other engine with the reference.
@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "engine/clock.h"
 #include "extremes_internal.h"
 #include "rtt/reference.h"
 
@@ -53,13 +54,6 @@ typedef struct check_spec {
     const rtt_ray *timing_rays;    /* valid rays timed beside the check's own, or NULL */
     size_t timing_n;
 } check_spec;
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static bool is_embree(const char *name) { return strcmp(name, "embree") == 0; }
 static bool is_reference(const char *name) { return strcmp(name, "reference") == 0; }
@@ -148,9 +142,9 @@ static void note_timing(rtt_extreme_result *r, rtt_engine *engine, const check_s
     if (!c->timing_rays || !c->timing_n || !c->n) return;
     rtt_hit *hits = malloc(c->timing_n * sizeof *hits);
     if (!hits) return;
-    double start = now_seconds();
+    double start = rtt_clock_seconds();
     rtt_engine_intersect(engine, c->timing_rays, hits, c->timing_n);
-    double valid = now_seconds() - start;
+    double valid = rtt_clock_seconds() - start;
     free(hits);
     size_t len = strlen(r->note);
     snprintf(r->note + len, sizeof r->note - len, "%s%.0f ns/invalid ray vs %.0f ns/valid ray", len ? "; " : "",
@@ -160,9 +154,9 @@ static void note_timing(rtt_extreme_result *r, rtt_engine *engine, const check_s
 /* Traces the check's rays through engine: hits, occlusion, seconds. */
 static double trace(rtt_engine *engine, const check_spec *c, rtt_hit *hits, uint8_t *occluded)
 {
-    double start = now_seconds();
+    double start = rtt_clock_seconds();
     rtt_engine_intersect(engine, c->rays, hits, c->n);
-    double seconds = now_seconds() - start;
+    double seconds = rtt_clock_seconds() - start;
     rtt_engine_occluded(engine, c->rays, occluded, c->n);
     return seconds;
 }
@@ -666,6 +660,7 @@ bool rtt_extremes_run(const rtt_extremes_config *config, rtt_extremes_report *re
     ctx.spec_count = rtt_conform_expand_engines(config->engines ? config->engines : rtt_conform_default_engines(),
                                                 ctx.specs, 64, err);
     if (ctx.spec_count < 0) return false;
+    rtt_conform_specs_set_isa(ctx.specs, ctx.spec_count, config->isa);
 
     uint32_t base_count = 0;
     float *base = rtt_ext_base_soup(&base_count);

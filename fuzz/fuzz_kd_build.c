@@ -1,6 +1,6 @@
 /* Fuzz target: the kd-tree builders and every traversal kernel.
  *
- * Bytes become triangles and rays at the numerical extremes (DESIGN.md
+ * Bytes become triangles and rays at the numerical extremes (docs/ARCHITECTURE.md
  * "Extremes"): NaN, inf, denormals, huge, tiny, degenerate and duplicate
  * triangles, meshes far from the origin, rays aimed exactly at vertices and
  * edges, axis-parallel rays with -0.0.  Then:

@@ -1,7 +1,7 @@
 /* Fuzz target: the baked kd-tree loader (.kdt through rtt_scene_load).
  *
  * The loader must validate every count, offset and index before use
- * (DESIGN.md): a bad file is refused with one line; an accepted one must be
+ * (docs/ARCHITECTURE.md): a bad file is refused with one line; an accepted one must be
  * a sound scene whose tree the engines can trace.  Accepted files are traced
  * with a pinhole bundle and checked against brute force, so a tree that
  * passes validation but drops triangles or points outside its arrays is

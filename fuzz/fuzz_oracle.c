@@ -228,7 +228,7 @@ static void describe(const fuzz_oracle *o, size_t r, uint32_t prim_a, uint32_t p
 
 /* Rays whose answer is specified: finite, magnitudes within 1e30 and a
  * direction whose largest component is at least 1e-30 (beyond the 1e-20 ..
- * 1e20 extremes of DESIGN.md, where 1/dir and t overflow, and where the
+ * 1e20 extremes of docs/ARCHITECTURE.md, where 1/dir and t overflow, and where the
  * products of the direction with a triangle's coefficients go denormal and
  * keep only a few bits: a direction of 2^-142 put t off by 0.6%), tnear and
  * tfar not NaN, and distances in the scene of at least 1e-30 in units of

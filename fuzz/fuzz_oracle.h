@@ -10,7 +10,7 @@
  *  - occluded must be set exactly when some hit exists, with the same
  *    leniency.
  *
- * Tolerance on t (DESIGN.md "Conformance"): tol(t) = 1e-4 * (|t| + S / |dir|),
+ * Tolerance on t (docs/ARCHITECTURE.md "Conformance"): tol(t) = 1e-4 * (|t| + S / |dir|),
  * S the largest coordinate magnitude among the scene's vertices and the ray
  * origin, so it scales with the coordinates.  Hits within tol of tnear or
  * tfar are unspecified: they are optional, never required.
@@ -18,7 +18,7 @@
  * Rays with NaN or infinite components, or magnitudes beyond 1e30, or a
  * direction whose largest component is below 1e-30, or distances in the
  * scene below 1e-30 in units of the direction (past the 1e-20 .. 1e20
- * extremes of DESIGN.md: 1/dir and t go denormal or overflow), must only not
+ * extremes of docs/ARCHITECTURE.md: 1/dir and t go denormal or overflow), must only not
  * crash and must report a prim in range; so must every engine, strict or
  * lenient, on triangles with a coordinate beyond 1e30 (a reference kd-tree
  * cell at 1.4e38 put t past what its float intervals hold).

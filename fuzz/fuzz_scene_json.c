@@ -1,4 +1,4 @@
-/* Fuzz target: the JSON scene parser (scene/scene_json.c via rtt_scene_load).
+/* Fuzz target: the JSON scene parser (scene/scene_schema.c via rtt_scene_load).
  * Bytes become a .json file; a refusal must be one clear line, an accepted
  * scene must keep every promise of the scene model. */
 #include "fuzz_common.h"

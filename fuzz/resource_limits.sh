@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Resource limits (issue 6, item 5): a hostile scene must not make either
+# Resource limits: a hostile scene must not make either
 # kd-tree builder use unbounded memory or time.  Both builders stop splitting
 # at a maximum depth (default round(2 + log2 N), at least 8, never above 64) and when
 # the triangle references in leaves would pass a cap (default 16 N + 1M), and

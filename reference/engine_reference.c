@@ -38,17 +38,11 @@ static bool reference_tree_info(rtt_engine *engine, rtt_tree_info *info)
     return true;
 }
 
-static bool reference_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
-                             rtt_render_stats *stats, rtt_error *err)
-{
-    return rtt_reference_render(engine->scene, engine, opt, out, stats, err);
-}
-
 static const rtt_engine_vtable reference_vtable = {
     .name = "reference",
     .intersect = reference_intersect,
     .occluded = reference_occluded,
-    .render = reference_render,
+    .render = rtt_reference_render_engine,
     .destroy = reference_destroy,
     .tree_info = reference_tree_info,
 };

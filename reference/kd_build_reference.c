@@ -37,6 +37,7 @@
 #include <time.h>
 
 #include "isect_watertight.h"
+#include "engine/clock.h"
 #include "kd_reference.h"
 
 /* A triangle in a node under construction, with its bounds clipped to the node. */
@@ -344,13 +345,6 @@ static void build_node(builder *b, uint32_t node, build_item *items, uint32_t n,
 
 /* ---- the tree -------------------------------------------------------- */
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static bool copy_triangles(const rtt_scene *scene, rtt_kd_tree *tree, build_item **items, uint32_t *item_count)
 {
     uint32_t n = scene->triangle_count;
@@ -375,7 +369,7 @@ static bool copy_triangles(const rtt_scene *scene, rtt_kd_tree *tree, build_item
 bool rtt_kd_reference_build(const rtt_scene *scene, const rtt_kd_build_options *opt, rtt_kd_tree *tree,
                             rtt_error *err)
 {
-    double start = seconds_now();
+    double start = rtt_clock_seconds();
     memset(tree, 0, sizeof *tree);
     build_item *items = NULL;
     uint32_t n = 0;
@@ -412,7 +406,7 @@ bool rtt_kd_reference_build(const rtt_scene *scene, const rtt_kd_build_options *
     info->sah_cost = root_area > 0.0 ? b.sah_sum / root_area : RTT_KD_COST_INTERSECT * n;
     info->memory_bytes = tree->node_count * sizeof(rtt_kd_node) + tree->prim_count * sizeof(uint32_t) +
                          tree->triangle_count * sizeof tree->triangles[0];
-    info->build_seconds = seconds_now() - start;
+    info->build_seconds = rtt_clock_seconds() - start;
     return true;
 }
 

@@ -273,3 +273,9 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
     }
     return true;
 }
+
+bool rtt_reference_render_engine(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
+                                 rtt_render_stats *stats, rtt_error *err)
+{
+    return rtt_reference_render(engine->scene, engine, opt, out, stats, err);
+}

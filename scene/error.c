@@ -10,7 +10,7 @@ bool rtt_error_set(rtt_error *err, const char *fmt, ...)
         va_start(args, fmt);
         vsnprintf(err->message, sizeof err->message, fmt, args);
         va_end(args);
-        /* Errors are one line (STYLE.md), even when they quote what a file
+        /* Errors are one line (the error contract), even when they quote what a file
          * holds: a key or name with a newline or a terminal escape in it
          * (found by fuzz_scene_json) is shown with '?' for each control byte. */
         for (char *c = err->message; *c; c++)

@@ -1,7 +1,7 @@
 /* Mesh files through Assimp's C API: OBJ/MTL, PLY, OFF, 3DS, glTF, STL and
  * whatever else Assimp reads.
  *
- * Global triangle order (DESIGN.md).  No post-processing step is requested:
+ * Global triangle order (docs/ARCHITECTURE.md).  No post-processing step is requested:
  * aiProcess_Triangulate cuts quads at a concave corner and larger polygons by
  * ear clipping, FindDegenerates and SortByPType drop or regroup faces, and
  * PreTransformVertices merges meshes by material, so each would break the
@@ -47,7 +47,7 @@
  * weights are scaled down to sum to at most 1.  Formats without materials
  * (OFF, PLY, STL: Assimp invents one, white and for PLY even specular) and
  * Assimp's placeholder for files that name none ("DefaultMaterial", e.g. an
- * OBJ without MTL) get rtt's grey diffuse default (DESIGN.md: no material
+ * OBJ without MTL) get rtt's grey diffuse default (docs/ARCHITECTURE.md: no material
  * -> grey diffuse).
  *
  * Errors are one line, "path: what is wrong": Assimp's message reduced to
@@ -68,7 +68,10 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "file_kind.h"
+#include "file_read.h"
 #include "scene_build.h"
+#include "transform.h"
 
 #define MTL_DEFAULT_MATERIAL_NAME "DefaultMaterial" /* AI_DEFAULT_MATERIAL_NAME */
 
@@ -114,11 +117,10 @@ static bool illum_is(int illum, const int *models, size_t count)
 
 static bool has_no_materials(const char *path)
 {
-    static const char *const formats[] = {".off", ".ply", ".stl"};
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    if (!dot || (slash && dot < slash)) return false;
+    static const char *const formats[] = {"off", "ply", "stl"};
+    const char *ext = rtt_file_extension(path);
     for (size_t i = 0; i < sizeof formats / sizeof formats[0]; i++)
-        if (strcasecmp(dot, formats[i]) == 0) return true;
+        if (strcasecmp(ext, formats[i]) == 0) return true;
     return false;
 }
 
@@ -196,15 +198,7 @@ static uint32_t scene_material(import_state *st, unsigned int file_material, rtt
 
 /* ---- geometry ---- */
 
-/* Row-major 4x4 product a * b (aiMatrix4x4 is row-major too). */
-static void mat4_mul(const float a[16], const float b[16], float out[16])
-{
-    for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 4; c++)
-            out[4 * r + c] =
-                a[4 * r] * b[c] + a[4 * r + 1] * b[4 + c] + a[4 * r + 2] * b[8 + c] + a[4 * r + 3] * b[12 + c];
-}
-
+/* aiMatrix4x4 is row-major, like transform.h's matrices. */
 static void mat4_from_ai(const struct aiMatrix4x4 *m, float out[16])
 {
     const ai_real in[16] = {m->a1, m->a2, m->a3, m->a4, m->b1, m->b2, m->b3, m->b4,
@@ -286,7 +280,7 @@ static bool append_node(import_state *st, const struct aiNode *node, const float
     if (depth > 1024) return rtt_error_set(err, "%s: node hierarchy deeper than 1024", st->path);
     float local[16], world[16];
     mat4_from_ai(&node->mTransformation, local);
-    mat4_mul(parent, local, world);
+    rtt_transform_multiply(parent, local, world);
     for (unsigned int i = 0; i < node->mNumMeshes; i++) {
         unsigned int m = node->mMeshes[i];
         if (m >= st->ai->mNumMeshes)
@@ -328,11 +322,10 @@ static bool check_file(const char *path, rtt_error *err)
  * .gltf a JSON object (cJSON), .glb the "glTF" magic, .ply the "ply" magic. */
 static bool check_signature(const char *path, rtt_error *err)
 {
-    const char *dot = strrchr(path, '.');
-    const char *ext = dot ? dot + 1 : "";
+    const char *ext = rtt_file_extension(path);
     if (strcasecmp(ext, "gltf") == 0) {
         size_t size = 0;
-        char *text = rtt_scene_read_text(path, &size, err);
+        char *text = rtt_file_read(path, RTT_FILE_TEXT_MAX, &size, err);
         if (!text) return false;
         cJSON *json = cJSON_ParseWithLengthOpts(text, size + 1u, NULL, true); /* the whole file, NUL included */
         bool object = cJSON_IsObject(json);

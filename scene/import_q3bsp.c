@@ -1,7 +1,7 @@
 /* Quake III Arena maps (IBSP version 46, as in OpenArena's pak files).
  *
  * Our own loader: Assimp's Q3 BSP importer crashes on the OpenArena maps
- * (DESIGN.md).  Only three of the 17 lumps are read:
+ * (docs/ARCHITECTURE.md).  Only three of the 17 lumps are read:
  *
  *   lump 10  vertices   44 bytes: position[3], texcoord[2], lightmap[2],
  *                       normal[3] (floats), colour[4] (bytes)

@@ -1,7 +1,7 @@
 /* The baked kd-tree file (.kdt; layout in kdt_format.h): the writer used by
  * `rtt bake` and the reader behind rtt_scene_load("x.kdt").
  *
- * The reader is a fuzz target (issue 6): it checks the header, then the
+ * The reader is a fuzz target: it checks the header, then the
  * checksum, then every section's place and size against the file, then
  * every count, index and float before anything uses them, and refuses a bad
  * file with one line "file.kdt: what is wrong (where)".  It allocates only
@@ -15,6 +15,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "file_read.h"
 #include "kdt_format.h"
 #include "scene_build.h"
 
@@ -231,26 +232,18 @@ typedef struct kdt_file {
     kdt_section table[KDT_SECTION_COUNT];
 } kdt_file;
 
+/* No size limit of its own: a baked tree is as large as its scene, and
+ * nothing is allocated past the file itself until its sizes have been
+ * checked against it. */
 static bool read_whole_file(kdt_file *f, rtt_error *err)
 {
-    FILE *stream = fopen(f->path, "rb");
-    if (!stream) return rtt_error_set(err, "%s: cannot open: %s", f->path, strerror(errno));
-    long size = -1;
-    if (fseek(stream, 0, SEEK_END) == 0) size = ftell(stream);
-    if (size < 0 || fseek(stream, 0, SEEK_SET) != 0) {
-        fclose(stream);
-        return rtt_error_set(err, "%s: cannot read: not a regular file", f->path);
-    }
-    if ((uint64_t)size < sizeof(kdt_header)) {
-        fclose(stream);
-        return rtt_error_set(err, "%s: truncated: %ld bytes, shorter than the %zu-byte .kdt header", f->path, size,
+    size_t size = 0;
+    f->bytes = (unsigned char *)rtt_file_read(f->path, SIZE_MAX, &size, err);
+    if (!f->bytes) return false;
+    f->size = size;
+    if (size < sizeof(kdt_header))
+        return rtt_error_set(err, "%s: truncated: %zu bytes, shorter than the %zu-byte .kdt header", f->path, size,
                              sizeof(kdt_header));
-    }
-    f->size = (uint64_t)size;
-    f->bytes = malloc((size_t)size);
-    bool ok = f->bytes && fread(f->bytes, 1, (size_t)size, stream) == (size_t)size;
-    fclose(stream);
-    if (!ok) return rtt_error_set(err, "%s: cannot read %ld bytes", f->path, size);
     memcpy(&f->header, f->bytes, sizeof f->header);
     return true;
 }
@@ -349,8 +342,9 @@ static bool check_settings(const kdt_file *f, const kdt_scene_settings *k, rtt_e
     if (k->width == 0 || k->height == 0 || k->width > 65536u || k->height > 65536u)
         return rtt_error_set(err, "%s: image size %ux%u must be 1 to 65536 a side (settings section)", f->path,
                              k->width, k->height);
-    if (k->max_bounces > 64u)
-        return rtt_error_set(err, "%s: max bounces %u over 64 (settings section)", f->path, k->max_bounces);
+    if (k->max_bounces > RTT_MAX_BOUNCES)
+        return rtt_error_set(err, "%s: max bounces %u over %u (settings section)", f->path, k->max_bounces,
+                             RTT_MAX_BOUNCES);
     if (k->degenerate_count > f->header.triangle_count || k->has_normals > 1u)
         return rtt_error_set(err, "%s: degenerate count %u or normals flag %u out of range (settings section)",
                              f->path, k->degenerate_count, k->has_normals);

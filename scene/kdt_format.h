@@ -1,4 +1,4 @@
-/* The baked kd-tree file (.kdt, "RTTest offline", DESIGN.md): the on-disk
+/* The baked kd-tree file (.kdt, "RTTest offline", docs/ARCHITECTURE.md): the on-disk
  * layout shared by scene/ (kdt_file.c reads and writes it) and optimized/
  * (kdt_bake.c fills it, engine_optimized.c adopts the tree).  scene/ may not
  * see optimized/'s headers, so the tree records are defined here and

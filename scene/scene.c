@@ -1,6 +1,7 @@
 /* The scene model: assembling a scene from what the loaders find, filling in
- * the defaults of DESIGN.md ("model only what a scene requires"), and
- * loading any supported file by its extension.
+ * the defaults of docs/ARCHITECTURE.md ("model only what a scene requires"), and
+ * loading any supported file with the reader its kind names
+ * (rtt_file_kind_of, file_kind.c).
  *
  * Geometry is appended mesh by mesh in the global triangle order; every
  * vertex is validated (finite after the transform) and every index checked
@@ -9,11 +10,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
+#include "transform.h"
 
 /* Scenes larger than this are refused: indices stay far from overflow and a
  * hostile file cannot ask for unbounded memory through the counts. */
@@ -98,22 +99,6 @@ bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *er
     return true;
 }
 
-static rtt_vec3 transform_point(const float m[16], rtt_vec3 p)
-{
-    return rtt_v3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
-                  m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
-}
-
-/* Normals transform by the inverse transpose of the upper 3x3; the
- * cofactor matrix is that up to a scale, which normalizing removes. */
-static rtt_vec3 transform_normal(const float m[16], rtt_vec3 n)
-{
-    rtt_vec3 r0 = rtt_v3(m[0], m[1], m[2]), r1 = rtt_v3(m[4], m[5], m[6]), r2 = rtt_v3(m[8], m[9], m[10]);
-    rtt_vec3 c0 = rtt_v3_cross(r1, r2), c1 = rtt_v3_cross(r2, r0), c2 = rtt_v3_cross(r0, r1);
-    rtt_vec3 out = rtt_v3_add(rtt_v3_add(rtt_v3_scale(c0, n.x), rtt_v3_scale(c1, n.y)), rtt_v3_scale(c2, n.z));
-    return rtt_v3_normalize(out);
-}
-
 /* Capacities of the growing geometry arrays live beside the counts: the
  * arrays are reallocated to exact size per mesh, which keeps the struct free
  * of bookkeeping fields and costs one realloc per mesh. */
@@ -171,7 +156,7 @@ bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, 
         return rtt_error_set(err, "%s: out of memory for %u triangles", source, triangle_count);
 
     for (uint32_t i = 0; i < vertex_count; i++) {
-        rtt_vec3 p = transform ? transform_point(transform, positions[i]) : positions[i];
+        rtt_vec3 p = transform ? rtt_transform_point(transform, positions[i]) : positions[i];
         if (!rtt_v3_is_finite(p))
             return rtt_error_set(err, "%s: vertex %u is not finite after the transform", source, i);
         scene->vertices[v0 + i] = p;
@@ -182,7 +167,7 @@ bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, 
         for (uint32_t i = 0; i < vertex_count; i++) {
             rtt_vec3 n = normals ? normals[i] : rtt_v3(0.0f, 0.0f, 0.0f);
             if (!rtt_v3_is_finite(n)) n = rtt_v3(0.0f, 0.0f, 0.0f);
-            scene->normals[v0 + i] = transform && normals ? transform_normal(transform, n) : rtt_v3_normalize(n);
+            scene->normals[v0 + i] = transform && normals ? rtt_transform_normal(transform, n) : rtt_v3_normalize(n);
         }
     for (uint32_t f = 0; f < triangle_count; f++) {
         for (int k = 0; k < 3; k++) scene->triangles[t0 + f].v[k] = v0 + indices[3 * (size_t)f + k];
@@ -406,22 +391,16 @@ rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, 
 
 _Static_assert(sizeof(rtt_vec3) == 3 * sizeof(float), "rtt_vec3 is three packed floats");
 
-static const char *extension_of(const char *path)
-{
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    return dot && (!slash || dot > slash) ? dot : "";
-}
-
 rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err)
 {
-    const char *ext = extension_of(path);
+    const rtt_file_kind kind = rtt_file_kind_of(path);
     FILE *probe = fopen(path, "rb");
     if (!probe) {
         rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
         return NULL;
     }
     fclose(probe);
-    if (strcasecmp(ext, ".kdt") == 0) return rtt_kdt_read_scene(path, err);
+    if (kind == RTT_FILE_KDT) return rtt_kdt_read_scene(path, err);
 
     rtt_scene_load_options defaults = {.bezier_level = 0};
     if (!opt) opt = &defaults;
@@ -429,11 +408,11 @@ rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, r
     rtt_scene *scene = rtt_scene_new(path, err);
     if (!scene) return NULL;
     bool ok;
-    if (strcasecmp(ext, ".json") == 0) {
+    if (kind == RTT_FILE_SCENE_JSON) {
         ok = rtt_scene_parse_json(scene, path, opt, err); /* bezier_level 0: the file's own, else the default */
-    } else if (strcasecmp(ext, ".bsp") == 0) {
+    } else if (kind == RTT_FILE_Q3BSP) {
         ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err);
-    } else {
+    } else { /* a mesh, or a file of unknown kind that Assimp may recognise by its content */
         ok = rtt_import_assimp(scene, path, NULL, UINT32_MAX, err);
     }
     if (!ok || !rtt_scene_finish(scene, err)) {

@@ -1,13 +1,10 @@
 /* Internal API the loaders use to append geometry and materials to a scene
- * under construction (not part of include/: only scene/ and its tests use it). */
+ * under construction, and the loaders themselves (not part of include/: only
+ * scene/ and its tests use it). */
 #ifndef RTT_SCENE_BUILD_H
 #define RTT_SCENE_BUILD_H
 
 #include "rtt/scene.h"
-
-/* The whole file as NUL-terminated text (at most 1 GiB), its length in
- * *length; NULL after filling err (scene_json.c). */
-char *rtt_scene_read_text(const char *path, size_t *length, rtt_error *err);
 
 /* An empty scene with no geometry, materials or lights; path is kept for messages. */
 rtt_scene *rtt_scene_new(const char *path, rtt_error *err);
@@ -39,7 +36,8 @@ bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[
 /* The baked kd-tree file (kdt_file.c): the whole scene plus the optimized
  * engine's tree, validated section by section; scene->baked carries the tree. */
 rtt_scene *rtt_kdt_read_scene(const char *path, rtt_error *err);
-/* The JSON scene file (scene_json.c). */
+/* The JSON scene file (scene_schema.c): fills `scene` from the file, one
+ * located error line on failure (scene/README.md). */
 bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err);
 
 #endif

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmark smoke (issue 7, "regression guard"): `rtt bench --quick` runs every
+# Benchmark smoke (a regression guard): `rtt bench --quick` runs every
 # method on a small scene from scenes/, and every full render it makes is the
 # image the reference renderer makes (rtt compare, within the tolerances
 # below).  No timing is asserted: the machine running the tests may be busy.

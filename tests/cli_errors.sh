@@ -68,6 +68,115 @@ expect 2 "no SCENE|usage" -- bake
 expect 2 "usage|SCENE" -- conform
 expect 2 "usage|SCENE" -- bench
 
+# option syntax: --opt=value, repeats, values on flags (exit 2)
+expect 2 "--bogus=1: unknown option" -- render "$scene" --bogus=1
+expect 2 "--stats: takes no value" -- render "$scene" --stats=yes
+expect 2 "--tile 16: given more than once" -- render "$scene" --tile 8 --tile 16
+expect 2 "--tile 7: expected 4, 8, 16 or 32" -- render "$scene" --tile=7
+expect 2 "--width: expected a whole number" -- render "$scene" --width=
+expect 2 "-o x\.jpg: unknown image format" -- render "$scene" -o=x.jpg
+expect 2 "--output x\.jpg: unknown image format" -- render "$scene" --output=x.jpg
+expect 2 "--isa bogus: expected auto or one of sse4" -- render "$scene" --isa bogus
+expect 2 "--isa bogus: expected" -- render "$scene" --isa=bogus
+expect 2 "--accel bvh: expected one of kd" -- render "$scene" --accel bvh
+expect 2 "--max-bounces 65: expected a whole number from 0 to 64" -- render "$scene" --max-bounces 65
+expect 2 "--max-bounces -1: expected" -- render "$scene" --max-bounces=-1
+expect 2 "--max-depth 65: expected a whole number from 1 to 64" -- render "$scene" --max-depth 65
+expect 2 "more than one SCENE" -- render "$scene" "$scene"
+expect 2 "--engine warp: expected both, optimized or reference" -- info "$scene" --engine warp
+expect 2 "-o x\.png: the output must end in \.kdt" -- bake "$scene" -o x.png
+expect 2 "--threads 0,1: expected up to" -- bench "$scene" --threads 0,1
+expect 2 "--only gpu: expected a comma list" -- bench "$scene" --only gpu
+expect 2 "--rays lasers: expected primary" -- conform "$scene" --rays lasers
+expect 2 "--max-rmse -1: expected a number of at least 0" -- compare a.exr b.exr --max-rmse=-1
+expect 2 "expected two images" -- compare a.exr b.exr c.exr
+RTT_ISA=bogus expect 2 "RTT_ISA=bogus: expected" -- render "$scene"
+
+# options that do not apply are refused, naming the option and the reason (exit 2)
+expect 2 "--tile 16: engine \"reference\" does not use a tile size" -- render "$scene" --engine reference --tile 16
+expect 2 "--isa sse4: engine \"reference\" does not use an instruction-set" -- \
+    render "$scene" --engine reference --isa sse4
+expect 2 "--traversal mft: engine \"reference\" does not use a traversal kernel" -- \
+    render "$scene" --engine reference --traversal mft
+if "$rtt" render --help | grep -q " embree ("; then # a build with Embree
+    expect 2 "--traversal cone: engine \"embree\" does not use a traversal kernel" -- \
+        render "$scene" --engine embree --traversal cone --stats
+    expect 2 "--leaf-culling off: engine \"embree\" does not use a leaf-culling" -- \
+        render "$scene" --engine embree --leaf-culling off
+    expect 2 "--accel kd: engine \"embree\" does not use an acceleration" -- render "$scene" --engine embree --accel kd
+    expect 2 "--max-depth 12: engine \"embree\" does not use a tree depth" -- \
+        render "$scene" --engine embree --max-depth 12
+    expect 2 "--tile 8: engine \"embree\" does not use a tile size" -- \
+        trace "$scene" --rays "$work/rays.bin" -o "$work/h.bin" --engine embree --tile 8
+fi
+expect 2 "--shadows cone:16: engine \"reference\" does not render cone shadows" -- \
+    render "$scene" --engine reference --shadows cone:16
+expect 2 "--aov depth: PNG output .*x\.png has no AOV channels; write an \.exr" -- \
+    render "$scene" --aov depth -o "$work/x.png"
+expect 2 "--aov depth: PNG output render\.png \(the default\)" -- render "$scene" --aov depth
+expect 2 "--edge-leak-fix: applies to --shadows edgewidth only" -- render "$scene" --edge-leak-fix
+expect 2 "--edge-leak-fix: applies to --shadows edgewidth only \(shadows are multi\)" -- \
+    render "$scene" --shadows multi:4 --edge-leak-fix
+expect 2 "--traversal mono: engine \"reference\"" -- \
+    trace "$scene" --rays "$work/rays.bin" -o "$work/h.bin" --engine reference --traversal mono
+expect 2 "--accel kd: engine \"reference\" does not use an acceleration" -- info "$scene" --accel kd
+expect 2 "--isa sse4: none of the engines reference reads an instruction-set choice" -- \
+    conform "$scene" --engines reference --isa sse4
+expect 2 "--rays primary: --extremes traces rays of its own" -- conform --extremes --rays primary
+expect 2 "--seed 3: --extremes has no random rays" -- conform --extremes --seed 3
+expect 2 "--extremes: builds its own scenes" -- conform "$scene" --extremes
+expect 2 "--meshes .*: only --extremes reads meshes" -- conform "$scene" --meshes "$work"
+expect 2 "--frames 3: --quick times one frame" -- bench "$scene" --quick --frames 3
+expect 2 "--warmup 2: --quick warms up none" -- bench "$scene" --quick --warmup 2
+expect 2 "--images .*: --only leaves out the render rows" -- bench "$scene" --only primary --images "$work"
+expect 2 "--view door: needs --views" -- bench "$scene" --view door
+
+# a baked .kdt: its tree is adopted as is and its patches are tessellated
+"$rtt" bake "$scene" -o "$work/baked.kdt" || { echo "FAIL: rtt bake"; failures=$((failures + 1)); }
+expect 2 "--max-depth 10: engine \"optimized\" adopts the tree baked into .*baked\.kdt as is; rebake" -- \
+    render "$work/baked.kdt" --max-depth 10 -o "$work/k.png"
+expect_absent "$work/k.png"
+expect 2 "--bezier-level 2: .*baked\.kdt holds triangles.*rebake" -- render "$work/baked.kdt" --bezier-level 2
+expect 2 "--max-depth 10: engine \"optimized\" adopts" -- info "$work/baked.kdt" --max-depth 10
+expect 2 "--max-depth 10: engine \"optimized\" adopts" -- bench "$work/baked.kdt" --max-depth 10
+expect 2 "--max-depth 10: engine \"optimized\" adopts" -- \
+    trace "$work/baked.kdt" --rays "$work/rays.bin" -o "$work/h.bin" --max-depth 10
+expect 2 "--bezier-level 2: .*baked\.kdt holds triangles" -- bake "$work/baked.kdt" -o "$work/b2.kdt" --bezier-level 2
+expect 2 "--bezier-level 2: .*cube\.obj is a mesh file: it has no Quake III patches" -- \
+    triangles "$src/scenes/meshes/cube.obj" -o "$work/t.bin" --bezier-level 2
+
+# what works: --opt=value is --opt value; --isa=sse4; --max-bounces 0; the
+# reference builds its own tree from a .kdt, so --max-depth applies there
+# expect_ok ARGS...: exit 0, nothing on stderr
+expect_ok() {
+    "$rtt" "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    if [ "$got" -ne 0 ] || [ -s "$work/err" ]; then
+        echo "FAIL: rtt $* -> exit $got (want 0), stderr:"
+        sed 's/^/    /' "$work/err"
+        failures=$((failures + 1))
+    fi
+}
+small=(--width 16 --height 16 --threads 1 --stats)
+expect_ok render "$scene" "${small[@]}" --tile=16 --leaf-culling=off --traversal=frustum -o="$work/eq.png"
+head -1 "$work/out" >"$work/eq.stats"
+expect_ok render "$scene" "${small[@]}" --tile 16 --leaf-culling off --traversal frustum -o "$work/sp.png"
+head -1 "$work/out" >"$work/sp.stats"
+if ! cmp -s "$work/eq.png" "$work/sp.png" || ! cmp -s "$work/eq.stats" "$work/sp.stats" ||
+    ! grep -q "kernel frustum/.*tile 16, leaf culling off" "$work/sp.stats"; then
+    echo "FAIL: --opt=value and --opt value differ: $(cat "$work/eq.stats") / $(cat "$work/sp.stats")"
+    failures=$((failures + 1))
+fi
+expect_ok render "$scene" "${small[@]}" --isa=sse4 -o "$work/sse4.png"
+grep -q "^engine optimized, accel kd, kernel mft/sse4, tile 8, leaf culling on$" "$work/out" ||
+    { echo "FAIL: --isa=sse4 --stats: $(head -1 "$work/out")"; failures=$((failures + 1)); }
+expect_ok render "$scene" "${small[@]}" --engine=reference -o "$work/ref.png"
+grep -q "^engine reference, accel kd (its own), no kernel choice$" "$work/out" ||
+    { echo "FAIL: --engine=reference --stats: $(head -1 "$work/out")"; failures=$((failures + 1)); }
+expect_ok render "$scene" "${small[@]}" --max-bounces 0 -o "$work/mb0.png"
+expect_ok render "$work/baked.kdt" "${small[@]}" --engine reference --max-depth 10 -o "$work/kref.png"
+expect_ok conform "$scene" --engines optimized/mft --isa=sse4 --rays primary --max-rays 64
+
 # bad input (exit 1), one line naming the file
 expect 1 "missing\.json" -- render "$work/missing.json" -o "$work/a.png"
 expect_absent "$work/a.png"

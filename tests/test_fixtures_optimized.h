@@ -7,7 +7,7 @@
  * Agreement: both miss, or both hit with |t - t_ref| <= 1e-5 * max(1, |t_ref|).
  * A different prim is a tie only when both triangles are hit by the ray
  * within that tolerance (prim_hit_at).  A hit within tolerance of tnear or
- * tfar is unspecified (DESIGN.md, near_interval_end). */
+ * tfar is unspecified (docs/ARCHITECTURE.md, near_interval_end). */
 #ifndef RTT_TEST_FIXTURES_OPTIMIZED_H
 #define RTT_TEST_FIXTURES_OPTIMIZED_H
 

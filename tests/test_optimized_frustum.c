@@ -7,7 +7,7 @@
  * Agreement: both miss, or both hit with |t - t_ref| <= 1e-5 * max(1, |t_ref|).
  * A different prim is a tie only when both triangles are hit by the ray
  * within that tolerance (checked with rtt_reference_intersect_triangle).  A
- * hit within tolerance of tnear or tfar is unspecified (DESIGN.md) and not
+ * hit within tolerance of tnear or tfar is unspecified (docs/ARCHITECTURE.md) and not
  * counted.  Every kernel must show zero disagreements. */
 #include <math.h>
 #include <setjmp.h>

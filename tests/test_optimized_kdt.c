@@ -403,6 +403,31 @@ static void test_bad_section_table_refused(void **state)
     free(bytes);
 }
 
+/* A baked tree is held to the scene file's bounce limit: up to
+ * RTT_MAX_BOUNCES loads, one more is refused. */
+static void test_baked_max_bounces_past_the_limit_refused(void **state)
+{
+    (void)state;
+    size_t size;
+    unsigned char *bytes = baked_bytes(&size);
+    kdt_scene_settings *settings = (kdt_scene_settings *)(bytes + section(bytes, KDT_SECTION_SETTINGS)->offset);
+    settings->max_bounces = RTT_MAX_BOUNCES;
+    fix_checksum(bytes, size);
+    write_all(DAMAGED, bytes, size);
+    rtt_error err = {{0}};
+    rtt_scene *loaded = rtt_scene_load(DAMAGED, NULL, &err);
+    if (!loaded) fail_msg("%s", err.message);
+    assert_int_equal(loaded->max_bounces, RTT_MAX_BOUNCES);
+    rtt_scene_free(loaded);
+
+    settings->max_bounces = RTT_MAX_BOUNCES + 1u;
+    fix_checksum(bytes, size);
+    char want[200];
+    snprintf(want, sizeof want, "max bounces %u over %u (settings section)", RTT_MAX_BOUNCES + 1u, RTT_MAX_BOUNCES);
+    expect_refused(bytes, size, want);
+    free(bytes);
+}
+
 /* Random damage with a valid checksum: refused with one line or loaded,
  * never a crash (run under ASan in CI). */
 /* ---- forged files: re-checksummed, so the loader accepts them; the engine
@@ -640,6 +665,7 @@ int main(void)
         cmocka_unit_test(test_bad_leaf_range_and_prim_refused),
         cmocka_unit_test(test_bad_scene_indices_refused),
         cmocka_unit_test(test_bad_section_table_refused),
+        cmocka_unit_test(test_baked_max_bounces_past_the_limit_refused),
         cmocka_unit_test(test_forged_tree_refused_by_engine),
         cmocka_unit_test(test_big_tree_checked_alike_on_one_and_two_threads),
         cmocka_unit_test(test_random_damage_never_crashes),

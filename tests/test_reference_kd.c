@@ -709,7 +709,7 @@ static rtt_scene *sphere_make(rtt_vec3 centre, float radius, uint32_t rings, uin
 }
 
 /* Rays from inside aimed exactly at every vertex and every edge midpoint must
- * hit the sphere: zero escapes (DESIGN.md, Conformance). */
+ * hit the sphere: zero escapes (docs/ARCHITECTURE.md, Conformance). */
 static void test_rays_from_inside_a_closed_sphere_never_escape(void **state)
 {
     (void)state;

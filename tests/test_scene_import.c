@@ -1,6 +1,6 @@
 /* The mesh importers (scene/import_assimp.c, scene/import_q3bsp.c), through
  * the public rtt_scene_load: triangle counts and the global triangle order
- * of DESIGN.md for every format, the MTL material mapping, one-line errors,
+ * of docs/ARCHITECTURE.md for every format, the MTL material mapping, one-line errors,
  * Quake III maps built in memory (good and corrupt), and the real data of
  * bench/fetch-scenes.sh. */
 #include <setjmp.h>

@@ -1,4 +1,5 @@
-/* The JSON scene file (scene/scene_json.c) and the built-in shapes
+/* The JSON scene file (scene/scene_schema.c, scene/scene_schema_meshes.c,
+ * located errors by scene/json_locate.c) and the built-in shapes
  * (scene/shapes.c): good files give the right values and defaults, every bad
  * file in tests/data/scene_bad/ gives exactly the line in its .expected file,
  * every scene in scenes/ loads. */
@@ -116,6 +117,32 @@ static void test_scene_json_reads_every_top_level_field(void **state)
     assert_float_equal(s->ambient, 0.25, 1e-7);
     assert_int_equal(s->max_bounces, 7);
     rtt_scene_free(s);
+}
+
+static void test_scene_json_max_bounces_zero_loads_as_no_reflections(void **state)
+{
+    (void)state;
+    rtt_scene *s = parse_text("{\"max_bounces\": 0, \"meshes\": [" TRIANGLE "]}");
+    assert_int_equal(s->max_bounces, 0);
+    rtt_scene_free(s);
+    char text[256];
+    snprintf(text, sizeof text, "{\"max_bounces\": %u, \"meshes\": [" TRIANGLE "]}", RTT_MAX_BOUNCES);
+    s = parse_text(text);
+    assert_int_equal(s->max_bounces, RTT_MAX_BOUNCES);
+    rtt_scene_free(s);
+}
+
+static void test_scene_json_max_bounces_past_the_limit_is_one_line_at_its_place(void **state)
+{
+    (void)state;
+    char text[256], want[512];
+    snprintf(text, sizeof text, "{\n\"meshes\": [" TRIANGLE "],\n\"max_bounces\": %u\n}", RTT_MAX_BOUNCES + 1u);
+    const char *path = write_temp_scene(text);
+    rtt_error err = {{0}};
+    assert_null(parse(path, &err));
+    unlink(path);
+    snprintf(want, sizeof want, "%s:3: max_bounces must be an integer between 0 and %u", path, RTT_MAX_BOUNCES);
+    assert_string_equal(err.message, want);
 }
 
 static void test_scene_json_camera_takes_default_up_and_fov(void **state)
@@ -468,6 +495,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scene_json_geometry_alone_takes_every_default),
         cmocka_unit_test(test_scene_json_reads_every_top_level_field),
+        cmocka_unit_test(test_scene_json_max_bounces_zero_loads_as_no_reflections),
+        cmocka_unit_test(test_scene_json_max_bounces_past_the_limit_is_one_line_at_its_place),
         cmocka_unit_test(test_scene_json_camera_takes_default_up_and_fov),
         cmocka_unit_test(test_scene_json_materials_read_their_fields_and_default_the_rest),
         cmocka_unit_test(test_scene_json_lights_read_their_fields_and_default_the_rest),

@@ -1,6 +1,6 @@
-/* The scene model (scene/scene.c) and the shading model (scene/shade.c):
- * vector maths, mesh validation, defaults, closedness, degenerate counts,
- * camera rays, light samples, weights and refraction. */
+/* The scene model (scene/scene.c, scene/transform.c) and the shading model
+ * (scene/shade.c): vector maths, mesh validation, defaults, closedness,
+ * degenerate counts, camera rays, light samples, weights and refraction. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>

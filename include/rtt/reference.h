@@ -20,6 +20,11 @@ rtt_engine *rtt_reference_engine_create(const rtt_scene *scene, const rtt_engine
 bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_render_options *opt,
                           rtt_image *out, rtt_render_stats *stats, rtt_error *err);
 
+/* rtt_reference_render of the engine's own scene through the engine: the
+ * render entry of every engine that has no renderer of its own. */
+bool rtt_reference_render_engine(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
+                                 rtt_render_stats *stats, rtt_error *err);
+
 /* Woop, Benthin, Wald 2013 watertight ray/triangle test against one
  * triangle: true when the ray hits it (either side) with tnear < t < tfar;
  * t, u, v (barycentrics of vertices 1 and 2) are written on a hit only.

@@ -1,6 +1,6 @@
 /* The scene model shared by every engine ("model only what a scene requires").
  *
- * A scene is geometry in the global triangle order of DESIGN.md (meshes in
+ * A scene is geometry in the global triangle order of docs/ARCHITECTURE.md (meshes in
  * file order, faces in file order, polygons fan-triangulated in order) plus
  * whatever else the scene file names; everything else takes the defaults
  * below.  Engines read the struct directly and never modify it.  */
@@ -19,9 +19,14 @@
 #define RTT_DEFAULT_HEIGHT 512u
 #define RTT_DEFAULT_FOV_DEG 60.0f
 #define RTT_DEFAULT_MAX_BOUNCES 3u      /* reflection/refraction depth */
-#define RTT_MAX_BOUNCES 64u             /* the deepest reflection/refraction scene files and renders allow */
 #define RTT_DEFAULT_BEZIER_LEVEL 4u     /* Quake III patch subdivisions per side */
 #define RTT_DEFAULT_AMBIENT 0.05f
+
+/* The deepest reflection/refraction recursion scene files and renders allow
+ * (0: no secondary rays).  Scene files, baked trees and render options are
+ * held to it: the renderers recurse (or keep one shading level per bounce)
+ * that deep. */
+#define RTT_MAX_BOUNCES 64u
 
 /* The thesis' five fixed-function shader types (Listing 4.7). */
 typedef enum rtt_material_type {
@@ -115,9 +120,23 @@ typedef struct rtt_scene_load_options {
     uint32_t bezier_level;            /* 0 → RTT_DEFAULT_BEZIER_LEVEL */
 } rtt_scene_load_options;
 
-/* Loads a scene file (.json), a bare mesh (anything Assimp reads), a Quake III
- * map (.bsp) or a baked tree (.kdt), picked by extension, and fills in every
- * default.  opt may be NULL.  Returns NULL and fills err on failure. */
+/* What a file is by its extension: the text after the last dot of the last
+ * path component, in any case ("a.b/scene" has none).  rtt_scene_load reads
+ * each kind with its own reader. */
+typedef enum rtt_file_kind {
+    RTT_FILE_UNKNOWN = 0, /* no extension, or one no reader claims (Assimp may still know the content) */
+    RTT_FILE_SCENE_JSON,  /* .json: a scene file (scene/README.md) */
+    RTT_FILE_KDT,         /* .kdt: a baked tree, the scene and its kd-tree */
+    RTT_FILE_Q3BSP,       /* .bsp: a Quake III map */
+    RTT_FILE_MESH         /* an extension Assimp reads: .obj, .ply, .off, .3ds, .gltf, .glb, .stl, ... */
+} rtt_file_kind;
+
+rtt_file_kind rtt_file_kind_of(const char *path);
+
+/* Loads a scene file (.json), a bare mesh (anything Assimp reads; a file of
+ * unknown kind is offered to Assimp too), a Quake III map (.bsp) or a baked
+ * tree (.kdt), picked by rtt_file_kind_of, and fills in every default.  opt
+ * may be NULL.  Returns NULL and fills err on failure. */
 rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err);
 void rtt_scene_free(rtt_scene *scene);
 

@@ -8,7 +8,7 @@
  * rules; the thesis uses no empty-space bonus, so neither do we) when no
  * plane costs less than C_isect * N, at the maximum depth, when it is empty,
  * or when splitting would take the triangle references past the cap (a
- * memory bound of ours, issue 6 item 5, reported in rtt_tree_info).
+ * memory bound of ours against hostile scenes, reported in rtt_tree_info).
  *
  * Perfect splits: a triangle's candidate planes are the faces of its bounds
  * clipped to the node box (Sutherland-Hodgman in double, rounded outwards to

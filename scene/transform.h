@@ -1,0 +1,24 @@
+/* Matrix maths for instance transforms: every transform in scene/ is a
+ * row-major 4x4 float matrix (m[4 * row + col]) applied to column vectors,
+ * p' = M p, with the translation in the last column.  The JSON scene file's
+ * "transform", Assimp's node hierarchy and rtt_scene_add_mesh share these
+ * so that a point is moved the same way whichever loader brought it. */
+#ifndef RTT_SCENE_TRANSFORM_H
+#define RTT_SCENE_TRANSFORM_H
+
+#include "rtt/vec3.h"
+
+/* out = a * b; out may be a or b. */
+void rtt_transform_multiply(const float a[16], const float b[16], float out[16]);
+
+/* T * Rz * Ry * Rx * S: scale first, then rotations about X, Y and Z by
+ * rotate_deg (degrees, right-handed), then the translation (scene/README.md). */
+void rtt_transform_compose(rtt_vec3 scale, rtt_vec3 rotate_deg, rtt_vec3 translate, float out[16]);
+
+rtt_vec3 rtt_transform_point(const float m[16], rtt_vec3 p);
+
+/* A normal moves by the inverse transpose of the upper 3x3; the result is
+ * normalized (and zero stays zero). */
+rtt_vec3 rtt_transform_normal(const float m[16], rtt_vec3 n);
+
+#endif
