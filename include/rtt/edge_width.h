@@ -1,7 +1,8 @@
 /* Edge Width Soft Shadows (Thesis chapter 5): the semantics both engines
  * implement, in one place.  The reference (reference/edge_width_reference.c)
- * and the SSE packet version (optimized/edge_width.c) only differ in how
- * they find the crossings of a ray; what a crossing means is decided here.
+ * and the SSE packet version (optimized/kd/shadows/edge_width.c) only differ
+ * in how they find the crossings of a ray; what a crossing means is decided
+ * here.
  *
  * The ray.  One ray per shading point and sphere light, from the light's
  * centre to the point, direction = point - centre unnormalised, so t is the
