@@ -37,6 +37,7 @@
 #include <time.h>
 
 #include "isect_watertight.h"
+#include "engine/clip.h"
 #include "engine/clock.h"
 #include "kd_reference.h"
 
@@ -72,78 +73,12 @@ typedef struct builder {
 
 /* ---- clipping -------------------------------------------------------- */
 
-typedef struct clip_polygon {
-    double v[12][3]; /* a triangle clipped by 6 planes has at most 9 corners */
-    int count;
-} clip_polygon;
-
-/* Keeps the part of the polygon with sign * (x[axis] - plane) >= 0. */
-static void clip_against_plane(clip_polygon *poly, int axis, double plane, double sign)
-{
-    clip_polygon out = {.count = 0};
-    for (int i = 0; i < poly->count; i++) {
-        const double *cur = poly->v[i], *next = poly->v[(i + 1) % poly->count];
-        bool cur_in = sign * (cur[axis] - plane) >= 0.0, next_in = sign * (next[axis] - plane) >= 0.0;
-        if (cur_in) memcpy(out.v[out.count++], cur, sizeof out.v[0]);
-        if (cur_in != next_in) {
-            double s = (plane - cur[axis]) / (next[axis] - cur[axis]);
-            double *p = out.v[out.count++];
-            for (int a = 0; a < 3; a++) p[a] = cur[a] + s * (next[a] - cur[a]);
-            p[axis] = plane; /* exactly on the plane, whatever the rounding */
-        }
-    }
-    *poly = out;
-}
-
-static float round_down(double x)
-{
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
-}
-
-static float round_up(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
-}
-
 static bool bounds_inside(rtt_bounds inner, rtt_bounds outer)
 {
     for (int a = 0; a < 3; a++)
         if (rtt_v3_get(inner.lo, a) < rtt_v3_get(outer.lo, a) || rtt_v3_get(inner.hi, a) > rtt_v3_get(outer.hi, a))
             return false;
     return true;
-}
-
-static rtt_bounds bounds_intersection(rtt_bounds a, rtt_bounds b)
-{
-    return (rtt_bounds){rtt_v3_max(a.lo, b.lo), rtt_v3_min(a.hi, b.hi)};
-}
-
-/* Bounds of the part of the triangle inside box (boundary included), never
- * smaller than the exact ones; false when nothing of it is inside. */
-static bool clip_triangle_to_box(const rtt_vec3 tri[3], rtt_bounds box, rtt_bounds *out)
-{
-    clip_polygon poly = {.count = 3};
-    for (int i = 0; i < 3; i++)
-        for (int a = 0; a < 3; a++) poly.v[i][a] = rtt_v3_get(tri[i], a);
-    for (int a = 0; a < 3 && poly.count > 0; a++) {
-        clip_against_plane(&poly, a, rtt_v3_get(box.lo, a), 1.0);
-        if (poly.count > 0) clip_against_plane(&poly, a, rtt_v3_get(box.hi, a), -1.0);
-    }
-    if (poly.count == 0) return false;
-    rtt_bounds b = rtt_bounds_empty();
-    for (int a = 0; a < 3; a++) {
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < poly.count; i++) {
-            lo = fmin(lo, poly.v[i][a]);
-            hi = fmax(hi, poly.v[i][a]);
-        }
-        rtt_v3_set(&b.lo, a, round_down(lo));
-        rtt_v3_set(&b.hi, a, round_up(hi));
-    }
-    *out = bounds_intersection(b, box);
-    return !rtt_bounds_is_empty(*out);
 }
 
 /* ---- the SAH sweep --------------------------------------------------- */
@@ -281,9 +216,9 @@ static build_item *child_items(const rtt_kd_tree *tree, const build_item *items,
             rtt_bounds clipped;
             /* an empty clip can only come from rounding at the plane: keep the
              * sliver of the old bounds rather than lose the triangle */
-            item.clipped = clip_triangle_to_box(tree->triangles[item.prim], child_box, &clipped)
+            item.clipped = rtt_clip_triangle_bounds(tree->triangles[item.prim], child_box, &clipped)
                                ? clipped
-                               : bounds_intersection(item.clipped, child_box);
+                               : rtt_bounds_intersection(item.clipped, child_box);
         }
         out[count++] = item;
     }

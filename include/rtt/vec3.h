@@ -58,6 +58,10 @@ static inline rtt_bounds rtt_bounds_union(rtt_bounds a, rtt_bounds b)
 {
     return (rtt_bounds){rtt_v3_min(a.lo, b.lo), rtt_v3_max(a.hi, b.hi)};
 }
+static inline rtt_bounds rtt_bounds_intersection(rtt_bounds a, rtt_bounds b)
+{
+    return (rtt_bounds){rtt_v3_max(a.lo, b.lo), rtt_v3_min(a.hi, b.hi)};
+}
 static inline int rtt_bounds_is_empty(rtt_bounds b) { return b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z; }
 /* Surface area; 0 for an empty box. */
 static inline float rtt_bounds_area(rtt_bounds b)

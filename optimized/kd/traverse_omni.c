@@ -32,60 +32,53 @@
 #include "traverse_ray.h"
 #include "isect_projected_bary.h"
 
-/* One packet from the root.  right_first[axis] = 1 when most live lanes have
- * the right child in front on `axis`.  Closest hit into *hits, or (hits
- * NULL) returns the mask of occluded lanes, stopping once every live lane
- * is. */
-static inline int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 near, __m128 far,
-                             const uint32_t right_first[3], int live, hit_packet4 *hits, kd_counters *counters)
+/* One inner node for a packet of any directions: per-lane intervals of
+ * both children (blends on the sign of 1/dir); right_first[axis] = 1 when
+ * most live lanes have the right child in front on `axis`. */
+static inline const kd_node *omni_step(const kd_node *nodes, const kd_node *n, const ray_packet4 *r,
+                                       const uint32_t right_first[3], __m128 *near_io, __m128 *far_io,
+                                       kd_packet_task *stack, uint32_t *sp)
 {
-    const kd_node *nodes = tree->nodes;
-    kd_packet_task stack[KD_TRAVERSAL_STACK];
-    uint32_t sp = 0;
-    uint64_t steps = 0;
-    const kd_node *n = nodes;
-    __m128 occluded = _mm_setzero_ps();
-    /* the far end popped tasks are clipped to: best hit, or -inf once occluded */
-    __m128 limit = hits ? hits->t : _mm_set1_ps(INFINITY);
-    if (!_mm_movemask_ps(_mm_cmple_ps(near, far))) return 0;
-    for (;;) {
-        while (!kd_node_is_leaf(n)) {
-            steps++;
-            const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
-            const __m128 inv = r->inv_dir[axis];
-            const __m128 d = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->split), r->org[axis]), inv);
-            /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d
-             * (a lane lying in the plane): both parts are then the whole
-             * interval. */
-            const __m128 front_far = _mm_min_ps(kd_widen_hi4(d, KD_RAY_WIDEN), far);
-            const __m128 back_near = _mm_max_ps(kd_widen_lo4(d, KD_RAY_WIDEN), near);
-            /* blendv reads the sign bit of inv: set → the right child is in front */
-            const __m128 lnear = _mm_blendv_ps(near, back_near, inv), lfar = _mm_blendv_ps(front_far, far, inv);
-            const __m128 rnear = _mm_blendv_ps(back_near, near, inv), rfar = _mm_blendv_ps(far, front_far, inv);
-            const int lmask = _mm_movemask_ps(_mm_cmple_ps(lnear, lfar));
-            const int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
-            if (lmask && rmask) {
-                if (right_first[axis]) {
-                    if (sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_packet_task){lnear, lfar, left};
-                    n = &nodes[left + 1], near = rnear, far = rfar;
-                } else {
-                    if (sp < KD_TRAVERSAL_STACK) stack[sp++] = (kd_packet_task){rnear, rfar, left + 1};
-                    n = &nodes[left], near = lnear, far = lfar;
-                }
-            } else if (lmask) {
-                n = &nodes[left], near = lnear, far = lfar;
-            } else {
-                /* some lane is active, so it is active on one side */
-                n = &nodes[left + 1], near = rnear, far = rfar;
-            }
+    const __m128 near = *near_io, far = *far_io;
+    const uint32_t axis = kd_node_axis(n), left = kd_node_child(n);
+    const __m128 inv = r->inv_dir[axis];
+    const __m128 d = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->split), r->org[axis]), inv);
+    /* _mm_min_ps / _mm_max_ps return their second operand for a NaN d
+     * (a lane lying in the plane): both parts are then the whole
+     * interval. */
+    const __m128 front_far = _mm_min_ps(kd_widen_hi4(d, KD_RAY_WIDEN), far);
+    const __m128 back_near = _mm_max_ps(kd_widen_lo4(d, KD_RAY_WIDEN), near);
+    /* blendv reads the sign bit of inv: set → the right child is in front */
+    const __m128 lnear = _mm_blendv_ps(near, back_near, inv), lfar = _mm_blendv_ps(front_far, far, inv);
+    const __m128 rnear = _mm_blendv_ps(back_near, near, inv), rfar = _mm_blendv_ps(far, front_far, inv);
+    const int lmask = _mm_movemask_ps(_mm_cmple_ps(lnear, lfar));
+    const int rmask = _mm_movemask_ps(_mm_cmple_ps(rnear, rfar));
+    if (lmask && rmask) {
+        if (right_first[axis]) {
+            if (*sp < KD_TRAVERSAL_STACK) stack[(*sp)++] = (kd_packet_task){lnear, lfar, left};
+            *near_io = rnear, *far_io = rfar;
+            return &nodes[left + 1];
         }
-        steps++;
-        if (kd_packet_leaf(tree, &tree->leaves[n->leaf], r, hits, near, far, live, &limit, &occluded, counters))
-            break;
-        if (!kd_packet_pop(stack, &sp, limit, nodes, &n, &near, &far)) break;
+        if (*sp < KD_TRAVERSAL_STACK) stack[(*sp)++] = (kd_packet_task){rnear, rfar, left + 1};
+        *near_io = lnear, *far_io = lfar;
+        return &nodes[left];
     }
-    if (counters) counters->steps += steps;
-    return _mm_movemask_ps(occluded);
+    if (lmask) {
+        *near_io = lnear, *far_io = lfar;
+        return &nodes[left];
+    }
+    /* some lane is active, so it is active on one side */
+    *near_io = rnear, *far_io = rfar;
+    return &nodes[left + 1];
+}
+
+/* One packet from the root (kd_packet_walk with omni_step), out of line as
+ * the packet kernel's. */
+static __attribute__((noinline)) int trace_omni(const kd_tree *tree, const ray_packet4 *r, __m128 near, __m128 far,
+                                                const uint32_t right_first[3], int live, hit_packet4 *hits,
+                                                kd_counters *counters)
+{
+    return kd_packet_walk(tree, r, near, far, right_first, live, hits, counters, omni_step);
 }
 
 /* Per axis: 1 when the right child is in front for more than half the live

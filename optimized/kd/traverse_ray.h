@@ -129,4 +129,45 @@ static inline int kd_packet_pop(const kd_packet_task *stack, uint32_t *sp, __m12
     return 0;
 }
 
+/* A packet kernel's inner-node step: from inner node n with the lanes'
+ * interval [*near, *far], the child to descend into (its interval written
+ * back), the other child pushed when some lane must visit it too.  `order`
+ * is the kernel's per-packet front-to-back choice. */
+typedef const kd_node *(*kd_packet_step_fn)(const kd_node *nodes, const kd_node *n, const ray_packet4 *r,
+                                           const uint32_t order[3], __m128 *near, __m128 *far,
+                                           kd_packet_task *stack, uint32_t *sp);
+
+/* The walk the 2x2 packet kernels share (Listings 2.4 and 4.1): descend with
+ * `step`, intersect at leaves, pop the nearest pending subtree clipped to the
+ * best hit.  Closest hits into *hits, or (hits NULL) returns the mask of
+ * occluded lanes, stopping once every live lane is.  always_inline: the step
+ * is then a known call and is inlined into each kernel's loop. */
+static inline __attribute__((always_inline)) int kd_packet_walk(const kd_tree *tree, const ray_packet4 *r,
+                                                                 __m128 near, __m128 far, const uint32_t order[3],
+                                                                 int live, hit_packet4 *hits,
+                                                                 kd_counters *counters, kd_packet_step_fn step)
+{
+    const kd_node *nodes = tree->nodes;
+    kd_packet_task stack[KD_TRAVERSAL_STACK];
+    uint32_t sp = 0;
+    uint64_t steps = 0;
+    const kd_node *n = nodes;
+    __m128 occluded = _mm_setzero_ps();
+    /* the far end popped tasks are clipped to: best hit, or -inf once occluded */
+    __m128 limit = hits ? hits->t : _mm_set1_ps(INFINITY);
+    if (!_mm_movemask_ps(_mm_cmple_ps(near, far))) return 0;
+    for (;;) {
+        while (!kd_node_is_leaf(n)) {
+            steps++;
+            n = step(nodes, n, r, order, &near, &far, stack, &sp);
+        }
+        steps++;
+        if (kd_packet_leaf(tree, &tree->leaves[n->leaf], r, hits, near, far, live, &limit, &occluded, counters))
+            break;
+        if (!kd_packet_pop(stack, &sp, limit, nodes, &n, &near, &far)) break;
+    }
+    if (counters) counters->steps += steps;
+    return _mm_movemask_ps(occluded);
+}
+
 #endif
