@@ -5,7 +5,7 @@
 
 #include "engine/buffer.h"
 
-bool rtt_buffer_reserve(rtt_buffer *b, size_t count, size_t element, size_t align)
+bool rtt_buffer_grow(rtt_buffer *b, size_t count, size_t element, size_t align)
 {
     if (count <= b->capacity) return true;
     size_t capacity = b->capacity ? b->capacity : 16;

@@ -16,7 +16,7 @@
 /* Slab test of a packet against box [lo - margin, hi + margin]: per-lane
  * entry and exit clipped to [tnear, tfar], widened relatively (which also
  * covers an inv_dir that is a refined reciprocal rather than 1/dir). */
-static void slab4(const ray_packet4 *r, const float lo[3], const float hi[3], float margin, __m128 tfar,
+static inline __attribute__((always_inline)) void slab4(const ray_packet4 *r, const float lo[3], const float hi[3], float margin, __m128 tfar,
                   __m128 *entry, __m128 *exit)
 {
     const float grown_lo[3] = {lo[0] - margin, lo[1] - margin, lo[2] - margin};

@@ -38,13 +38,6 @@ bool sp_scratch_failed(const sp_scratch *s) { return s->failed; }
 
 const sp_stats *sp_scratch_stats(const sp_scratch *s) { return &s->stats; }
 
-bool sp_reserve(sp_scratch *s, rtt_buffer *buffer, size_t count, size_t element, size_t align)
-{
-    if (rtt_buffer_reserve(buffer, count, element, align)) return true;
-    s->failed = true;
-    return false;
-}
-
 int32_t sp_level_push(sp_scratch *s, uint32_t level, const rtt_ray *ray, uint32_t pixel)
 {
     sp_level *l = &s->levels[level];

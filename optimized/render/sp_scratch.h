@@ -43,9 +43,15 @@ struct sp_scratch {
 /* The elements of a buffer as `type` (what it was reserved for). */
 #define SP_ARRAY(buffer, type) ((type *)(buffer).data)
 
-/* Room for `count` elements of `type` in s->field; false (and s failed)
- * when out of memory. */
-bool sp_reserve(sp_scratch *s, rtt_buffer *buffer, size_t count, size_t element, size_t align);
+/* Room for `count` elements in one of the scratch's buffers; false (and s
+ * failed) when out of memory.  Inline: it runs per ray, only growth leaves.
+ * SP_RESERVE is the typed form: room for `count` of `type` in s->field. */
+static inline bool sp_reserve(sp_scratch *s, rtt_buffer *buffer, size_t count, size_t element, size_t align)
+{
+    if (rtt_buffer_reserve(buffer, count, element, align)) return true;
+    s->failed = true;
+    return false;
+}
 #define SP_RESERVE(s, field, count, type) sp_reserve((s), &(s)->field, (count), sizeof(type), _Alignof(type))
 
 /* Appends a node for `ray` to level `level` (hit unset); returns its index

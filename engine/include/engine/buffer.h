@@ -15,7 +15,13 @@ typedef struct rtt_buffer {
 /* Room for `count` elements of `element` bytes, aligned to `align` (a power
  * of two, at most 64; 0 → malloc's).  False (buffer unchanged) when out of
  * memory. */
-bool rtt_buffer_reserve(rtt_buffer *b, size_t count, size_t element, size_t align);
+bool rtt_buffer_grow(rtt_buffer *b, size_t count, size_t element, size_t align);
+/* Inline, so the common case (room already there) costs one compare where
+ * renderers reserve per ray; growing goes out of line. */
+static inline bool rtt_buffer_reserve(rtt_buffer *b, size_t count, size_t element, size_t align)
+{
+    return count <= b->capacity || rtt_buffer_grow(b, count, element, align);
+}
 void rtt_buffer_free(rtt_buffer *b);
 
 /* Typed use: RTT_BUFFER_RESERVE(&s->rays, n, rtt_ray) */
