@@ -15,7 +15,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 prefix=${SANITIZE_BUILD_PREFIX:-$root/build}
 jobs=${JOBS:-2}
 steps=(${SANITIZE_STEPS:-asan tsan})
-tsan_tests=${TSAN_TESTS:-'^test_image_tiles$|render|^test_optimized'}
+tsan_tests=${TSAN_TESTS:-'^test_engine_threads$|render|^test_optimized'}
 # Leaks inside libassimp on its STL parse-error path are not ours: fuzz/lsan.supp.
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 
