@@ -16,6 +16,16 @@ static inline float kd_max1(float a, float b) { return a > b ? a : b; }
 static inline double kd_min1d(double a, double b) { return a < b ? a : b; }
 static inline double kd_max1d(double a, double b) { return a > b ? a : b; }
 
+/* fmin / fmax exactly as libm computes them on x86-64 (minss/maxss on
+ * ordered operands; a NaN operand is ignored), without the call: for code
+ * whose operands may be NaN and which must keep libm's answer, such as the
+ * cone build over rays some of whose lanes are degenerate.  One compare
+ * more than kd_min1. */
+static inline float kd_fmin1(float a, float b) { return a < b || b != b ? a : b; }
+static inline float kd_fmax1(float a, float b) { return a > b || b != b ? a : b; }
+static inline double kd_fmin1d(double a, double b) { return a < b || b != b ? a : b; }
+static inline double kd_fmax1d(double a, double b) { return a > b || b != b ? a : b; }
+
 /* Horizontal minimum, maximum and sum of the four lanes. */
 static inline float kd_hmin4(__m128 v)
 {

@@ -40,10 +40,10 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
             double len = sqrt((double)d[0][l] * d[0][l] + (double)d[1][l] * d[1][l] + (double)d[2][l] * d[2][l]);
             for (int a = 0; a < 3; a++) {
                 sum[a] += d[a][l] / len;
-                lo[a] = kd_min1d(lo[a], o[a][l]);
-                hi[a] = kd_max1d(hi[a], o[a][l]);
+                lo[a] = kd_fmin1d(lo[a], o[a][l]);
+                hi[a] = kd_fmax1d(hi[a], o[a][l]);
             }
-            tnear_min = kd_min1d(tnear_min, tn[l]);
+            tnear_min = kd_fmin1d(tnear_min, tn[l]);
             rays++;
         }
     }
@@ -69,8 +69,8 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
             double w[3] = {d[0][l], d[1][l], d[2][l]};
             double len2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
             double cx = w[1] * v[2] - w[2] * v[1], cy = w[2] * v[0] - w[0] * v[2], cz = w[0] * v[1] - w[1] * v[0];
-            sin2_max = kd_max1d(sin2_max, (cx * cx + cy * cy + cz * cz) / len2);
-            cos_min = kd_min1d(cos_min, (w[0] * v[0] + w[1] * v[1] + w[2] * v[2]) / sqrt(len2));
+            sin2_max = kd_fmax1d(sin2_max, (cx * cx + cy * cy + cz * cz) / len2);
+            cos_min = kd_fmin1d(cos_min, (w[0] * v[0] + w[1] * v[1] + w[2] * v[2]) / sqrt(len2));
         }
     }
     if (cos_min < KD_CONE_MIN_COS) return -1;
@@ -86,7 +86,7 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
         b->cone_apex[g][a] = c->apex[a];
         b->cone_axis[g][a] = c->axis[a];
         /* Listing 4.4 */
-        double beta = tan_b * sqrt(kd_max1d(1.0 - v[a] * v[a], 0.0));
+        double beta = tan_b * sqrt(kd_fmax1d(0.0, 1.0 - v[a] * v[a]));
         c->pre[0][a] = (float)(1.0 / (v[a] + beta));
         c->pre[1][a] = (float)(1.0 / (v[a] - beta));
     }
@@ -110,7 +110,12 @@ int kd_cone_build(kd_block *b, uint32_t g, kd_cone *c)
         near = _mm_min_ps(near, _mm_blendv_ps(near, _mm_add_ps(offset, _mm_mul_ps(entry, speed)), live));
         far = _mm_max_ps(far, _mm_blendv_ps(far, _mm_add_ps(offset, _mm_mul_ps(exit, speed)), live));
     }
-    float n = kd_hmin4(near), f = kd_hmax4(far);
+    /* lanes of rays that meet nothing may hold NaN: ignored, as fminf / fmaxf ignore them */
+    _Alignas(16) float lane[4];
+    _mm_store_ps(lane, near);
+    float n = kd_fmin1(kd_fmin1(lane[0], lane[1]), kd_fmin1(lane[2], lane[3]));
+    _mm_store_ps(lane, far);
+    float f = kd_fmax1(kd_fmax1(lane[0], lane[1]), kd_fmax1(lane[2], lane[3]));
     /* tau is computed with rounding relative to |offset| too */
     float slack = 1e-5f * (fabsf(n) + fabsf(f)) + FLT_MIN;
     c->near = kd_widen_lo(n, KD_WIDEN) - slack;

@@ -64,8 +64,8 @@ static inline void kd_cone_split(const void *proxy, uint32_t axis, float split, 
     t_b = t_b < 0.0f ? INFINITY : t_b;
     *front_left = dist > 0.0f;
     /* neither is NaN: pre is finite or infinite, dist nonzero and finite */
-    *dmin = kd_min1(t_a, t_b) * (1.0f - KD_WIDEN);
-    *dmax = kd_max1(t_a, t_b) * (1.0f + KD_WIDEN);
+    *dmin = kd_fmin1(t_a, t_b) * (1.0f - KD_WIDEN);
+    *dmax = kd_fmax1(t_a, t_b) * (1.0f + KD_WIDEN);
 }
 
 /* The same for four cones in the lanes. */

@@ -79,19 +79,19 @@ static int shared_apex_cone(kd_block *b, kd_cone *c)
     float cmin = kd_hmin4(cos_min);
     if (!(cmin >= SC_MIN_COS)) return 0;
     /* widened: the rounding of the cosines, and never a zero angle */
-    float sin_b = kd_min1(sqrtf(kd_max1(1.0f - cmin * cmin, 0.0f)) * (1.0f + 1e-3f) + 1e-5f, 0.985f);
+    float sin_b = kd_fmin1(sqrtf(kd_fmax1(0.0f, 1.0f - cmin * cmin)) * (1.0f + 1e-3f) + 1e-5f, 0.985f);
     float tan_b = sin_b / sqrtf(1.0f - sin_b * sin_b);
     for (int a = 0; a < 3; a++) {
         c->apex[a] = apex[a];
         c->axis[a] = v[a];
         b->cone_apex[0][a] = apex[a];
         b->cone_axis[0][a] = v[a];
-        float beta = tan_b * sqrtf(kd_max1(1.0f - v[a] * v[a], 0.0f)); /* Listing 4.4 */
+        float beta = tan_b * sqrtf(kd_fmax1(0.0f, 1.0f - v[a] * v[a])); /* Listing 4.4 */
         c->pre[0][a] = 1.0f / (v[a] + beta);
         c->pre[1][a] = 1.0f / (v[a] - beta);
     }
     c->tan_angle = tan_b;
-    c->near = kd_max1(kd_widen_lo(kd_hmin4(near), KD_WIDEN), 0.0f);
+    c->near = kd_fmax1(0.0f, kd_widen_lo(kd_hmin4(near), KD_WIDEN));
     c->far = kd_widen_hi(kd_hmax4(far), KD_WIDEN);
     b->units = KD_UNITS_CONE_AXIS;
     return c->near <= c->far;
