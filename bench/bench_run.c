@@ -14,11 +14,7 @@
 #include "rtt/optimized.h"
 #include "rtt/render.h"
 
-#if __has_include("engine_optimized.h")
 #include "engine_optimized.h"
-#else
-const kd_tree *kd_engine_tree(rtt_engine *engine);
-#endif
 
 #define EMBREE_VARIANTS 4
 

@@ -122,9 +122,7 @@ bool rtt_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *ou
     if (!engine || !out) return rtt_error_set(err, "render: no engine or no image given");
     if (!engine->vt->render) return rtt_error_set(err, "engine \"%s\" cannot render", engine->vt->name);
     if (!rtt_render_options_check(engine->vt->name, opt, err)) return false;
-    const rtt_scene *scene = engine->scene;
-    uint32_t width = opt->width ? opt->width : scene->width, height = opt->height ? opt->height : scene->height;
-    if (!rtt_render_check(scene, opt, out, width, height, err)) return false;
-    if (stats) memset(stats, 0, sizeof *stats);
+    /* the renderer checks the image (rtt_render_check) and fills the stats:
+     * it may be called directly too */
     return engine->vt->render(engine, opt, out, stats, err);
 }

@@ -112,12 +112,6 @@ const kd_tree *kd_engine_tree(rtt_engine *engine)
     return e ? &e->tree : NULL;
 }
 
-const rtt_engine_options *kd_engine_options(rtt_engine *engine)
-{
-    optimized_engine *e = as_optimized(engine);
-    return e ? &e->opt : NULL;
-}
-
 const kd_kernel *kd_engine_kernel(rtt_engine *engine)
 {
     optimized_engine *e = as_optimized(engine);

@@ -10,7 +10,6 @@
 
 /* NULL when `engine` is not an optimized engine. */
 const kd_tree *kd_engine_tree(rtt_engine *engine);
-const rtt_engine_options *kd_engine_options(rtt_engine *engine);
 const kd_kernel *kd_engine_kernel(rtt_engine *engine);
 
 #endif

@@ -61,8 +61,9 @@ void rtt_render_options_default(rtt_render_options *opt);
 struct rtt_image;
 
 /* The one render entry: checks the options for the engine
- * (rtt_render_options_check) and the image (rtt_render_check), then renders
- * through the engine's own renderer.  stats may be NULL. */
+ * (rtt_render_options_check), then renders through the engine's own
+ * renderer, which checks the image (rtt_render_check) and fills the stats.
+ * stats may be NULL. */
 bool rtt_render(rtt_engine *engine, const rtt_render_options *opt, struct rtt_image *out, rtt_render_stats *stats,
                 rtt_error *err);
 
