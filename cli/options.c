@@ -378,11 +378,12 @@ int cli_check_engine_options(const cli_parsed *p, const char *engine, const rtt_
     return cli_refuse(p, NULL, "%s", err.message);
 }
 
-/* The optimized engine is the one that adopts a .kdt's tree as is (the
+/* Whether the engine uses a .kdt's tree as is (its class says; the
  * reference builds its own from the file's triangles). */
 static bool adopts_baked_tree(const char *engine)
 {
-    return engine && strcmp(engine, "optimized") == 0;
+    const rtt_engine_class *cls = rtt_engine_find(engine);
+    return cls && cls->adopts_baked_tree;
 }
 
 int cli_check_scene_options(const cli_parsed *p, const char *scene_path, const char *engine)

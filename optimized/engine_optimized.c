@@ -91,6 +91,7 @@ const rtt_engine_class rtt_optimized_engine_class = {
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
             RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA,
     .shadow_methods = RTT_SHADOWS_ALL,
+    .adopts_baked_tree = true,
     .create = rtt_optimized_engine_create,
     .check = optimized_check,
     .kernel = optimized_kernel_at,

@@ -135,6 +135,7 @@ typedef struct rtt_engine_class {
     const char *summary;                 /* one line for --help */
     uint32_t uses;                       /* RTT_OPTION_* bits it reads */
     uint32_t shadow_methods;             /* bit (1 << rtt_shadow_method) per method it renders */
+    bool adopts_baked_tree;              /* a scene's baked .kdt tree is used as is: build options do not apply */
     rtt_engine *(*create)(const rtt_scene *, const rtt_engine_options *, rtt_error *);
     /* optional: engine-specific checks (kernel names, accel) beyond the
      * generic ones; called by rtt_engine_options_check */
