@@ -40,6 +40,9 @@ const kd_kernel *kd_kernel_find(const char *name, rtt_isa isa)
     return best;
 }
 
+const kd_kernel *kd_kernel_for_secondary_rays(rtt_isa isa) { return kd_kernel_find("omni", isa); }
+const kd_kernel *kd_kernel_for_pyramid_groups(rtt_isa isa) { return kd_kernel_find("frustum", isa); }
+
 const char *kd_kernel_name_at(uint32_t i)
 {
     uint32_t seen = 0;

@@ -47,6 +47,11 @@ typedef struct kd_kernel {
  * AUTO) and that this CPU runs (rtt_isa_supported); NULL for an unknown
  * name.  The one way baseline code reaches a kernel. */
 const kd_kernel *kd_kernel_find(const char *name, rtt_isa isa);
+/* The kernels the renderer uses for a role rather than by the user's
+ * choice: reflection and refraction rays (omni: any directions), and the
+ * sample groups of pyramid:N (one interval frustum each). */
+const kd_kernel *kd_kernel_for_secondary_rays(rtt_isa isa);
+const kd_kernel *kd_kernel_for_pyramid_groups(rtt_isa isa);
 /* The i-th distinct kernel name (from 0), NULL past the last. */
 const char *kd_kernel_name_at(uint32_t i);
 /* The i-th row of the table (from 0), whatever this CPU runs; NULL past the
