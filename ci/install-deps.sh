@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenexr-dev libcmocka-dev libcjson-dev libassimp-dev libpng-dev
   clang libclang-rt-14-dev llvm
   gnuplot-nox unzip jq python3
+  libstb-dev libsdl2-dev xvfb xauth libopenmpi-dev openmpi-bin libosmesa6-dev
 )
 
 missing=()
