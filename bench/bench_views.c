@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "bench.h"
+#include "rtt/files.h"
 
 typedef struct view_reader {
     const char *path, *name;
@@ -97,8 +98,8 @@ bool rtt_bench_apply_view(rtt_scene *scene, const char *views_path, const char *
         bench_base_name(scene->path, derived);
         name = derived;
     }
-    FILE *file = fopen(views_path, "rb");
-    if (!file) return rtt_error_set(err, "%s: cannot open", views_path);
+    FILE *file = rtt_file_open_regular(views_path, err);
+    if (!file) return false;
     char *text = NULL;
     size_t length = 0;
     for (size_t cap = 0;;) {

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "rtt/files.h"
 
 int cli_fail(const rtt_error *err)
 {
@@ -64,38 +65,7 @@ bool cli_write_file_atomic(const char *path, const void *data, size_t size, rtt_
 
 void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 {
-    FILE *file = fopen(path, "rb");
-    if (!file) {
-        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    char *data = NULL;
-    size_t length = 0, capacity = 0;
-    for (;;) {
-        if (length == capacity) {
-            capacity = capacity ? capacity * 2 : 1 << 16;
-            char *grown = realloc(data, capacity);
-            if (!grown) {
-                free(data);
-                fclose(file);
-                rtt_error_set(err, "%s: out of memory", path);
-                return NULL;
-            }
-            data = grown;
-        }
-        size_t got = fread(data + length, 1, capacity - length, file);
-        length += got;
-        if (got == 0) break;
-    }
-    bool failed = ferror(file);
-    fclose(file);
-    if (failed) {
-        free(data);
-        rtt_error_set(err, "%s: read failed", path);
-        return NULL;
-    }
-    *size = length;
-    return data;
+    return rtt_file_read(path, SIZE_MAX, size, err); /* regular files only */
 }
 
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err)

@@ -63,6 +63,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
 #include "scene_build.h"
 
 #define BSP_HEADER_SIZE 144u /* magic, version, 17 lump entries of (offset, length) */
@@ -202,8 +203,8 @@ static bool read_header(FILE *file, bsp_map *map, uint8_t header[BSP_HEADER_SIZE
 
 static bool read_map(const char *path, bsp_map *map, rtt_error *err)
 {
-    FILE *file = fopen(path, "rb");
-    if (!file) return rtt_error_set(err, "%s: cannot open the file", path);
+    FILE *file = rtt_file_open_regular(path, err);
+    if (!file) return false;
     uint8_t header[BSP_HEADER_SIZE];
     bool ok = read_header(file, map, header, err) &&
               read_lump(file, map, header, BSP_LUMP_VERTICES, BSP_VERTEX_SIZE, &map->vertex_lump,

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
@@ -394,12 +395,7 @@ _Static_assert(sizeof(rtt_vec3) == 3 * sizeof(float), "rtt_vec3 is three packed 
 rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err)
 {
     const rtt_file_kind kind = rtt_file_kind_of(path);
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    fclose(probe);
+    if (!rtt_file_check_regular(path, err)) return NULL;
     if (kind == RTT_FILE_KDT) return rtt_kdt_read_scene(path, err);
 
     rtt_scene_load_options defaults = {.bezier_level = 0};

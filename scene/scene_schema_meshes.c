@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
 #include "scene_schema.h"
 #include "shapes.h"
 #include "transform.h"
@@ -267,10 +268,12 @@ static bool parse_file(rtt_schema_parser *p, const cJSON *v, const rtt_json_plac
         snprintf(resolved, sizeof resolved, "%s", file);
     else
         snprintf(resolved, sizeof resolved, "%.*s/%s", (int)(slash - scene_path), scene_path, file);
-    FILE *probe = fopen(resolved, "rb");
-    if (!probe) return rtt_schema_fail(p, at, ": cannot open \"%s\" (%s): %s", file, resolved, strerror(errno));
-    fclose(probe);
     rtt_error inner;
+    FILE *probe = rtt_file_open_regular(resolved, &inner);
+    if (!probe && errno == ENOENT)
+        return rtt_schema_fail(p, at, ": cannot open \"%s\" (%s): %s", file, resolved, strerror(errno));
+    if (!probe) return rtt_schema_fail(p, at, ": %s", inner.message);
+    fclose(probe);
     uint32_t material = material_given ? target->material : UINT32_MAX;
     bool ok = kind == RTT_FILE_Q3BSP
                   ? rtt_import_q3bsp(p->scene, resolved, target->transform, material, p->bezier_level, &inner)
