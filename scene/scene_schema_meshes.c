@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "rtt/files.h"
+#include "file_kind.h"
 #include "scene_schema.h"
 #include "shapes.h"
 #include "transform.h"
@@ -263,11 +264,7 @@ static bool parse_file(rtt_schema_parser *p, const cJSON *v, const rtt_json_plac
         return rtt_schema_fail(p, at, ": \"%s\" is not a mesh file (scene files and baked trees cannot be meshes)",
                                file);
     char resolved[1024];
-    const char *scene_path = p->src.path, *slash = strrchr(scene_path, '/');
-    if (file[0] == '/' || !slash)
-        snprintf(resolved, sizeof resolved, "%s", file);
-    else
-        snprintf(resolved, sizeof resolved, "%.*s/%s", (int)(slash - scene_path), scene_path, file);
+    rtt_path_beside(p->src.path, file, resolved, sizeof resolved);
     rtt_error inner;
     FILE *probe = rtt_file_open_regular(resolved, &inner);
     if (!probe && errno == ENOENT)
