@@ -27,8 +27,9 @@ bool cli_write_file_atomic(const char *path, const void *data, size_t size, rtt_
 /* Reads a whole file; *size receives its length.  NULL + err on failure. */
 void *cli_read_file(const char *path, size_t *size, rtt_error *err);
 
-/* Loads SCENE (any supported kind) with the standard load options. */
-rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err);
+/* Loads SCENE (any supported kind) with the standard load options; a
+ * max_memory of 0 takes the machine's budget (rtt/memory_budget.h). */
+rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err);
 
 /* The subcommands (options.h: cli_command), each in its cmd_*.c. */
 struct cli_command;

@@ -68,8 +68,8 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err)
     return rtt_file_read(path, SIZE_MAX, size, err); /* regular files only */
 }
 
-rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err)
+rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err)
 {
-    rtt_scene_load_options opt = {.bezier_level = bezier_level};
+    rtt_scene_load_options opt = {.bezier_level = bezier_level, .max_memory = max_memory};
     return rtt_scene_load(path, &opt, err);
 }

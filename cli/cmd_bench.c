@@ -16,6 +16,7 @@ typedef struct bench_args {
     uint32_t size, kinds; /* kinds: bit k for kind_names[k] */
     rtt_bench_config config;
     rtt_engine_options engine; /* the optimized engine's options the bench takes */
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } bench_args;
 
 static bool parse_threads(const char *text, void *field, rtt_error *why)
@@ -74,6 +75,7 @@ static const cli_option bench_options[] = {
      .kind = CLI_STRING, CLI_FIELD(bench_args, config.image_dir)},
     {.name = "--progress", .help = "name each row on stderr as it starts", .kind = CLI_FLAG,
      CLI_FIELD(bench_args, progress)},
+    CLI_OPTION_MAX_MEMORY(bench_args, max_memory),
 };
 
 /* What --quick, --only and the scene file make meaningless. */
@@ -138,7 +140,7 @@ static int bench(void *opaque, const cli_parsed *parsed)
     if (args->progress) args->config.progress = print_progress;
 
     rtt_error err = {{0}};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     char view[64] = "";
     if (args->views && !rtt_bench_apply_view(scene, args->views, args->view, view, &err)) {

@@ -16,6 +16,7 @@ typedef struct conform_args {
     uint32_t max_rays, seed;
     rtt_conform_config config;
     rtt_engine_options engine; /* what --isa sets, for the engines that read it */
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } conform_args;
 
 static bool parse_sets(const char *text, void *field, rtt_error *why)
@@ -65,6 +66,7 @@ static const cli_option conform_options[] = {
      .help = "with --extremes: benchmark meshes for watertightness (default "
              "${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes; skipped when absent)",
      .kind = CLI_STRING, CLI_FIELD(conform_args, meshes)},
+    CLI_OPTION_MAX_MEMORY(conform_args, max_memory),
 };
 
 /* --isa goes to the listed engines that read an instruction-set choice: at
@@ -150,7 +152,7 @@ static int conform(void *opaque, const cli_parsed *parsed)
     args->config.isa = args->engine.isa;
 
     rtt_error err = {{0}};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     rtt_conform_report report;
     bool ran = rtt_conform_run(scene, &args->config, &report, &err);

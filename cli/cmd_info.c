@@ -13,6 +13,7 @@ typedef struct info_args {
     const char *scene_path;
     int engines; /* info_engines */
     rtt_engine_options engine;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } info_args;
 
 static const cli_option info_options[] = {
@@ -20,6 +21,7 @@ static const cli_option info_options[] = {
      .help = "whose kd-tree to describe: both (default), optimized or reference",
      .kind = CLI_CHOICE, CLI_FIELD(info_args, engines), .choices = info_engine_choices},
     CLI_OPTIONS_KD_TREE(info_args, engine),
+    CLI_OPTION_MAX_MEMORY(info_args, max_memory),
 };
 
 static const char *const material_type_names[] = {"diffuse", "specular", "reflective", "transparent",
@@ -93,7 +95,7 @@ static int info(void *opaque, const cli_parsed *parsed)
     if (rc != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     print_scene(scene);
     bool ok = true;

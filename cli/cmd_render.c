@@ -21,6 +21,7 @@ typedef struct render_args {
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } render_args;
 
 static bool has_extension(const char *path, const char *extension)
@@ -77,6 +78,7 @@ static const cli_option render_options[] = {
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
                                 "stage times",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
+    CLI_OPTION_MAX_MEMORY(render_args, max_memory),
 };
 
 /* What the parsed options ask that the engine, the scene file or the
@@ -204,7 +206,7 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     uint32_t width = args->render.width ? args->render.width : scene->width;
     uint32_t height = args->render.height ? args->render.height : scene->height;

@@ -12,6 +12,7 @@ typedef struct trace_args {
     const char *scene_path, *rays_path, *out_path, *engine_name;
     bool occluded;
     rtt_engine_options engine;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } trace_args;
 
 static const cli_option trace_options[] = {
@@ -24,6 +25,7 @@ static const cli_option trace_options[] = {
      .kind = CLI_FLAG, CLI_FIELD(trace_args, occluded)},
     CLI_OPTION_ENGINE(trace_args, engine_name),
     CLI_OPTIONS_KD_ENGINE(trace_args, engine),
+    CLI_OPTION_MAX_MEMORY(trace_args, max_memory),
 };
 
 static bool ends_with(const char *text, const char *suffix)
@@ -80,7 +82,7 @@ static int trace(void *opaque, const cli_parsed *parsed)
     }
     size_t count = size / sizeof(rtt_ray);
     rtt_scene *scene = ends_with(args->scene_path, ".bin") ? load_triangle_file(args->scene_path, &err)
-                                                          : cli_load_scene(args->scene_path, 0, &err);
+                                                          : cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     rtt_engine *engine = scene ? rtt_engine_create(args->engine_name, scene, &args->engine, &err) : NULL;
     size_t record = args->occluded ? 1 : sizeof(rtt_hit);
     void *results = engine ? malloc(count * record + 1) : NULL;

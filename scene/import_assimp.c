@@ -72,6 +72,7 @@
 #include "file_kind.h"
 #include "file_read.h"
 #include "mesh_header_check.h"
+#include "rtt/memory_budget.h"
 #include "scene_build.h"
 #include "transform.h"
 
@@ -275,6 +276,20 @@ static bool append_mesh(import_state *st, const struct aiMesh *mesh, const float
     return ok;
 }
 
+/* What the scene will hold of a format without counts in its header, once
+ * Assimp has read it: instanced meshes count once per node using them. */
+static uint64_t node_triangles(const struct aiScene *ai, const struct aiNode *node, unsigned depth)
+{
+    uint64_t count = 0;
+    for (unsigned int i = 0; node && depth <= 1024 && i < node->mNumMeshes; i++)
+        if (node->mMeshes[i] < ai->mNumMeshes) count += mesh_triangle_count(ai->mMeshes[node->mMeshes[i]]);
+    for (unsigned int c = 0; node && depth <= 1024 && c < node->mNumChildren; c++)
+        count += node_triangles(ai, node->mChildren[c], depth + 1);
+    return count;
+}
+
+static uint64_t imported_triangles(const struct aiScene *ai) { return node_triangles(ai, ai->mRootNode, 0); }
+
 /* Depth first: the node's own meshes, then its children, in order. */
 static bool append_node(import_state *st, const struct aiNode *node, const float parent[16], unsigned depth,
                         rtt_error *err)
@@ -360,7 +375,9 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
     if (material_override != UINT32_MAX && material_override >= scene->material_count)
         return rtt_error_set(err, "%s: material index %u is out of range", path, material_override);
     rtt_mesh_header header;
-    if (!rtt_mesh_header_check_file(path, &header, err)) return false;
+    if (!rtt_mesh_header_check_file(path, &header, err) ||
+        !rtt_scene_budget_reserve(scene, path, header.triangles, header.bytes, err))
+        return false;
     rtt_assimp_io io;
     rtt_assimp_io_init(&io);
     const struct aiScene *ai = aiImportFileEx(path, 0, &io.io);
@@ -370,7 +387,8 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
         return false;
     }
     if (!ai) return assimp_error(path, err);
-    if (!rtt_mesh_header_check_import(path, &header, ai, err)) {
+    if (!rtt_mesh_header_check_import(path, &header, ai, err) ||
+        (!header.counted && !rtt_scene_budget_reserve(scene, path, imported_triangles(ai), 0, err))) {
         aiReleaseImport(ai);
         return false;
     }
