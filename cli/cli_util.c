@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "rtt/atomic_file.h"
 #include "rtt/files.h"
 
 int cli_fail(const rtt_error *err)
@@ -44,23 +45,7 @@ bool cli_parse_float(const char *text, float *out)
 
 bool cli_write_file_atomic(const char *path, const void *data, size_t size, rtt_error *err)
 {
-    char temp[4096];
-    if (snprintf(temp, sizeof temp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof temp)
-        return rtt_error_set(err, "%s: path too long", path);
-    FILE *file = fopen(temp, "wb");
-    if (!file) return rtt_error_set(err, "%s: cannot write: %s", path, strerror(errno));
-    bool ok = fwrite(data, 1, size, file) == size;
-    ok = (fclose(file) == 0) && ok;
-    if (!ok) {
-        remove(temp);
-        return rtt_error_set(err, "%s: write failed: %s", path, strerror(errno));
-    }
-    if (rename(temp, path) != 0) {
-        int saved = errno;
-        remove(temp);
-        return rtt_error_set(err, "%s: cannot replace: %s", path, strerror(saved));
-    }
-    return true;
+    return rtt_atomic_file_write(path, data, size, err);
 }
 
 void *cli_read_file(const char *path, size_t *size, rtt_error *err)

@@ -48,6 +48,8 @@ static int bake(void *opaque, const cli_parsed *parsed)
     if ((rc = cli_check_scene_options(parsed, args->scene_path, NULL)) != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
+    const char *inputs[] = {args->scene_path};
+    if (!cli_check_outputs(&args->out_path, 1, inputs, 1, &err)) return cli_fail(&err);
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     bool ok = rtt_optimized_bake(scene, &args->engine, args->out_path, &err);

@@ -8,6 +8,7 @@
 
 #include "bench.h"
 #include "cli.h"
+#include "rtt/atomic_file.h"
 #include "options.h"
 
 typedef struct bench_args {
@@ -140,6 +141,10 @@ static int bench(void *opaque, const cli_parsed *parsed)
     if (args->progress) args->config.progress = print_progress;
 
     rtt_error err = {{0}};
+    const char *outputs[] = {args->markdown, args->tsv}, *inputs[] = {args->scene_path, args->views};
+    if (!cli_check_outputs(outputs, 2, inputs, 2, &err) ||
+        (args->config.image_dir && !cli_check_directory(args->config.image_dir, "--images", &err)))
+        return cli_fail(&err);
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     char view[64] = "";
@@ -152,8 +157,10 @@ static int bench(void *opaque, const cli_parsed *parsed)
     rtt_scene_free(scene);
     if (!ok) return cli_fail(&err);
     snprintf(report.view, sizeof report.view, "%s", view);
+    rtt_atomic_files_hold(); /* the reports: both or neither */
     if (args->markdown) ok = write_text(args->markdown, rtt_bench_report_markdown(&report), &err);
     if (ok && args->tsv) ok = write_text(args->tsv, rtt_bench_report_tsv(&report), &err);
+    ok = rtt_atomic_files_release(ok, &err) && ok;
     char *text = ok ? (args->json ? rtt_bench_report_json(&report) : rtt_bench_report_table(&report)) : NULL;
     if (ok && !text) ok = rtt_error_set(&err, "rtt bench: out of memory formatting the report");
     if (text) {

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "options.h"
+#include "rtt/atomic_file.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/optimized.h"
@@ -206,6 +207,8 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
+    const char *inputs[] = {args->scene_path};
+    if (!cli_check_outputs(args->outputs, args->output_count, inputs, 1, &err)) return cli_fail(&err);
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     uint32_t width = args->render.width ? args->render.width : scene->width;
@@ -219,7 +222,9 @@ static int render(void *opaque, const cli_parsed *parsed)
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
     bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    rtt_atomic_files_hold(); /* all the outputs or none */
     for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
+    ok = rtt_atomic_files_release(ok, &err) && ok;
     if (ok && args->render.stats) print_stats(&stats, engine_used, args);
     rtt_image_free(image);
     rtt_scene_free(scene);

@@ -28,6 +28,8 @@ static int triangles(void *opaque, const cli_parsed *parsed)
     if (rc != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
+    const char *inputs[] = {args->scene_path};
+    if (!cli_check_outputs(&args->out_path, 1, inputs, 1, &err)) return cli_fail(&err);
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     size_t size = (size_t)scene->triangle_count * 9 * sizeof(float);

@@ -20,22 +20,38 @@ uint64_t rtt_memory_budget_default(void)
     return budget;
 }
 
-bool rtt_scene_budget_reserve(rtt_scene *scene, const char *source, uint64_t triangles, uint64_t bytes,
-                              rtt_error *err)
+/* What `triangles` more triangles and `bytes` more bytes bring `reserved`
+ * to; false when that passes `budget` (0: the default). */
+static bool fits(const char *source, uint64_t reserved, uint64_t reserved_triangles, uint64_t triangles,
+                 uint64_t bytes, uint64_t budget, uint64_t *needed, rtt_error *err)
 {
     const uint64_t limit = UINT64_C(1) << 62;
     if (triangles > limit / RTT_BYTES_PER_TRIANGLE) triangles = limit / RTT_BYTES_PER_TRIANGLE;
     if (bytes > limit) bytes = limit;
-    uint64_t needed = scene->memory_reserved + triangles * RTT_BYTES_PER_TRIANGLE + bytes;
-    uint64_t budget = scene->memory_budget ? scene->memory_budget : rtt_memory_budget_default();
-    if (needed > budget) {
-        char need[32], have[32];
-        rtt_memory_size_format(needed, need, sizeof need);
-        rtt_memory_size_format(budget, have, sizeof have);
-        uint64_t all = scene->memory_triangles + triangles;
-        return rtt_error_set(err, "%s: needs about %s for %llu triangles, over the memory budget of %s", source,
-                             need, (unsigned long long)all, have);
-    }
+    *needed = reserved + triangles * RTT_BYTES_PER_TRIANGLE + bytes;
+    if (!budget) budget = rtt_memory_budget_default();
+    if (*needed <= budget) return true;
+    char need[32], have[32];
+    rtt_memory_size_format(*needed, need, sizeof need);
+    rtt_memory_size_format(budget, have, sizeof have);
+    return rtt_error_set(err, "%s: needs about %s for %llu triangles, over the memory budget of %s", source, need,
+                         (unsigned long long)(reserved_triangles + triangles), have);
+}
+
+bool rtt_memory_budget_check(const char *source, uint64_t triangles, uint64_t bytes, uint64_t budget,
+                             rtt_error *err)
+{
+    uint64_t needed;
+    return fits(source, 0, 0, triangles, bytes, budget, &needed, err);
+}
+
+bool rtt_scene_budget_reserve(rtt_scene *scene, const char *source, uint64_t triangles, uint64_t bytes,
+                              rtt_error *err)
+{
+    uint64_t needed;
+    if (!fits(source, scene->memory_reserved, scene->memory_triangles, triangles, bytes, scene->memory_budget,
+              &needed, err))
+        return false;
     scene->memory_reserved = needed;
     scene->memory_triangles += triangles;
     return true;

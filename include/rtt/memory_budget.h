@@ -33,6 +33,11 @@ uint64_t rtt_memory_budget_default(void);
 bool rtt_scene_budget_reserve(rtt_scene *scene, const char *source, uint64_t triangles, uint64_t bytes,
                               rtt_error *err);
 
+/* The same test for a part not yet in a scene: `triangles` and `bytes`
+ * against `budget` (0: the default). */
+bool rtt_memory_budget_check(const char *source, uint64_t triangles, uint64_t bytes, uint64_t budget,
+                             rtt_error *err);
+
 /* "17.6 GiB", "512 MiB", "900 bytes": one decimal past the largest unit. */
 void rtt_memory_size_format(uint64_t bytes, char *out, size_t size);
 /* "4G", "512M", "1.5GiB", "800000000": a size in bytes (K, M, G, T are
