@@ -30,6 +30,7 @@ static const cli_option bake_options[] = {
      .kind = CLI_CUSTOM, CLI_FIELD(bake_args, out_path), .parse = parse_kdt_path},
     CLI_OPTIONS_KD_TREE(bake_args, engine),
     CLI_OPTION_BEZIER_LEVEL(bake_args, bezier_level),
+    CLI_OPTION_BUILD_THREADS(bake_args, engine),
     CLI_OPTION_MAX_MEMORY(bake_args, max_memory),
 };
 

@@ -21,6 +21,7 @@ static const cli_option info_options[] = {
      .help = "whose kd-tree to describe: both (default), optimized or reference",
      .kind = CLI_CHOICE, CLI_FIELD(info_args, engines), .choices = info_engine_choices},
     CLI_OPTIONS_KD_TREE(info_args, engine),
+    CLI_OPTION_BUILD_THREADS(info_args, engine),
     CLI_OPTION_MAX_MEMORY(info_args, max_memory),
 };
 

@@ -28,6 +28,7 @@ static const cli_option trace_options[] = {
      .kind = CLI_FLAG, CLI_FIELD(trace_args, occluded)},
     CLI_OPTION_ENGINE(trace_args, engine_name),
     CLI_OPTIONS_KD_ENGINE(trace_args, engine),
+    CLI_OPTION_BUILD_THREADS(trace_args, engine),
     CLI_OPTION_MAX_MEMORY(trace_args, max_memory),
 };
 
