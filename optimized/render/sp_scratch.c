@@ -36,6 +36,11 @@ void sp_scratch_destroy(sp_scratch *s)
 
 bool sp_scratch_failed(const sp_scratch *s) { return s->failed; }
 
+void sp_scratch_begin_frame(sp_scratch *s)
+{
+    memset(&s->stats, 0, sizeof s->stats);
+}
+
 const sp_stats *sp_scratch_stats(const sp_scratch *s) { return &s->stats; }
 
 int32_t sp_level_push(sp_scratch *s, uint32_t level, const rtt_ray *ray, uint32_t pixel)
