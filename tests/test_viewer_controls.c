@@ -83,11 +83,14 @@ static void script_reads_every_command(void **state)
 {
     (void)state;
     const char *text = "# a comment\n\nframes 3\nkey w 10  # held\nkey t\ndrag -5 7\nresize 320 200\nconverge\n"
-                       "bench 4\nprint-overlay\nprint-camera\nscreenshot out.png\n";
+                       "bench 4\nprint-overlay\nprint-camera\nscreenshot out.png\nset shadows multi:4\n";
     view_script s;
     rtt_error err = {{0}};
     assert_true(view_script_parse("s.txt", text, &s, &err));
-    assert_int_equal(s.count, 10);
+    assert_int_equal(s.count, 11);
+    assert_int_equal(s.commands[10].kind, VIEW_CMD_SET);
+    assert_int_equal(s.commands[10].what, VIEW_CHOICE_SHADOWS);
+    assert_string_equal(s.commands[10].text, "multi:4");
     assert_int_equal(s.commands[0].kind, VIEW_CMD_FRAMES);
     assert_int_equal(s.commands[0].a, 3);
     assert_int_equal(s.commands[0].line, 3);
@@ -119,6 +122,8 @@ static void script_errors_name_file_and_line(void **state)
         {"screenshot out.jpg\n", "s.txt:1: screenshot out.jpg: the file must end in .png or .exr"},
         {"print-overlay now\n", "s.txt:1: expected \"print-overlay\""},
         {"key a b c d e\n", "s.txt:1: too many words"},
+        {"set speed 3\n", "s.txt:1: set speed: expected traversal, shadows or isa"},
+        {"set isa\n", "s.txt:1: expected \"set traversal|shadows|isa VALUE\""},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         view_script s;
@@ -186,6 +191,14 @@ static void choices_start_from_what_was_asked(void **state)
     rtt_render_options applied = start;
     view_choices_apply(&c, &applied);
     assert_int_equal(applied.shadow_samples, 32);
+    /* select by label, as a script's `set` does; another sample count takes its method's entry */
+    assert_true(view_choices_select(&c, VIEW_CHOICE_TRAVERSAL, "packet"));
+    assert_string_equal(view_choices_label(&c, VIEW_CHOICE_TRAVERSAL), "packet");
+    assert_false(view_choices_select(&c, VIEW_CHOICE_TRAVERSAL, "no-such-kernel"));
+    assert_true(view_choices_select(&c, VIEW_CHOICE_SHADOWS, "cone:8"));
+    assert_string_equal(view_choices_label(&c, VIEW_CHOICE_SHADOWS), "cone:8");
+    assert_false(view_choices_select(&c, VIEW_CHOICE_SHADOWS, "cone:0"));
+    assert_true(view_choices_select(&c, VIEW_CHOICE_ISA, "sse4"));
     /* the reference engine has no kernels or ISAs to cycle: nothing to step */
     assert_true(view_choices_make("reference", &start, NULL, "", &c, &err));
     assert_int_equal(c.traversal_count, 0);

@@ -105,3 +105,36 @@ const char *view_choices_label(const view_choices *c, view_choice which)
     }
     return "";
 }
+
+bool view_choices_select(view_choices *c, view_choice which, const char *label)
+{
+    const uint32_t count = which == VIEW_CHOICE_TRAVERSAL ? c->traversal_count
+                           : which == VIEW_CHOICE_SHADOWS ? c->shadow_count
+                                                          : c->isa_count;
+    view_choices trial = *c;
+    for (uint32_t i = 0; i < count; i++) {
+        if (which == VIEW_CHOICE_TRAVERSAL) trial.traversal = i;
+        else if (which == VIEW_CHOICE_SHADOWS) trial.shadow = i;
+        else trial.isa = i;
+        if (strcmp(view_choices_label(&trial, which), label) == 0) {
+            *c = trial;
+            return true;
+        }
+    }
+    if (which != VIEW_CHOICE_SHADOWS) return false;
+    /* a shadow method with other parameters ("multi:64"): the entry of its method takes them */
+    rtt_render_options parsed;
+    rtt_render_options_default(&parsed);
+    rtt_error ignored = {{0}};
+    if (!rtt_shadow_method_parse(label, &parsed, &ignored)) return false;
+    for (uint32_t i = 0; i < count; i++) {
+        rtt_render_options entry;
+        rtt_render_options_default(&entry);
+        if (rtt_shadow_method_parse(c->shadows[i], &entry, &ignored) && entry.shadows == parsed.shadows) {
+            c->shadow = i;
+            snprintf(c->shadows[i], VIEW_LABEL_MAX, "%s", label);
+            return true;
+        }
+    }
+    return false;
+}

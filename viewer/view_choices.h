@@ -39,6 +39,9 @@ bool view_choices_make(const char *name, const rtt_render_options *start, const 
 /* Steps choice `which` by `step` (+1 next, -1 previous), wrapping; false when
  * there is nothing to choose from. */
 bool view_choices_step(view_choices *c, view_choice which, int step);
+/* Makes the choice labelled `label` current (as view_choices_label names
+ * it); false when it is not offered. */
+bool view_choices_select(view_choices *c, view_choice which, const char *label);
 /* Writes the current choices into render options. */
 void view_choices_apply(const view_choices *c, rtt_render_options *opt);
 /* "mft", "hard", "avx512": the current choice's label ("" when none). */

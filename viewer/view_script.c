@@ -45,6 +45,7 @@ static const command_syntax syntax[] = {
     {"key", VIEW_CMD_KEY, 1, 2, "key NAME [FRAMES]"},
     {"drag", VIEW_CMD_DRAG, 2, 2, "drag DX DY"},
     {"resize", VIEW_CMD_RESIZE, 2, 2, "resize W H"},
+    {"set", VIEW_CMD_SET, 2, 2, "set traversal|shadows|isa VALUE"},
     {"converge", VIEW_CMD_CONVERGE, 0, 0, "converge"},
     {"bench", VIEW_CMD_BENCH, 1, 1, "bench N"},
     {"print-overlay", VIEW_CMD_PRINT_OVERLAY, 0, 0, "print-overlay"},
@@ -58,7 +59,7 @@ static bool parse_command(const char *path, uint32_t line_no, char **w, uint32_t
     for (size_t i = 0; i < sizeof syntax / sizeof syntax[0]; i++)
         if (strcmp(w[0], syntax[i].name) == 0) s = &syntax[i];
     if (!s)
-        return rtt_error_set(err, "%s:%u: unknown command \"%s\" (frames, key, drag, resize, converge, bench, "
+        return rtt_error_set(err, "%s:%u: unknown command \"%s\" (frames, key, drag, resize, set, converge, bench, "
                                   "print-overlay, print-camera, screenshot)", path, line_no, w[0]);
     if (n - 1 < s->min_args || n - 1 > s->max_args)
         return rtt_error_set(err, "%s:%u: expected \"%s\"", path, line_no, s->usage);
@@ -86,6 +87,17 @@ static bool parse_command(const char *path, uint32_t line_no, char **w, uint32_t
             return rtt_error_set(err, "%s:%u: resize: W and H must be whole numbers from 1 to %d", path, line_no,
                                  SCRIPT_MAX_SIDE);
         break;
+    case VIEW_CMD_SET: {
+        static const char *const whats[] = {"traversal", "shadows", "isa"};
+        c->what = -1;
+        for (int32_t i = 0; i < 3; i++)
+            if (strcmp(w[1], whats[i]) == 0) c->what = i;
+        if (c->what < 0)
+            return rtt_error_set(err, "%s:%u: set %s: expected traversal, shadows or isa", path, line_no, w[1]);
+        if (strlen(w[2]) >= sizeof c->text) return rtt_error_set(err, "%s:%u: set: value too long", path, line_no);
+        strcpy(c->text, w[2]);
+        break;
+    }
     case VIEW_CMD_SCREENSHOT: {
         const char *dot = strrchr(w[1], '.');
         if (!dot || (strcmp(dot, ".png") != 0 && strcmp(dot, ".exr") != 0))

@@ -9,6 +9,9 @@
  *   drag DX DY          move the mouse DX, DY pixels with the left button
  *                       held (looks around), then render one frame
  *   resize W H          resize the window to W x H, then render one frame
+ *   set WHAT VALUE      choose as the keys do: set traversal mft, set shadows
+ *                       multi:16, set isa sse4 (an offered choice), then
+ *                       render one frame
  *   converge            render until the image has all its samples
  *   bench N             render N frames, print their mean fps and Mrays/s
  *   print-overlay       print the overlay line on stdout
@@ -31,6 +34,7 @@ typedef enum view_command_kind {
     VIEW_CMD_KEY,
     VIEW_CMD_DRAG,
     VIEW_CMD_RESIZE,
+    VIEW_CMD_SET,
     VIEW_CMD_CONVERGE,
     VIEW_CMD_BENCH,
     VIEW_CMD_PRINT_OVERLAY,
@@ -42,7 +46,8 @@ typedef struct view_command {
     view_command_kind kind;
     uint32_t line;                    /* in the script, for messages */
     int32_t a, b;                     /* frames; hold frames; dx, dy; width, height */
-    char text[VIEW_SCRIPT_TEXT_MAX];  /* key name; screenshot path */
+    char text[VIEW_SCRIPT_TEXT_MAX];  /* key name; screenshot path; set: the value */
+    int32_t what;                     /* set: a view_choice (view_choices.h) */
 } view_command;
 
 typedef struct view_script {

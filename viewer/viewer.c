@@ -211,20 +211,25 @@ static void screenshot_key(viewer *v)
     print_camera(v, name);
 }
 
-static void step_choice(viewer *v, view_choice which, int step)
+/* Takes the choices `c` when the engine accepts them; else says why and
+ * keeps the current ones. */
+static bool take_choices(viewer *v, const view_choices *c, rtt_error *err)
 {
-    view_choices before = v->choices;
-    if (!view_choices_step(&v->choices, which, step)) return;
     rtt_render_options trial = v->render;
-    view_choices_apply(&v->choices, &trial);
-    rtt_error err = {{0}};
-    if (!rtt_render_options_check(v->opt->engine, &trial, &err)) {
-        fprintf(stderr, "rtt view: %s\n", err.message);
-        v->choices = before;
-        return;
-    }
+    view_choices_apply(c, &trial);
+    if (!rtt_render_options_check(v->opt->engine, &trial, err)) return false;
+    v->choices = *c;
     v->render = trial;
     v->dirty = true;
+    return true;
+}
+
+static void step_choice(viewer *v, view_choice which, int step)
+{
+    view_choices next = v->choices;
+    if (!view_choices_step(&next, which, step)) return;
+    rtt_error err = {{0}};
+    if (!take_choices(v, &next, &err)) fprintf(stderr, "rtt view: %s\n", err.message);
 }
 
 static void on_key_down(viewer *v, const SDL_KeyboardEvent *key)
@@ -385,6 +390,18 @@ static bool run_command(viewer *v, const view_command *c, rtt_error *err)
         int w = 0, h = 0;
         SDL_GetWindowSize(v->window, &w, &h);
         if (!resize(v, (uint32_t)w, (uint32_t)h, err)) return false;
+        return run_frames(v, 1, false, err);
+    }
+    case VIEW_CMD_SET: {
+        view_choices next = v->choices;
+        static const char *const whats[] = {"traversal", "shadows", "isa"};
+        if (!view_choices_select(&next, (view_choice)c->what, c->text))
+            return rtt_error_set(err, "%s:%u: set %s %s: not offered by engine \"%s\" here", v->opt->script_path,
+                                 c->line, whats[c->what], c->text, v->opt->engine);
+        rtt_error why = {{0}};
+        if (!take_choices(v, &next, &why))
+            return rtt_error_set(err, "%s:%u: set %s %s: %s", v->opt->script_path, c->line, whats[c->what], c->text,
+                                 why.message);
         return run_frames(v, 1, false, err);
     }
     case VIEW_CMD_CONVERGE: return run_frames(v, 1, false, err);
