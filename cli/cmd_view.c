@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "camera_options.h"
 #include "cli.h"
 #include "options.h"
 #include "rtt/engine.h"
@@ -21,6 +22,7 @@ typedef struct view_args {
     uint32_t bezier_level;
     view_settings settings;
     const char *script, *screenshot;
+    cli_camera_args camera;
 } view_args;
 
 static bool parse_view_shadows(const char *value, void *field, rtt_error *why)
@@ -50,6 +52,7 @@ static const cli_option view_options[] = {
     CLI_OPTION_RENDER_SIZE(view_args, settings.render),
     CLI_OPTION_MAX_BOUNCES(view_args, settings.render),
     CLI_OPTION_BEZIER_LEVEL(view_args, bezier_level),
+    CLI_OPTIONS_CAMERA(view_args, camera),
     {.name = "--script", .value_name = "FILE",
      .help = "play a script of camera moves and key presses, then exit (viewer/README.md has the commands)",
      .kind = CLI_STRING, CLI_FIELD(view_args, script)},
@@ -76,8 +79,15 @@ static int view(void *opaque, const cli_parsed *parsed)
     rc = cli_check_scene_options(parsed, args->scene_path, args->engine);
     if (rc != CLI_CONTINUE) return rc;
 #ifdef RTT_HAVE_VIEWER
+    rc = cli_camera_check(parsed, &args->camera, args->scene_path);
+    if (rc != CLI_CONTINUE) return rc;
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
-    if (!scene) return cli_fail(&err);
+    rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    cli_camera_free(&args->camera);
+    if (rc != CLI_CONTINUE) {
+        rtt_scene_free(scene);
+        return rc;
+    }
     args->settings.render.engine.threads = args->settings.render.threads; /* --threads bounds the build too */
     const rtt_viewer_options opt = {
         .engine = args->engine,
@@ -100,7 +110,7 @@ const cli_command view_command = {
     .name = "view", .summary = "fly through a scene in a window (SDL2), or play a script headless", .run = view,
     CLI_ARGS(view_args, view_defaults), CLI_ROWS(view_options), CLI_SCENE_OPERAND(view_args),
     .engine_offset = offsetof(view_args, settings.render.engine),
-    .synopsis = "SCENE [render options] [--script FILE --screenshot OUT]",
+    .synopsis = "SCENE [render options] [--script FILE] [--screenshot OUT]",
     .description =
         "Opens a window on SCENE and renders it continuously with the chosen engine on every\n"
         "core; when the camera and the settings rest, nothing is rendered.  Keys:\n"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # rtt view without a display: scripts played under Xvfb (xvfb-run).
 #  - a screenshot of the start camera equals `rtt render` of the scene;
-#  - after moving (keys held, a mouse drag) the screenshot equals `rtt render`
-#    of a copy of the scene with the camera the viewer prints;
+#  - after moving (keys held, a mouse drag) the screenshot equals `rtt render
+#    --view` of the camera the viewer prints as a views.json entry;
+#  - --eye/--look-at start the viewer where rtt render looks from;
 #  - T, G and I change what the overlay reports (traversal, shadows, ISA),
 #    Home resets the camera, resize follows the window;
 #  - a bad script is one line naming file and line, exit 1.
@@ -41,16 +42,24 @@ print-camera
 SCRIPT
 view "$scene" "${size[@]}" --script "$work/move.txt" --screenshot "$work/moved.exr" >"$work/move.out" ||
   fail "move script"
-camera=$(sed -n 's/^"view": \(.*\)$/\1/p' "$work/move.out")
-[ -n "$camera" ] || fail "no camera printed: $(cat "$work/move.out")"
-echo "{$(<"$work/move.out")}" | jq -e '.view.camera.eye | length == 3' >/dev/null || fail "camera is not views.json: $camera"
-jq --argjson v "$camera" '.camera = $v.camera' "$scene" >"$work/moved_scene.json" || fail "jq"
-"$rtt" render "$work/moved_scene.json" "${size[@]}" -o "$work/moved_render.exr" || fail "render moved"
+grep -q '^"view": {"camera": {"eye": \[' "$work/move.out" || fail "no camera printed: $(cat "$work/move.out")"
+# the printed line is a views.json entry: wrapped in braces it is a views file
+echo "{$(grep '^"view":' "$work/move.out")}" >"$work/views.json"
+jq -e '.view.camera.eye | length == 3' "$work/views.json" >/dev/null || fail "not a views.json entry: $(cat "$work/views.json")"
+"$rtt" render "$scene" "${size[@]}" --view "$work/views.json:view" -o "$work/moved_render.exr" || fail "render moved"
 "$rtt" compare "$work/moved.exr" "$work/moved_render.exr" --max-error 0 >/dev/null ||
   fail "moved screenshot differs from rtt render of its camera"
 if "$rtt" compare "$work/moved.exr" "$work/still.exr" --max-rmse 0.001 >/dev/null 2>&1; then
   fail "moving the camera did not change the picture"
 fi
+
+# 2b. the camera options of rtt render start the viewer there
+eye=(--eye 0.3,1.2,2.5 --look-at 0,0.8,0 --fov 50)
+view "$scene" "${size[@]}" "${eye[@]}" --script "$work/still.txt" --screenshot "$work/eye.exr" >/dev/null ||
+  fail "--eye script"
+"$rtt" render "$scene" "${size[@]}" "${eye[@]}" -o "$work/eye_render.exr" || fail "render --eye"
+"$rtt" compare "$work/eye.exr" "$work/eye_render.exr" --max-error 0 >/dev/null ||
+  fail "--eye screenshot differs from rtt render --eye"
 
 # 3. the keys change what the overlay reports; Home resets; resize follows
 cat >"$work/keys.txt" <<'SCRIPT'
