@@ -116,7 +116,10 @@ bool view_choices_select(view_choices *c, view_choice which, const char *label)
         if (which == VIEW_CHOICE_TRAVERSAL) trial.traversal = i;
         else if (which == VIEW_CHOICE_SHADOWS) trial.shadow = i;
         else trial.isa = i;
-        if (strcmp(view_choices_label(&trial, which), label) == 0) {
+        char qualified[2 * VIEW_LABEL_MAX] = "";
+        if (which == VIEW_CHOICE_TRAVERSAL)
+            snprintf(qualified, sizeof qualified, "%s:%s", rtt_accel_name(c->traversals[i].accel), c->traversals[i].name);
+        if (strcmp(view_choices_label(&trial, which), label) == 0 || strcmp(qualified, label) == 0) {
             *c = trial;
             return true;
         }

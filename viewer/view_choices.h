@@ -40,7 +40,8 @@ bool view_choices_make(const char *name, const rtt_render_options *start, const 
  * there is nothing to choose from. */
 bool view_choices_step(view_choices *c, view_choice which, int step);
 /* Makes the choice labelled `label` current (as view_choices_label names
- * it); false when it is not offered. */
+ * it; a traversal also as "accel:name", the first of that name otherwise);
+ * false when it is not offered. */
 bool view_choices_select(view_choices *c, view_choice which, const char *label);
 /* Writes the current choices into render options. */
 void view_choices_apply(const view_choices *c, rtt_render_options *opt);

@@ -50,6 +50,7 @@ static const command_syntax syntax[] = {
     {"bench", VIEW_CMD_BENCH, 1, 1, "bench N"},
     {"print-overlay", VIEW_CMD_PRINT_OVERLAY, 0, 0, "print-overlay"},
     {"print-camera", VIEW_CMD_PRINT_CAMERA, 0, 0, "print-camera"},
+    {"print-choices", VIEW_CMD_PRINT_CHOICES, 0, 0, "print-choices"},
     {"screenshot", VIEW_CMD_SCREENSHOT, 1, 1, "screenshot FILE"},
 };
 
@@ -60,7 +61,7 @@ static bool parse_command(const char *path, uint32_t line_no, char **w, uint32_t
         if (strcmp(w[0], syntax[i].name) == 0) s = &syntax[i];
     if (!s)
         return rtt_error_set(err, "%s:%u: unknown command \"%s\" (frames, key, drag, resize, set, converge, bench, "
-                                  "print-overlay, print-camera, screenshot)", path, line_no, w[0]);
+                                  "print-overlay, print-camera, print-choices, screenshot)", path, line_no, w[0]);
     if (n - 1 < s->min_args || n - 1 > s->max_args)
         return rtt_error_set(err, "%s:%u: expected \"%s\"", path, line_no, s->usage);
     *c = (view_command){.kind = s->kind, .line = line_no};

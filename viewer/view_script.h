@@ -10,12 +10,15 @@
  *                       held (looks around), then render one frame
  *   resize W H          resize the window to W x H, then render one frame
  *   set WHAT VALUE      choose as the keys do: set traversal mft, set shadows
- *                       multi:16, set isa sse4 (an offered choice), then
+ *                       multi:16, set isa sse4 (an offered choice; a
+ *                       traversal may name its accel: kd:mft), then
  *                       render one frame
  *   converge            render until the image has all its samples
  *   bench N             render N frames, print their mean fps and Mrays/s
  *   print-overlay       print the overlay line on stdout
  *   print-camera        print the camera as a views.json entry on stdout
+ *   print-choices       print what T, G and I cycle: "traversals: kd:mono ...",
+ *                       "shadows: none hard ...", "isas: sse4 ..." 
  *   screenshot FILE     write the image shown (.png or .exr)
  *
  * Frames advance the camera by a fixed 1/30 s when scripted, so a script
@@ -39,6 +42,7 @@ typedef enum view_command_kind {
     VIEW_CMD_BENCH,
     VIEW_CMD_PRINT_OVERLAY,
     VIEW_CMD_PRINT_CAMERA,
+    VIEW_CMD_PRINT_CHOICES,
     VIEW_CMD_SCREENSHOT,
 } view_command_kind;
 

@@ -325,6 +325,19 @@ static void push_key(const char *name, bool down)
     SDL_PushEvent(&e);
 }
 
+static void print_choices(const view_choices *c)
+{
+    printf("traversals:");
+    for (uint32_t i = 0; i < c->traversal_count; i++)
+        printf(" %s:%s", rtt_accel_name(c->traversals[i].accel), c->traversals[i].name);
+    printf("\nshadows:");
+    for (uint32_t i = 0; i < c->shadow_count; i++) printf(" %s", c->shadows[i]);
+    printf("\nisas:");
+    for (uint32_t i = 0; i < c->isa_count; i++) printf(" %s", rtt_isa_name(c->isas[i]));
+    printf("\n");
+    fflush(stdout);
+}
+
 static bool run_frames(viewer *v, int32_t n, bool force, rtt_error *err)
 {
     for (int32_t i = 0; i < n && !v->quit; i++)
@@ -412,6 +425,7 @@ static bool run_command(viewer *v, const view_command *c, rtt_error *err)
         fflush(stdout);
         return true;
     case VIEW_CMD_PRINT_CAMERA: print_camera(v, "view"); return true;
+    case VIEW_CMD_PRINT_CHOICES: print_choices(&v->choices); return true;
     case VIEW_CMD_SCREENSHOT: return rtt_image_write(v->image, c->text, err);
     }
     return true;
