@@ -115,6 +115,19 @@ static frame_memory *frame_memory_get(rtt_render_cache *cache, uint32_t threads,
     return m;
 }
 
+/* Tiles go to threads first come, first served, so which thread's scratch
+ * meets the largest tile changes from frame to frame: before the scratch
+ * is kept, every thread's is grown to the largest of each array, and the
+ * next frame of the same image grows none. */
+static bool frame_memory_even_out(frame_memory *m)
+{
+    for (uint32_t t = 1; t < m->threads; t++)
+        if (!sp_scratch_match(m->scratch[0], m->scratch[t])) return false;
+    for (uint32_t t = 1; t < m->threads; t++)
+        if (!sp_scratch_match(m->scratch[t], m->scratch[0])) return false;
+    return true;
+}
+
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
 {
     render_job *job = context;
@@ -203,7 +216,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         gather_stats(&job, stats);
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
-    if (ok && opt->cache)
+    if (ok && opt->cache && frame_memory_even_out(memory))
         rtt_render_cache_keep(opt->cache, &rtt_optimized_engine_class, memory, frame_memory_free);
     else
         frame_memory_free(memory);
