@@ -14,6 +14,7 @@
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
+#include "textures.h"
 #include "transform.h"
 
 /* Scenes larger than this are refused: indices stay far from overflow and a
@@ -64,6 +65,7 @@ void rtt_scene_free(rtt_scene *scene)
     free(scene->meshes);
     free(scene->materials);
     free(scene->lights);
+    rtt_scene_textures_free(scene);
     free(scene);
 }
 
@@ -346,6 +348,7 @@ bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
         if (rtt_triangle_is_degenerate(tri)) scene->degenerate_count++;
     }
     if (scene->normals) fill_vertex_normals(scene);
+    if (!rtt_scene_textures_finish(scene, err)) return false;
     if (!classify_meshes(scene, err)) return false;
     if (!has_camera(scene)) default_camera(scene);
     if (scene->width == 0) scene->width = RTT_DEFAULT_WIDTH;
