@@ -89,6 +89,8 @@ bool rtt_scene_textures_finish(rtt_scene *scene, rtt_error *err)
                                  i, m->diffuse_map, m->normal_map, scene->texture_count);
         mapped = mapped || m->diffuse_map || m->normal_map;
     }
+    if (mapped && !scene->texcoords)
+        rtt_scene_texture_missing(scene, scene->path, "materials have texture maps but no mesh has texture coordinates");
     if (!mapped || !scene->texcoords) { /* nothing samples a texture: drop what would go unused */
         for (uint32_t i = 0; i < scene->material_count; i++) {
             scene->materials[i].diffuse_map = 0;
