@@ -4,6 +4,11 @@
 #
 #   $DIR/maps/{oa_dm4,ctf_inyard,czest3ctf}.bsp       Quake III maps (openarena-081-maps)
 #   $DIR/meshes/{bunny00,armadillo,refined_elephant}.off   CGAL demo meshes (libcgal-demo)
+#   $DIR/pk3/{pak0,pak4-textures}.pk3   the maps' textures and shader scripts
+#                                       (openarena-data, openarena-081-textures)
+#
+# The maps find their textures in ../pk3 beside maps/ (scene/q3_textures.c);
+# the archives are read in place, nothing is unpacked.
 #
 # DIR is $RTT_DATA_DIR, default $HOME/.cache/rtt-data.  Idempotent: whatever is
 # already there is kept.  Prints the data directory on success; on failure says
@@ -16,11 +21,12 @@ shopt -s inherit_errexit
 DIR="${RTT_DATA_DIR:-$HOME/.cache/rtt-data}"
 MAPS=(oa_dm4 ctf_inyard czest3ctf)
 MESHES=(bunny00 armadillo refined_elephant)
+PK3S=(pak0 pak4-textures)
 
 die() { echo "fetch-scenes: $*" >&2; exit 1; }
 
 if [[ "${1:-}" == "--help" || "${1:-}" == "-h" ]]; then
-    sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
 fi
 [[ $# -eq 0 ]] || { echo "usage: $0 [--help]" >&2; exit 2; }
@@ -35,12 +41,12 @@ have_all() { # kind ext names...
     for name in "$@"; do [[ -s "$DIR/$kind/$name.$ext" ]] || return 1; done
 }
 
-if have_all maps bsp "${MAPS[@]}" && have_all meshes off "${MESHES[@]}"; then
+if have_all maps bsp "${MAPS[@]}" && have_all meshes off "${MESHES[@]}" && have_all pk3 pk3 "${PK3S[@]}"; then
     echo "$DIR"
     exit 0
 fi
 
-mkdir -p "$DIR/maps" "$DIR/meshes" "$DIR/packages" || die "cannot create $DIR"
+mkdir -p "$DIR/maps" "$DIR/meshes" "$DIR/pk3" "$DIR/packages" || die "cannot create $DIR"
 WORK="$(mktemp -d "${TMPDIR:-/tmp}/rtt-fetch.XXXXXX")" || die "cannot create a temporary directory"
 trap 'rm -rf "$WORK"' EXIT
 chmod 755 "$WORK" # apt-get download drops privileges to _apt when it can
@@ -126,7 +132,24 @@ fetch_meshes() {
     done
 }
 
+# The texture archives, copied whole from their packages' baseoa/.
+fetch_textures() {
+    have_all pk3 pk3 "${PK3S[@]}" && return 0
+    local pkg root name src
+    for pkg in openarena-data openarena-081-textures; do
+        root="$(extract "$pkg")"
+        for name in "${PK3S[@]}"; do
+            [[ -s "$DIR/pk3/$name.pk3" ]] && continue
+            src="$(find "$root" -path '*/baseoa/*' -name "$name.pk3" | head -n 1)"
+            [[ -n "$src" ]] || continue
+            cp "$src" "$DIR/pk3/$name.pk3.part" && mv "$DIR/pk3/$name.pk3.part" "$DIR/pk3/$name.pk3"
+        done
+    done
+}
+
 fetch_maps
 fetch_meshes
-have_all maps bsp "${MAPS[@]}" && have_all meshes off "${MESHES[@]}" || die "some files are still missing in $DIR"
+fetch_textures
+have_all maps bsp "${MAPS[@]}" && have_all meshes off "${MESHES[@]}" && have_all pk3 pk3 "${PK3S[@]}" ||
+    die "some files are still missing in $DIR"
 echo "$DIR"

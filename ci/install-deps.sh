@@ -10,6 +10,7 @@ packages=(
   clang libclang-rt-14-dev llvm
   gnuplot-nox unzip jq python3
   libstb-dev libsdl2-dev xvfb xauth libopenmpi-dev openmpi-bin libosmesa6-dev
+  zlib1g-dev
 )
 
 missing=()

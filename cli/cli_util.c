@@ -56,5 +56,10 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err)
 {
     rtt_scene_load_options opt = {.bezier_level = bezier_level, .max_memory = max_memory};
-    return rtt_scene_load(path, &opt, err);
+    rtt_scene *scene = rtt_scene_load(path, &opt, err);
+    if (scene && scene->missing_texture_count) /* the one warning: the scene still renders */
+        fprintf(stderr, "rtt: warning: %s: %u texture%s not read, drawn in the material's own colour; the first: %s\n",
+                path, scene->missing_texture_count, scene->missing_texture_count == 1 ? "" : "s",
+                scene->missing_texture);
+    return scene;
 }

@@ -46,6 +46,9 @@ static void print_scene(const rtt_scene *s)
     for (uint32_t i = 0; i < s->material_count; i++)
         printf(" %s(%s)", s->materials[i].name[0] ? s->materials[i].name : "-",
                material_type_names[s->materials[i].type]);
+    if (s->texture_count)
+        printf("\n  textures    %u, %.2f MiB with the texture coordinates", s->texture_count,
+               (double)rtt_scene_texture_bytes(s) / (1024.0 * 1024.0));
     printf("\n");
     cli_print_camera_and_lights(s);
 }

@@ -241,7 +241,13 @@ const cli_command render_command = {
     .engine_offset = offsetof(render_args, render.engine),
     .synopsis = "SCENE [-o out.exr|out.png]... [options]",
     .description = "Renders SCENE (scene .json, mesh file, Quake III .bsp or baked .kdt).  An option\n"
-                   "the chosen engine, scene file or output does not use is refused, not ignored.\n",
+                   "the chosen engine, scene file or output does not use is refused, not ignored.\n"
+                   "Transparent materials let light through in proportion to their transparency\n"
+                   "with hard, multi:N, cone:N and pyramid:N shadows; edgewidth treats them as\n"
+                   "opaque on sphere lights.  Textures that cannot be read draw in their\n"
+                   "material's colour, with one warning.\n",
     .environment = "RTT_ISA=auto|sse4|avx2|avx512 picks the instruction set when --isa is not\n"
-                   "given.\n",
+                   "given.  RTT_TEXTURE_PATH=DIR[:DIR...] is where Quake III maps find their\n"
+                   "textures (loose files and .pk3 archives; default: the map's directory, its\n"
+                   "parent and the parent's pk3/).\n",
 };

@@ -20,7 +20,7 @@ void fuzz_fail(const char *fmt, ...)
     abort();
 }
 
-static void check_error_line(const rtt_error *err)
+void fuzz_check_error_line(const rtt_error *err)
 {
     size_t n = strnlen(err->message, sizeof err->message);
     if (n == 0)
@@ -50,7 +50,7 @@ rtt_scene *fuzz_load_scene_bytes(const uint8_t *data, size_t size, const char *e
     rtt_scene *scene = rtt_scene_load(path, NULL, err);
     unlink(path);
     if (!scene)
-        check_error_line(err);
+        fuzz_check_error_line(err);
     return scene;
 }
 

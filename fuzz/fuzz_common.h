@@ -19,6 +19,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 /* Prints "fuzz: <message>" to stderr and aborts. */
 _Noreturn void fuzz_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* Aborts unless err holds one non-empty, terminated line (the error contract). */
+void fuzz_check_error_line(const rtt_error *err);
+
 /* Writes data to a fresh temporary file whose name ends in `extension`
  * (".json"), loads it with rtt_scene_load, removes the file and returns the
  * scene (NULL when the loader refused it; err then holds its message).

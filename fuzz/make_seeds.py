@@ -186,3 +186,49 @@ def kdt_mutations():
 
 
 kdt_mutations()
+
+
+# --- pk3: zip archives, stored and deflated members, a script and an image --
+def pk3_seeds():
+    import io
+    import zipfile
+    shader = ("textures/seed/wall\n{\n\t{\n\t\tmap $lightmap\n\t}\n\t{\n\t\tmap textures/seed/wall.tga\n"
+              "\t\tblendFunc filter\n\t}\n}\n")
+    tga = struct.pack("<BBBHHBHHHHBB", 0, 0, 2, 0, 0, 0, 0, 0, 2, 2, 24, 0x20) + bytes(range(12))
+    for name, method in (("stored.pk3", zipfile.ZIP_STORED), ("deflated.pk3", zipfile.ZIP_DEFLATED)):
+        out = io.BytesIO()
+        with zipfile.ZipFile(out, "w", method) as z:
+            for member, data in (("scripts/seed.shader", shader), ("textures/seed/wall.tga", tga)):
+                info = zipfile.ZipInfo(member, date_time=(2008, 1, 1, 0, 0, 0))  # fixed: reproducible bytes
+                info.compress_type = method
+                z.writestr(info, data)
+        write("pk3", name, out.getvalue())
+
+
+pk3_seeds()
+
+# --- q3_shader: scripts with comments, quoted names, animMap, clampMap ------
+write("q3_shader", "stages.shader",
+      "// a comment\ntextures/a/b\n{\n\tqer_editorimage textures/a/b.tga\n\tsurfaceparm nomarks\n"
+      "\t{\n\t\tmap $lightmap\n\t\trgbGen identity\n\t}\n\t{\n\t\tclampMap textures/a/b.jpg\n"
+      "\t\tblendFunc GL_DST_COLOR GL_ZERO\n\t}\n}\n\n"
+      "/* block\n comment */ \"textures/quoted name\" { { animMap 8 textures/f1.tga textures/f2.tga } }\n"
+      "textures/sky { skyParms full 512 - { map textures/skies/clouds.tga tcMod scroll 0.1 0.1 } }\n")
+write("q3_shader", "unclosed.shader", "textures/x\n{\n\t{\n\t\tmap textures/x.tga\n")
+
+# --- texture: the formats stb_image decodes for rtt (TGA, PNG) ---------------
+def texture_seeds():
+    import zlib
+    tga = struct.pack("<BBBHHBHHHHBB", 0, 0, 2, 0, 0, 0, 0, 0, 3, 2, 24, 0x20) + bytes(range(18))
+    write("texture", "rgb_3x2.tga", tga)
+    rle = struct.pack("<BBBHHBHHHHBB", 0, 0, 10, 0, 0, 0, 0, 0, 4, 1, 24, 0) + bytes([0x83, 10, 20, 30])
+    write("texture", "rle_4x1.tga", rle)
+    rows = b"\x00" + bytes((0, 0, 0, 255, 255, 255)) + b"\x00" + bytes((255, 0, 0, 0, 0, 255))
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 2, 0, 0, 0)) +
+           chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    write("texture", "rgb_2x2.png", png)
+
+
+texture_seeds()

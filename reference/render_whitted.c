@@ -10,12 +10,18 @@
  *   none      1
  *   hard      one shadow ray to the light's centre (sphere lights too)
  *   multi:N   N rays to rtt_light_sample(light, p, i, N, pixel) on sphere
- *             lights, the unoccluded fraction; one ray for point lights.
+ *             lights, the mean of their transmissions; one ray for point
+ *             lights.
+ * A shadow ray's transmission is 1 when it is clear; when it is occluded in
+ * a scene with transparent materials, the ray is traced again for its
+ * closest hits, one surface after the other (tnear moved to each hit), and
+ * carries the product of their transparencies (shade.h).
  *   edgewidth[:R]  Edge Width Soft Shadows (Thesis chapter 5): on sphere
  *             lights 1 - the occlusion of rtt_edge_width_reference along
  *             the ray from the light's centre to p, through a reference
  *             kd-tree of its own (the tracer may be any engine, but edge
- *             widths need every crossing); hard for point lights.
+ *             widths need every crossing; transparent occluders count as
+ *             opaque there); hard for point lights.
  * A light whose unoccluded contribution is exactly zero casts no shadow rays
  * (vis would multiply zero).  Every ray goes through the `tracer` engine,
  * which may be any engine (Embree renders the reference image this way).
@@ -52,6 +58,7 @@ typedef struct render_job {
     rtt_shadow_method shadows;
     uint32_t shadow_samples;
     float epsilon;
+    bool transparent_shadows;            /* shadow rays pass transparent surfaces */
     const rtt_kd_tree *edge_tree;        /* edgewidth only */
     rtt_edge_width_model edge_model;
     _Atomic uint64_t primary, shadow, secondary;
@@ -64,18 +71,31 @@ static rtt_hit trace_closest(const render_job *job, const rtt_ray *ray)
     return hit;
 }
 
-/* Is the segment from p to target free of geometry (both ends excluded)? */
-static bool segment_clear(const render_job *job, rtt_vec3 p, rtt_vec3 target, ray_counts *counts)
+/* How much light passes the segment from p to target (both ends
+ * excluded): 1 when it is clear, 0 when an opaque surface blocks it, and in
+ * scenes with transparent materials the product of the transparencies of
+ * the surfaces it crosses, nearest first (shade.h). */
+static float segment_transmission(const render_job *job, rtt_vec3 p, rtt_vec3 target, ray_counts *counts)
 {
     rtt_vec3 to_target = rtt_v3_sub(target, p);
     float distance = rtt_v3_length(to_target);
-    if (!(distance > 2.0f * job->epsilon)) return true; /* nothing fits between */
+    if (!(distance > 2.0f * job->epsilon)) return 1.0f; /* nothing fits between */
     rtt_vec3 dir = rtt_v3_scale(to_target, 1.0f / distance);
     rtt_ray ray = {{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, job->epsilon, distance - job->epsilon};
     uint8_t occluded = 0;
     rtt_engine_occluded(job->tracer, &ray, &occluded, 1);
     counts->shadow++;
-    return !occluded;
+    if (!occluded) return 1.0f;
+    if (!job->transparent_shadows) return 0.0f;
+    float transmission = 1.0f;
+    for (uint32_t layer = 0; layer < RTT_SHADOW_MAX_LAYERS; layer++) {
+        rtt_hit hit = trace_closest(job, &ray);
+        if (hit.prim == RTT_MISS) return transmission;
+        transmission *= rtt_shadow_transmission(job->scene, hit.prim);
+        if (transmission == 0.0f) return 0.0f;
+        ray.tnear = hit.t; /* past this surface: hits count only beyond tnear */
+    }
+    return 0.0f;
 }
 
 /* vis in [0, 1] of the light from p by the chosen shadow method. */
@@ -87,12 +107,12 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
         return 1.0f;
     case RTT_SHADOWS_MULTI:
         if (light->type == RTT_LIGHT_SPHERE) {
-            uint32_t clear = 0;
+            float clear = 0.0f;
             for (uint32_t i = 0; i < job->shadow_samples; i++)
-                if (segment_clear(job, p, rtt_light_sample(light, p, i, job->shadow_samples, pixel), counts)) clear++;
-            return (float)clear / (float)job->shadow_samples;
+                clear += segment_transmission(job, p, rtt_light_sample(light, p, i, job->shadow_samples, pixel), counts);
+            return clear / (float)job->shadow_samples;
         }
-        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+        return segment_transmission(job, p, light->position, counts);
     case RTT_SHADOWS_EDGEWIDTH:
         if (light->type == RTT_LIGHT_SPHERE && light->radius > 0.0f) {
             rtt_ray ray;
@@ -100,9 +120,9 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
             counts->shadow++;
             return 1.0f - rtt_edge_width_reference(job->edge_tree, &job->edge_model, &ray, NULL);
         }
-        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+        return segment_transmission(job, p, light->position, counts);
     default: /* hard */
-        return segment_clear(job, p, light->position, counts) ? 1.0f : 0.0f;
+        return segment_transmission(job, p, light->position, counts);
     }
 }
 
@@ -112,16 +132,13 @@ static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t
 static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32_t pixel, ray_counts *counts)
 {
     const rtt_scene *scene = job->scene;
-    const rtt_material *m = s->material;
-    rtt_vec3 colour = rtt_v3_scale(m->diffuse, scene->ambient);
-    rtt_vec3 to_viewer = rtt_v3_scale(s->dir, -1.0f);
+    rtt_vec3 colour = rtt_v3_scale(s->diffuse, scene->ambient);
     for (uint32_t i = 0; i < scene->light_count; i++) {
         const rtt_light *light = &scene->lights[i];
         rtt_vec3 to_light = rtt_v3_sub(light->position, s->point);
         float distance = rtt_v3_length(to_light);
         if (!(distance > 0.0f)) continue;
-        rtt_vec3 contribution =
-            rtt_shade_light(m, s->normal, to_viewer, rtt_v3_scale(to_light, 1.0f / distance), light, distance);
+        rtt_vec3 contribution = rtt_shade_light(s, rtt_v3_scale(to_light, 1.0f / distance), light, distance);
         if (contribution.x == 0.0f && contribution.y == 0.0f && contribution.z == 0.0f) continue;
         float vis = light_visibility(job, light, s->point, pixel, counts);
         colour = rtt_v3_madd(colour, contribution, vis);
@@ -249,6 +266,7 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         .shadows = opt->shadows,
         .shadow_samples = opt->shadow_samples,
         .epsilon = rtt_scene_ray_epsilon(scene),
+        .transparent_shadows = rtt_scene_has_transparent_shadows(scene),
     };
     rtt_kd_tree edge_tree = {0};
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH) {

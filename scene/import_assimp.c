@@ -48,7 +48,8 @@
  * (OFF, PLY, STL: Assimp invents one, white and for PLY even specular) and
  * Assimp's placeholder for files that name none ("DefaultMaterial", e.g. an
  * OBJ without MTL) get rtt's grey diffuse default (docs/ARCHITECTURE.md: no material
- * -> grey diffuse).
+ * -> grey diffuse).  Texture maps: assimp_textures.c; a mesh whose material
+ * has one brings its first texture coordinate set.
  *
  * Errors are one line, "path: what is wrong": Assimp's message reduced to
  * one line, or ours.  An empty file and a file without triangles are errors.
@@ -69,11 +70,13 @@
 #include <sys/stat.h>
 
 #include "assimp_io.h"
+#include "assimp_textures.h"
 #include "file_kind.h"
 #include "file_read.h"
 #include "mesh_header_check.h"
 #include "rtt/memory_budget.h"
 #include "scene_build.h"
+#include "textures.h"
 #include "transform.h"
 
 #define MTL_DEFAULT_MATERIAL_NAME "DefaultMaterial" /* AI_DEFAULT_MATERIAL_NAME */
@@ -191,7 +194,11 @@ static uint32_t scene_material(import_state *st, unsigned int file_material, rtt
         return UINT32_MAX;
     }
     if (st->material_map[file_material] == UINT32_MAX) {
-        rtt_material m = map_material(st->ai->mMaterials[file_material], has_no_materials(st->path));
+        const bool placeholder = has_no_materials(st->path);
+        rtt_material m = map_material(st->ai->mMaterials[file_material], placeholder);
+        if (!placeholder &&
+            !rtt_assimp_material_textures(st->scene, st->path, st->ai, st->ai->mMaterials[file_material], &m, err))
+            return UINT32_MAX;
         st->material_map[file_material] = rtt_scene_add_material(st->scene, &m);
         if (st->material_map[file_material] == UINT32_MAX)
             rtt_error_set(err, "%s: out of memory for materials", st->path);
@@ -256,6 +263,20 @@ static bool fan_triangulate(import_state *st, const struct aiMesh *mesh, uint32_
     return true;
 }
 
+/* The mesh's first texture coordinate set (u, v; Assimp's v is up). */
+static bool set_texcoords(import_state *st, const struct aiMesh *mesh, uint32_t first_vertex, rtt_error *err)
+{
+    float *uv = malloc((size_t)mesh->mNumVertices * 2 * sizeof *uv + 1);
+    if (!uv) return rtt_error_set(err, "%s: out of memory for texture coordinates", st->path);
+    for (unsigned int i = 0; i < mesh->mNumVertices; i++) {
+        uv[2 * (size_t)i] = (float)mesh->mTextureCoords[0][i].x;
+        uv[2 * (size_t)i + 1] = (float)mesh->mTextureCoords[0][i].y;
+    }
+    bool ok = rtt_scene_set_texcoords(st->scene, first_vertex, uv, mesh->mNumVertices, err);
+    free(uv);
+    return ok;
+}
+
 static bool append_mesh(import_state *st, const struct aiMesh *mesh, const float transform[16], rtt_error *err)
 {
     uint64_t triangles = mesh_triangle_count(mesh);
@@ -269,10 +290,14 @@ static bool append_mesh(import_state *st, const struct aiMesh *mesh, const float
     if (material == UINT32_MAX || !fan_triangulate(st, mesh, (uint32_t)triangles, err)) return false;
     _Static_assert(sizeof(struct aiVector3D) == sizeof(rtt_vec3), "aiVector3D is three floats (ai_real = float)");
     const char *name = mesh->mName.length ? mesh->mName.data : NULL;
+    const uint32_t first_vertex = st->scene->vertex_count;
     bool ok = rtt_scene_add_mesh(st->scene, st->path, name, (const rtt_vec3 *)mesh->mVertices,
                                  (const rtt_vec3 *)mesh->mNormals, mesh->mNumVertices, st->indices,
                                  (uint32_t)triangles, NULL, material, transform, err);
     st->faces_seen += mesh->mNumFaces;
+    const rtt_material *m = &st->scene->materials[material];
+    if (ok && (m->diffuse_map || m->normal_map) && mesh->mTextureCoords[0])
+        ok = set_texcoords(st, mesh, first_vertex, err);
     return ok;
 }
 

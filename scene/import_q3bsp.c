@@ -1,8 +1,9 @@
 /* Quake III Arena maps (IBSP version 46, as in OpenArena's pak files).
  *
  * Our own loader: Assimp's Q3 BSP importer crashes on the OpenArena maps
- * (docs/ARCHITECTURE.md).  Only three of the 17 lumps are read:
+ * (docs/ARCHITECTURE.md).  Only four of the 17 lumps are read:
  *
+ *   lump 1   textures   72 bytes: name[64] (the shader), flags, contents
  *   lump 10  vertices   44 bytes: position[3], texcoord[2], lightmap[2],
  *                       normal[3] (floats), colour[4] (bytes)
  *   lump 11  meshverts   4 bytes: int32 offset from a face's first vertex
@@ -44,8 +45,11 @@
  * winding and handedness are preserved.  `transform` applies after that.
  *
  * The whole map becomes one rtt mesh (one per face would be tens of
- * thousands; Quake's textures carry no material the five types could use)
- * with one grey diffuse material, or `material_override`.  Its vertex array
+ * thousands) with one grey diffuse material per shader its faces use, each
+ * with the shader's image as its diffuse map where q3_textures.c finds one
+ * (then the vertices carry the file's texture coordinates, t flipped to v
+ * up, Bezier-interpolated on patches); with no texture source at all, one
+ * grey diffuse material for the whole map; or `material_override`.  Its vertex array
  * is the whole vertex lump (so shared indices stay shared) followed by the
  * patch grids; vertices no triangle uses do not count for the bounds.
  *
@@ -65,11 +69,15 @@
 
 #include "rtt/files.h"
 #include "rtt/memory_budget.h"
+#include "q3_textures.h"
 #include "scene_build.h"
+#include "textures.h"
 
 #define BSP_HEADER_SIZE 144u /* magic, version, 17 lump entries of (offset, length) */
 #define BSP_LUMP_COUNT 17u
 #define BSP_VERSION 46
+#define BSP_LUMP_TEXTURES 1u
+#define BSP_TEXTURE_SIZE 72u
 #define BSP_LUMP_VERTICES 10u
 #define BSP_LUMP_MESHVERTS 11u
 #define BSP_LUMP_FACES 13u
@@ -83,14 +91,14 @@
 enum { FACE_POLYGON = 1, FACE_PATCH = 2, FACE_MESH = 3, FACE_BILLBOARD = 4 };
 
 typedef struct bsp_face {
-    int32_t type, vertex, vertex_count, meshvert, meshvert_count, width, height;
+    int32_t texture, type, vertex, vertex_count, meshvert, meshvert_count, width, height;
 } bsp_face;
 
 typedef struct bsp_map {
     const char *path;
     long file_size;
-    uint8_t *vertex_lump, *meshvert_lump, *face_lump;
-    uint32_t vertex_count, meshvert_count, face_count;
+    uint8_t *vertex_lump, *meshvert_lump, *face_lump, *texture_lump;
+    uint32_t vertex_count, meshvert_count, face_count, texture_count;
     uint32_t level;
 } bsp_map;
 
@@ -105,6 +113,7 @@ static const char *lump_name(uint32_t lump)
     case BSP_LUMP_VERTICES: return "vertices";
     case BSP_LUMP_MESHVERTS: return "meshverts";
     case BSP_LUMP_FACES: return "faces";
+    case BSP_LUMP_TEXTURES: return "textures";
     default: return "lump";
     }
 }
@@ -146,7 +155,8 @@ static uint32_t meshvert(const bsp_map *map, uint32_t i)
 static bsp_face read_face(const bsp_map *map, uint32_t i)
 {
     const uint8_t *p = map->face_lump + (size_t)i * BSP_FACE_SIZE;
-    return (bsp_face){.type = read_i32(p + 8),
+    return (bsp_face){.texture = read_i32(p),
+                      .type = read_i32(p + 8),
                       .vertex = read_i32(p + 12),
                       .vertex_count = read_i32(p + 16),
                       .meshvert = read_i32(p + 20),
@@ -212,7 +222,9 @@ static bool read_map(const char *path, bsp_map *map, rtt_error *err)
                         &map->vertex_count, err) &&
               read_lump(file, map, header, BSP_LUMP_MESHVERTS, BSP_MESHVERT_SIZE, &map->meshvert_lump,
                         &map->meshvert_count, err) &&
-              read_lump(file, map, header, BSP_LUMP_FACES, BSP_FACE_SIZE, &map->face_lump, &map->face_count, err);
+              read_lump(file, map, header, BSP_LUMP_FACES, BSP_FACE_SIZE, &map->face_lump, &map->face_count, err) &&
+              read_lump(file, map, header, BSP_LUMP_TEXTURES, BSP_TEXTURE_SIZE, &map->texture_lump,
+                        &map->texture_count, err);
     fclose(file);
     return ok;
 }
@@ -306,7 +318,9 @@ static bool check_faces(const bsp_map *map, bsp_totals *totals, rtt_error *err)
 
 typedef struct bsp_mesh {
     rtt_vec3 *positions, *normals;
+    float *texcoords;              /* (u, v) per vertex, v up */
     uint32_t *indices;
+    uint32_t *triangle_texture;    /* the face's texture per triangle */
     uint32_t vertex_count, triangle_count;
 } bsp_mesh;
 
@@ -401,6 +415,43 @@ static double eval_patch_grid(const bsp_map *map, const bsp_face *f, float orien
     return agreement;
 }
 
+/* The file's texture coordinate (s, t) of vertex i as (u, v) with v up. */
+static void vertex_texcoord(const bsp_map *map, uint32_t i, float uv[2])
+{
+    const uint8_t *p = map->vertex_lump + (size_t)i * BSP_VERTEX_SIZE + 12;
+    float s = read_f32(p), t = read_f32(p + 4);
+    uv[0] = isfinite(s) ? s : 0.0f;
+    uv[1] = isfinite(t) ? 1.0f - t : 0.0f;
+}
+
+/* Texture coordinates of the patch's vertex grid, the Bezier
+ * interpolation of its control points' (as eval_patch_grid's positions). */
+static void eval_patch_texcoords(const bsp_map *map, const bsp_face *f, bsp_mesh *mesh)
+{
+    const uint32_t level = map->level, width = (uint32_t)f->width;
+    const uint32_t across = (width - 1) / 2, down = ((uint32_t)f->height - 1) / 2;
+    const uint32_t columns = across * level + 1, rows = down * level + 1;
+    for (uint32_t row = 0; row < rows; row++)
+        for (uint32_t column = 0; column < columns; column++) {
+            uint32_t px = column / level < across ? column / level : across - 1;
+            uint32_t py = row / level < down ? row / level : down - 1;
+            double ws[3], wt[3], unused[3], uv[2] = {0.0, 0.0};
+            bernstein2((double)(column - px * level) / level, ws, unused);
+            bernstein2((double)(row - py * level) / level, wt, unused);
+            uint32_t first = (uint32_t)f->vertex + 2 * py * width + 2 * px;
+            for (uint32_t j = 0; j < 3; j++)
+                for (uint32_t i = 0; i < 3; i++) {
+                    float c[2];
+                    vertex_texcoord(map, first + j * width + i, c);
+                    uv[0] += ws[i] * wt[j] * c[0];
+                    uv[1] += ws[i] * wt[j] * c[1];
+                }
+            float *out = &mesh->texcoords[2 * ((size_t)mesh->vertex_count + row * columns + column)];
+            out[0] = (float)uv[0];
+            out[1] = (float)uv[1];
+        }
+}
+
 /* Quake's patches have dP/du x dP/dv along their control normals; a patch
  * inverted in the editor has it against them, and is wound the other way so
  * that geometric and shading normals still agree. */
@@ -411,6 +462,7 @@ static void emit_patch_face(const bsp_map *map, const bsp_face *f, bsp_mesh *mes
     const uint32_t columns = across * level + 1, rows = down * level + 1, grid = mesh->vertex_count;
     const bool inverted = eval_patch_grid(map, f, 1.0f, mesh) < 0.0;
     if (inverted) eval_patch_grid(map, f, -1.0f, mesh);
+    eval_patch_texcoords(map, f, mesh);
     mesh->vertex_count += rows * columns;
     for (uint32_t py = 0; py < down; py++)
         for (uint32_t px = 0; px < across; px++)
@@ -434,20 +486,26 @@ static bool build_mesh(const bsp_map *map, const bsp_totals *totals, bsp_mesh *m
     mesh->positions = malloc(vertices * sizeof *mesh->positions + 1);
     mesh->normals = malloc(vertices * sizeof *mesh->normals + 1);
     mesh->indices = malloc((size_t)totals->triangles * 3 * sizeof *mesh->indices + 1);
-    if (!mesh->positions || !mesh->normals || !mesh->indices)
+    mesh->texcoords = malloc(vertices * 2 * sizeof *mesh->texcoords + 1);
+    mesh->triangle_texture = malloc((size_t)totals->triangles * sizeof *mesh->triangle_texture + 1);
+    if (!mesh->positions || !mesh->normals || !mesh->indices || !mesh->texcoords || !mesh->triangle_texture)
         return rtt_error_set(err, "%s: out of memory for %llu triangles", map->path,
                              (unsigned long long)totals->triangles);
     for (uint32_t i = 0; i < map->vertex_count; i++) {
         mesh->positions[i] = vertex_position(map, i);
         mesh->normals[i] = vertex_normal(map, i);
+        vertex_texcoord(map, i, &mesh->texcoords[2 * (size_t)i]);
     }
     mesh->vertex_count = map->vertex_count;
     for (uint32_t i = 0; i < map->face_count; i++) {
         bsp_face f = read_face(map, i);
+        uint32_t first = mesh->triangle_count;
         if (f.type == FACE_PATCH)
             emit_patch_face(map, &f, mesh);
         else if (f.type == FACE_POLYGON || f.type == FACE_MESH)
             emit_triangle_face(map, &f, mesh);
+        for (uint32_t t = first; t < mesh->triangle_count; t++)
+            mesh->triangle_texture[t] = f.texture >= 0 ? (uint32_t)f.texture : UINT32_MAX;
     }
     for (uint32_t i = 0; i < mesh->vertex_count; i++) {
         mesh->positions[i] = z_up_to_y_up(mesh->positions[i]);
@@ -483,15 +541,26 @@ bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[
     bsp_mesh mesh = {0};
     bool ok = read_map(path, &map, err) && check_vertices(&map, err) && check_faces(&map, &totals, err) &&
               rtt_scene_budget_reserve(scene, path, totals.triangles, 0, err) && build_mesh(&map, &totals, &mesh, err);
-    uint32_t material = ok ? map_material(scene, &map, material_override, err) : UINT32_MAX;
+    uint32_t *materials = NULL;
+    bool textured = false;
+    if (ok && material_override == UINT32_MAX)
+        ok = rtt_q3_map_materials(scene, path, map.texture_lump, map.texture_count, BSP_TEXTURE_SIZE,
+                                  mesh.triangle_texture, mesh.triangle_count, &materials, &textured, err);
+    uint32_t material = ok && !materials ? map_material(scene, &map, material_override, err) : 0;
+    const uint32_t first_vertex = scene->vertex_count;
     ok = ok && material != UINT32_MAX &&
          rtt_scene_add_mesh(scene, path, base_name(path), mesh.positions, mesh.normals, mesh.vertex_count,
-                            mesh.indices, mesh.triangle_count, NULL, material, transform, err);
+                            mesh.indices, mesh.triangle_count, materials, material, transform, err);
+    if (ok && textured) ok = rtt_scene_set_texcoords(scene, first_vertex, mesh.texcoords, mesh.vertex_count, err);
+    free(materials);
+    free(mesh.texcoords);
+    free(mesh.triangle_texture);
     free(mesh.positions);
     free(mesh.normals);
     free(mesh.indices);
     free(map.vertex_lump);
     free(map.meshvert_lump);
     free(map.face_lump);
+    free(map.texture_lump);
     return ok;
 }

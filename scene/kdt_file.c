@@ -180,6 +180,9 @@ static uint64_t layout_sections(const rtt_scene *s, const rtt_baked_tree *t, kdt
 
 bool rtt_kdt_write(const char *path, const rtt_scene *scene, const rtt_baked_tree *tree, rtt_error *err)
 {
+    if (scene->texture_count || scene->texcoords) /* images and texture coordinates have no section */
+        return rtt_error_set(err, "%s: %s has %u textures: a .kdt does not carry textures (render the scene file "
+                                  "itself)", path, scene->path, scene->texture_count);
     kdt_section table[KDT_SECTION_COUNT];
     const uint64_t file_size = layout_sections(scene, tree, table);
     kdt_header header;

@@ -42,6 +42,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
 #include "scene_build.h"
 
 #define BSP_HEADER_SIZE 144u
@@ -82,11 +83,8 @@ static uint32_t read_u32(const uint8_t *p)
 /* The entity lump of the map at `path`, NUL-terminated. */
 static char *read_entity_lump(const char *path, size_t *length, rtt_error *err)
 {
-    FILE *file = fopen(path, "rb");
-    if (!file) {
-        rtt_error_set(err, "%s: cannot open", path);
-        return NULL;
-    }
+    FILE *file = rtt_file_open_regular(path, err);
+    if (!file) return NULL;
     uint8_t header[BSP_HEADER_SIZE];
     char *text = NULL;
     long size = fseek(file, 0, SEEK_END) == 0 ? ftell(file) : -1;

@@ -17,6 +17,7 @@
 #include "rtt/shade.h"
 #include "scene_build.h"
 #include "rtt/views.h"
+#include "textures.h"
 #include "transform.h"
 
 /* Scenes larger than this are refused: indices stay far from overflow and a
@@ -67,6 +68,7 @@ void rtt_scene_free(rtt_scene *scene)
     free(scene->meshes);
     free(scene->materials);
     free(scene->lights);
+    rtt_scene_textures_free(scene);
     free(scene);
 }
 
@@ -349,6 +351,7 @@ bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
         if (rtt_triangle_is_degenerate(tri)) scene->degenerate_count++;
     }
     if (scene->normals) fill_vertex_normals(scene);
+    if (!rtt_scene_textures_finish(scene, err)) return false;
     if (!classify_meshes(scene, err)) return false;
     if (!has_camera(scene)) {
         default_camera(scene);

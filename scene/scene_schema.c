@@ -207,7 +207,7 @@ static bool check_material_fields(rtt_schema_parser *p, const cJSON *obj, const 
 static bool parse_material(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
 {
     static const char *const keys[] = {"name", "type", "diffuse", "specular", "shininess", "reflection",
-                                       "transparency", "ior", "edge_width_scale", NULL};
+                                       "transparency", "ior", "edge_width_scale", "diffuse_map", "normal_map", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
     rtt_material m = rtt_material_default();
     rtt_json_place name_at, type_at;
@@ -232,6 +232,8 @@ static bool parse_material(rtt_schema_parser *p, const cJSON *obj, const rtt_jso
     RTT_SCHEMA_OPTIONAL(obj, place, "transparency", rtt_schema_read_number(p, v, at, 0, 1, &m.transparency));
     RTT_SCHEMA_OPTIONAL(obj, place, "ior", rtt_schema_read_nonneg(p, v, at, true, &m.ior));
     RTT_SCHEMA_OPTIONAL(obj, place, "edge_width_scale", rtt_schema_read_nonneg(p, v, at, true, &m.edge_width_scale));
+    RTT_SCHEMA_OPTIONAL(obj, place, "diffuse_map", rtt_schema_read_texture(p, v, at, &m.diffuse_map));
+    RTT_SCHEMA_OPTIONAL(obj, place, "normal_map", rtt_schema_read_texture(p, v, at, &m.normal_map));
     if (t->reflective && t->transparent && m.reflection + m.transparency > 1.0f)
         return rtt_schema_fail(p, place, ": reflection + transparency must be at most 1 (it is %g)",
                                (double)(m.reflection + m.transparency));

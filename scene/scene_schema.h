@@ -68,6 +68,11 @@ bool rtt_schema_parse_file(const char *path, const char *empty, rtt_schema_parse
                            void *context);
 
 /* One element of "meshes" (scene_schema_meshes.c). */
+/* materials[i].diffuse_map / normal_map (scene_schema_textures.c): *map as in rtt_material. */
+bool rtt_schema_read_texture(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, uint32_t *map);
+/* meshes[i].texcoords: 2 floats per vertex into a new *out. */
+bool rtt_schema_read_texcoords(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, uint32_t vertex_count,
+                               float **out);
 bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place);
 
 /* The optional member `key` read with `read_call` when present (which sees

@@ -17,6 +17,7 @@
 #include "rtt/memory_budget.h"
 #include "scene_schema.h"
 #include "shapes.h"
+#include "textures.h"
 #include "transform.h"
 
 /* transform = T * Rz * Ry * Rx * S (scene/README.md). */
@@ -242,11 +243,19 @@ static bool parse_inline(rtt_schema_parser *p, const cJSON *obj, const rtt_json_
         if (ok && normal_count != vertex_count)
             ok = rtt_schema_fail(p, &at, " has %u normals for %u vertices", normal_count, vertex_count);
     }
+    float *texcoords = NULL;
+    if (ok && (v = rtt_schema_member(obj, place, "texcoords", &at)))
+        ok = rtt_schema_read_texcoords(p, v, &at, vertex_count, &texcoords);
     char name[32];
     snprintf(name, sizeof name, "mesh%d", place->index);
     mesh_target named = *target;
     if (!named.name) named.name = name;
+    const uint32_t first_vertex = p->scene->vertex_count;
     if (ok) ok = add_mesh(p, place, &named, positions, normals, vertex_count, indices, triangle_count);
+    rtt_error inner;
+    if (ok && texcoords && !rtt_scene_set_texcoords(p->scene, first_vertex, texcoords, vertex_count, &inner))
+        ok = rtt_schema_fail(p, place, ": %s", inner.message);
+    free(texcoords);
     free(positions);
     free(normals);
     free(indices);
@@ -283,7 +292,7 @@ static bool parse_file(rtt_schema_parser *p, const cJSON *v, const rtt_json_plac
 
 bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
 {
-    static const char *const keys[] = {"file",   "shape",    "vertices",  "triangles", "normals",
+    static const char *const keys[] = {"file",   "shape",    "vertices",  "triangles", "normals", "texcoords",
                                        "name", "material", "transform", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
     rtt_json_place file_at, shape_at, vertices_at, at;
@@ -297,8 +306,8 @@ bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_jso
         return rtt_schema_fail_in(p, second, place, ": give only one of \"file\", \"shape\" or \"vertices\"");
     }
     if (!vertices) {
-        static const char *const inline_only[] = {"triangles", "normals"};
-        for (int i = 0; i < 2; i++)
+        static const char *const inline_only[] = {"triangles", "normals", "texcoords"};
+        for (int i = 0; i < 3; i++)
             if (rtt_schema_member(obj, place, inline_only[i], &at))
                 return rtt_schema_fail(p, &at, " is only for meshes given by \"vertices\"");
     }

@@ -100,22 +100,42 @@ static bool has_specular(rtt_material_type type)
            type == RTT_MATERIAL_TRANSPARENT_REFLECTIVE;
 }
 
-rtt_vec3 rtt_shade_light(const rtt_material *m, rtt_vec3 n, rtt_vec3 to_viewer, rtt_vec3 to_light,
-                         const rtt_light *light, float distance)
+rtt_vec3 rtt_shade_light(const rtt_surface *s, rtt_vec3 to_light, const rtt_light *light, float distance)
 {
+    const rtt_material *m = s->material;
+    rtt_vec3 n = s->normal, to_viewer = rtt_v3_scale(s->dir, -1.0f);
     float n_dot_l = rtt_v3_dot(n, to_light);
     if (!(n_dot_l > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f); /* the light is behind the surface */
     rtt_vec3 e = rtt_light_irradiance(light, distance);
-    rtt_vec3 response = rtt_v3_scale(m->diffuse, n_dot_l);
+    rtt_vec3 response = rtt_v3_scale(s->diffuse, n_dot_l);
     if (has_specular(m->type) && m->specular > 0.0f) {
         rtt_vec3 r = rtt_v3_reflect(rtt_v3_scale(to_light, -1.0f), n);
         float r_dot_v = rtt_v3_dot(r, to_viewer);
         if (r_dot_v > 0.0f) {
-            float s = m->specular * powf(r_dot_v, m->shininess);
-            response = rtt_v3_add(response, rtt_v3(s, s, s));
+            float sp = m->specular * powf(r_dot_v, m->shininess);
+            response = rtt_v3_add(response, rtt_v3(sp, sp, sp));
         }
     }
     return rtt_v3_mul(e, response);
+}
+
+static bool is_transparent(const rtt_material *m)
+{
+    return (m->type == RTT_MATERIAL_TRANSPARENT || m->type == RTT_MATERIAL_TRANSPARENT_REFLECTIVE) &&
+           m->transparency > 0.0f;
+}
+
+bool rtt_scene_has_transparent_shadows(const rtt_scene *scene)
+{
+    for (uint32_t i = 0; i < scene->material_count; i++)
+        if (is_transparent(&scene->materials[i])) return true;
+    return false;
+}
+
+float rtt_shadow_transmission(const rtt_scene *scene, uint32_t prim)
+{
+    const rtt_material *m = &scene->materials[scene->triangle_material[prim]];
+    return is_transparent(m) ? fminf(m->transparency, 1.0f) : 0.0f;
 }
 
 void rtt_shade_weights(const rtt_material *m, uint32_t depth, uint32_t max_bounces, float *wr, float *wt)
@@ -162,6 +182,46 @@ rtt_vec3 rtt_scene_shading_normal(const rtt_scene *scene, uint32_t prim, float u
     return len > 0.0f && isfinite(len) ? rtt_v3_scale(n, 1.0f / len) : rtt_scene_geometric_normal(scene, prim);
 }
 
+/* Texture coordinates of triangle prim's corners. */
+static void corner_texcoords(const rtt_scene *scene, uint32_t prim, float uv[3][2])
+{
+    const rtt_triangle *t = &scene->triangles[prim];
+    for (int k = 0; k < 3; k++) {
+        uv[k][0] = scene->texcoords[2 * (size_t)t->v[k]];
+        uv[k][1] = scene->texcoords[2 * (size_t)t->v[k] + 1];
+    }
+}
+
+/* Normal map in tangent space: the tangent and bitangent are the
+ * directions of growing u and v on the triangle (from its positions and
+ * texture coordinates), made orthonormal to the interpolated normal n; the
+ * map's texel (2c - 1) gives the normal in that frame.  A triangle whose
+ * texture coordinates are degenerate keeps n. */
+static rtt_vec3 perturb_normal(const rtt_scene *scene, uint32_t prim, const float uv[3][2], const float st[2],
+                               rtt_vec3 n, const rtt_texture *map)
+{
+    rtt_vec3 p[3];
+    rtt_scene_triangle(scene, prim, p);
+    rtt_vec3 e1 = rtt_v3_sub(p[1], p[0]), e2 = rtt_v3_sub(p[2], p[0]);
+    float du1 = uv[1][0] - uv[0][0], dv1 = uv[1][1] - uv[0][1];
+    float du2 = uv[2][0] - uv[0][0], dv2 = uv[2][1] - uv[0][1];
+    float det = du1 * dv2 - du2 * dv1;
+    if (!(fabsf(det) > 1e-20f) || !isfinite(det)) return n;
+    rtt_vec3 tangent = rtt_v3_scale(rtt_v3_sub(rtt_v3_scale(e1, dv2), rtt_v3_scale(e2, dv1)), 1.0f / det);
+    rtt_vec3 bitangent = rtt_v3_scale(rtt_v3_sub(rtt_v3_scale(e2, du1), rtt_v3_scale(e1, du2)), 1.0f / det);
+    tangent = rtt_v3_sub(tangent, rtt_v3_scale(n, rtt_v3_dot(n, tangent)));
+    float length = rtt_v3_length(tangent);
+    if (!(length > 0.0f) || !isfinite(length)) return n;
+    tangent = rtt_v3_scale(tangent, 1.0f / length);
+    rtt_vec3 b = rtt_v3_cross(n, tangent);
+    if (rtt_v3_dot(b, bitangent) < 0.0f) b = rtt_v3_scale(b, -1.0f); /* mirrored texture coordinates */
+    rtt_vec3 c = rtt_texture_sample(map, st[0], st[1], false);
+    rtt_vec3 m = rtt_v3(2.0f * c.x - 1.0f, 2.0f * c.y - 1.0f, 2.0f * c.z - 1.0f);
+    rtt_vec3 out = rtt_v3_add(rtt_v3_add(rtt_v3_scale(tangent, m.x), rtt_v3_scale(b, m.y)), rtt_v3_scale(n, m.z));
+    float out_length = rtt_v3_length(out);
+    return out_length > 0.0f && isfinite(out_length) ? rtt_v3_scale(out, 1.0f / out_length) : n;
+}
+
 rtt_surface rtt_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt_hit *hit)
 {
     rtt_surface s;
@@ -169,9 +229,20 @@ rtt_surface rtt_surface_at(const rtt_scene *scene, const rtt_ray *ray, const rtt
     rtt_vec3 dir = rtt_v3(ray->dir[0], ray->dir[1], ray->dir[2]);
     s.point = rtt_v3_madd(org, dir, hit->t);
     s.dir = rtt_v3_normalize(dir);
+    s.material = &scene->materials[scene->triangle_material[hit->prim]];
     s.normal = rtt_scene_shading_normal(scene, hit->prim, hit->u, hit->v);
+    s.diffuse = s.material->diffuse;
+    if ((s.material->diffuse_map || s.material->normal_map) && scene->texcoords) {
+        float uv[3][2], st[2];
+        corner_texcoords(scene, hit->prim, uv);
+        const float w0 = 1.0f - hit->u - hit->v;
+        for (int a = 0; a < 2; a++) st[a] = w0 * uv[0][a] + hit->u * uv[1][a] + hit->v * uv[2][a];
+        if (s.material->diffuse_map)
+            s.diffuse = rtt_texture_sample(&scene->textures[s.material->diffuse_map - 1], st[0], st[1], true);
+        if (s.material->normal_map)
+            s.normal = perturb_normal(scene, hit->prim, uv, st, s.normal, &scene->textures[s.material->normal_map - 1]);
+    }
     if (rtt_v3_dot(s.normal, s.dir) > 0.0f) s.normal = rtt_v3_scale(s.normal, -1.0f);
     s.entering = rtt_v3_dot(rtt_scene_geometric_normal(scene, hit->prim), s.dir) < 0.0f;
-    s.material = &scene->materials[scene->triangle_material[hit->prim]];
     return s;
 }

@@ -258,9 +258,10 @@ static void test_light_behind_the_surface_contributes_nothing(void **state)
     (void)state;
     rtt_material m = rtt_material_default();
     rtt_light light = {.type = RTT_LIGHT_POINT, .color = {1, 1, 1}, .intensity = 2, .attenuation = {1, 0, 0.25f}};
-    rtt_vec3 c = rtt_shade_light(&m, rtt_v3(0, 1, 0), rtt_v3(0, 1, 0), rtt_v3(0, -1, 0), &light, 2);
+    rtt_surface surface = {.normal = rtt_v3(0, 1, 0), .dir = rtt_v3(0, -1, 0), .diffuse = m.diffuse, .material = &m};
+    rtt_vec3 c = rtt_shade_light(&surface, rtt_v3(0, -1, 0), &light, 2);
     assert_true(c.x == 0 && c.y == 0 && c.z == 0);
-    c = rtt_shade_light(&m, rtt_v3(0, 1, 0), rtt_v3(0, 1, 0), rtt_v3(0, 1, 0), &light, 2);
+    c = rtt_shade_light(&surface, rtt_v3(0, 1, 0), &light, 2);
     assert_near(c.x, 0.7f * 2 / (1 + 0.25f * 4), 1e-6f);
 }
 

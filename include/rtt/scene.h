@@ -51,7 +51,22 @@ typedef struct rtt_material {
     float transparency;        /* t_info.blend: weight of the refracted ray */
     float ior;                 /* t_info.refract_index */
     float edge_width_scale;    /* Edge Width Soft Shadows: scales widths of thin occluders */
+    /* d_info.diffMap / normMap (Listing 4.7): 0 for none, else 1 + an index
+     * into rtt_scene.textures.  A diffuse map replaces `diffuse` (the thesis
+     * ignores the base colour when a map is given); a normal map perturbs
+     * the shading normal in the triangle's tangent space. */
+    uint32_t diffuse_map, normal_map;
 } rtt_material;
+
+/* An image a material samples (scene/textures.c): 8-bit RGB texels, rows
+ * top to bottom, repeated in both directions, filtered bilinearly.  Diffuse
+ * maps are sRGB-encoded (decoded to linear when sampled), normal maps are
+ * linear (each channel c maps to 2c/255 - 1). */
+typedef struct rtt_texture {
+    char name[256];            /* where it came from, for messages and rtt info */
+    uint32_t width, height;
+    uint8_t *rgb;              /* width * height * 3 bytes */
+} rtt_texture;
 
 typedef enum rtt_light_type {
     RTT_LIGHT_POINT = 0,
@@ -117,6 +132,8 @@ typedef struct rtt_scene {
     rtt_mesh *meshes;
     uint32_t degenerate_count;        /* zero-area triangles (kept, never hit) */
     rtt_bounds bounds;                /* of all vertices used by triangles */
+    float *texcoords;                 /* (u, v) per vertex, v up; NULL unless a material has a texture */
+    uint32_t texcoord_count;          /* vertices texcoords covers (all of them after loading) */
 
     /* shading; always at least one material and one light after loading */
     uint32_t material_count, light_count;
@@ -129,6 +146,12 @@ typedef struct rtt_scene {
     rtt_vec3 background;
     float ambient;
     uint32_t max_bounces;
+
+    /* textures: only in scenes whose materials name them */
+    uint32_t texture_count;
+    rtt_texture *textures;
+    uint32_t missing_texture_count;   /* texture files that could not be read: those materials keep their colour */
+    char missing_texture[320];        /* the first of them and why, for the one warning the command line prints */
 
     rtt_baked_tree *baked;            /* non-NULL for scenes loaded from .kdt */
     void (*baked_free)(rtt_baked_tree *);
@@ -189,5 +212,14 @@ static inline void rtt_scene_triangle(const rtt_scene *s, uint32_t i, rtt_vec3 o
  * relative to the scene's size so scaled scenes behave alike.  Both
  * renderers use it so their images agree. */
 float rtt_scene_ray_epsilon(const rtt_scene *scene);
+
+/* The textures of scene/textures.c. */
+#define RTT_TEXTURE_MAX_SIDE 8192u      /* larger images are refused (memory bound) */
+
+/* Bilinear sample at (u, v) (v up, repeated), as raw channel values in
+ * [0, 1] (srgb false) or decoded from sRGB to linear (srgb true). */
+rtt_vec3 rtt_texture_sample(const rtt_texture *texture, float u, float v, bool srgb);
+/* Bytes the scene's textures and texture coordinates take (0 without). */
+size_t rtt_scene_texture_bytes(const rtt_scene *scene);
 
 #endif

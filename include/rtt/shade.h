@@ -2,8 +2,11 @@
  *
  * Primary rays: one per pixel through the pixel centre, normalized
  * directions (t is a distance).  At a hit, the shading normal is the
- * interpolated vertex normal (or the geometric normal), turned to face the
- * incoming ray.  The local colour is
+ * interpolated vertex normal (or the geometric normal), perturbed by the
+ * material's normal map when it has one, turned to face the incoming ray;
+ * diffuse is the material's colour, or its diffuse map's bilinear sample at
+ * the interpolated texture coordinates (Thesis 4.2.1, steps 3 and 4).  The
+ * local colour is
  *
  *   local = diffuse * ambient
  *         + sum over lights of  vis * E(d) * (diffuse * max(0, n.l)
@@ -11,7 +14,12 @@
  *
  * with E(d) = colour * intensity / (c + l d + q d^2), the specular term only
  * for types SPECULAR, REFLECTIVE and TRANSPARENT_REFLECTIVE, and vis in [0,1]
- * the light's visibility from the chosen shadow method.  Then
+ * the light's visibility from the chosen shadow method.  A shadow ray that
+ * meets transparent surfaces (types TRANSPARENT, TRANSPARENT_REFLECTIVE)
+ * passes through them: it carries the product of their `transparency` (each
+ * clamped to [0, 1]) up to the first opaque surface (0) or the light, over at
+ * most RTT_SHADOW_MAX_LAYERS surfaces (more count as opaque); the shadow
+ * methods average that over their rays where they average clear rays.  Then
  *
  *   colour = (1 - wr - wt) * local + wr * trace(reflected) + wt * trace(refracted)
  *
@@ -48,14 +56,24 @@ rtt_vec3 rtt_light_sample(const rtt_light *light, rtt_vec3 p, uint32_t i, uint32
 /* Point i of n of the 2D Hammersley set in [0,1)^2. */
 void rtt_hammersley(uint32_t i, uint32_t n, float out[2]);
 
+#define RTT_SHADOW_MAX_LAYERS 16u
+
 /* E(d) of the formula above, per channel. */
 rtt_vec3 rtt_light_irradiance(const rtt_light *light, float distance);
 
+struct rtt_surface;
 /* The unoccluded contribution of one light to a surface point (without the
  * ambient term and before multiplying by vis): E(d) * (diffuse * max(0,n.l)
- * + specular term).  n faces the viewer, to_light and to_viewer are unit. */
-rtt_vec3 rtt_shade_light(const rtt_material *m, rtt_vec3 n, rtt_vec3 to_viewer, rtt_vec3 to_light,
-                         const rtt_light *light, float distance);
+ * + specular term), with the surface's diffuse colour and normal (which
+ * faces the viewer); to_light is unit. */
+rtt_vec3 rtt_shade_light(const struct rtt_surface *s, rtt_vec3 to_light, const rtt_light *light, float distance);
+
+/* Does any material let shadow rays through (types TRANSPARENT,
+ * TRANSPARENT_REFLECTIVE with transparency > 0)?  Scenes without pay nothing. */
+bool rtt_scene_has_transparent_shadows(const rtt_scene *scene);
+/* The factor a shadow ray keeps passing the surface of triangle prim:
+ * its material's clamped transparency when transparent, else 0. */
+float rtt_shadow_transmission(const rtt_scene *scene, uint32_t prim);
 
 /* Weights of the reflected and refracted rays for material m at bounce
  * `depth` (0 for primary hits). */
@@ -70,10 +88,12 @@ rtt_vec3 rtt_refract(rtt_vec3 d, rtt_vec3 n, float eta_from, float eta_to);
 
 /* The surface a hit shows the shader: the hit point, the incoming ray's unit
  * direction, the shading normal turned to face the ray, whether the ray
- * enters the object (the geometric normal faces it) and the material.  Both
+ * enters the object (the geometric normal faces it), the diffuse colour
+ * and the material.  Both
  * renderers shade from it, so they see exactly the same surface. */
 typedef struct rtt_surface {
     rtt_vec3 point, dir, normal;
+    rtt_vec3 diffuse; /* the material's colour, or its diffuse map at the hit */
     bool entering;
     const rtt_material *material;
 } rtt_surface;

@@ -193,6 +193,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                     .shadows = opt->shadows,
                     .shadow_samples = opt->shadow_samples,
                     .epsilon = rtt_scene_ray_epsilon(scene),
+                    .transparent_shadows = rtt_scene_has_transparent_shadows(scene),
                     .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix)},
         .tracer = {.tree = tree,
                    .kernel = kd_kernel_find(engine_opt->traversal, isa),

@@ -26,7 +26,14 @@
  * visibility per sample and the images equal multi:N's; edgewidth[:R]
  * traces one ray per point and sphere light from the light's centre
  * (kd/shadows/edge_width.c) and uses 1 - its occlusion, point lights
- * keeping the hard shadow ray. */
+ * keeping the hard shadow ray (edge widths treat transparent occluders as
+ * opaque).
+ *
+ * Transparent shadows (scenes with a transparent material): after any of
+ * those methods, the shadow rays found occluded are traced again, as omni
+ * packets of closest hits, surface after surface (tnear moved to each hit)
+ * while they cross transparent surfaces, each keeping the product of the
+ * transparencies, as the reference does ray by ray. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -130,7 +137,6 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
         if (node->hit.prim == RTT_MISS) continue;
         rtt_surface *surf = &SP_ARRAY(s->surfaces, rtt_surface)[i - first];
         *surf = rtt_surface_at(scene, &node->ray, &node->hit);
-        rtt_vec3 to_viewer = rtt_v3_scale(surf->dir, -1.0f);
         for (uint32_t l = 0; l < scene->light_count; l++) {
             const rtt_light *light = &scene->lights[l];
             sp_light_request *q = &req[l];
@@ -140,8 +146,7 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
             rtt_vec3 to_light = rtt_v3_sub(light->position, surf->point);
             float distance = rtt_v3_length(to_light);
             if (!(distance > 0.0f)) continue;
-            q->contribution = rtt_shade_light(surf->material, surf->normal, to_viewer,
-                                              rtt_v3_scale(to_light, 1.0f / distance), light, distance);
+            q->contribution = rtt_shade_light(surf, rtt_v3_scale(to_light, 1.0f / distance), light, distance);
             if (q->contribution.x == 0.0f && q->contribution.y == 0.0f && q->contribution.z == 0.0f) continue;
             q->active = true;
             uint32_t n = samples_per_light(sh, light);
@@ -208,11 +213,59 @@ static void trace_edge_rays(const sp_shading *sh, const sp_tracer *tr, sp_scratc
                                    SP_ARRAY(s->edge_occlusion, float), NULL);
 }
 
+/* Step 2 for transparent shadows: each occluded ray's transmission, the
+ * product of the transparencies of the surfaces it crosses, nearest first
+ * (the reference's segment_transmission); clear rays keep 1. */
+static void trace_transparent_shadows(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t rays)
+{
+    if (!SP_RESERVE(s, shadow_transmission, (size_t)rays + 1, float) ||
+        !SP_RESERVE(s, shadow_pending, (size_t)rays + 1, uint32_t))
+        return;
+    float *transmission = SP_ARRAY(s->shadow_transmission, float);
+    uint32_t *pending = SP_ARRAY(s->shadow_pending, uint32_t), count = 0;
+    rtt_ray *shadow_rays = SP_ARRAY(s->shadow_rays, rtt_ray);
+    const uint8_t *clear = SP_ARRAY(s->shadow_clear, uint8_t);
+    for (uint32_t i = 0; i < rays; i++) {
+        transmission[i] = 1.0f;
+        if (!clear[i]) pending[count++] = i;
+    }
+    for (uint32_t layer = 0; layer < RTT_SHADOW_MAX_LAYERS && count; layer++) {
+        uint32_t packets = (count + 3) / 4;
+        if (!sp_ensure_packets(s, packets)) return;
+        ray_packet4 *out = SP_ARRAY(s->packets, ray_packet4);
+        for (uint32_t p = 0; p < packets; p++) {
+            rtt_ray lane[4];
+            uint32_t n = count - 4 * p < 4 ? count - 4 * p : 4;
+            for (uint32_t l = 0; l < n; l++) lane[l] = shadow_rays[pending[4 * p + l]];
+            ray_packet4_load(&out[p], lane, n);
+        }
+        hit_packet4 *hits = SP_ARRAY(s->hits, hit_packet4);
+        sp_trace_packets(tr, tr->secondary, out, hits, packets, NULL, NULL);
+        uint32_t next = 0;
+        for (uint32_t p = 0; p < packets; p++) {
+            rtt_hit hit[4];
+            uint32_t n = count - 4 * p < 4 ? count - 4 * p : 4;
+            hit_packet4_store(&hits[p], hit, n);
+            for (uint32_t l = 0; l < n; l++) {
+                uint32_t i = pending[4 * p + l];
+                if (hit[l].prim == RTT_MISS) continue; /* past the last surface: lit through them */
+                transmission[i] *= rtt_shadow_transmission(sh->scene, hit[l].prim);
+                if (transmission[i] == 0.0f) continue;
+                shadow_rays[i].tnear = hit[l].t;
+                pending[next++] = i;
+            }
+        }
+        count = next;
+    }
+    for (uint32_t k = 0; k < count; k++) transmission[pending[k]] = 0.0f; /* more surfaces than the bound */
+}
+
 /* Step 3 for nodes [first, end) of level d. */
 static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint32_t first, uint32_t end)
 {
     const rtt_scene *scene = sh->scene;
     const uint8_t *shadow_clear = SP_ARRAY(s->shadow_clear, uint8_t);
+    const float *transmission = sh->transparent_shadows ? SP_ARRAY(s->shadow_transmission, float) : NULL;
     const float *edge_occlusion = SP_ARRAY(s->edge_occlusion, float);
     for (uint32_t i = first; i < end; i++) {
         sp_node *node = &sp_level_nodes(s, d)[i];
@@ -224,7 +277,7 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
         const sp_light_request *req =
             &SP_ARRAY(s->requests, sp_light_request)[(size_t)(i - first) * scene->light_count];
         const rtt_material *m = surf->material;
-        rtt_vec3 colour = rtt_v3_scale(m->diffuse, scene->ambient);
+        rtt_vec3 colour = rtt_v3_scale(surf->diffuse, scene->ambient);
         for (uint32_t l = 0; l < scene->light_count; l++) {
             const sp_light_request *q = &req[l];
             if (!q->active) continue;
@@ -232,6 +285,12 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             uint32_t n = samples_per_light(sh, &scene->lights[l]);
             if (q->edge != NO_EDGE_RAY) {
                 vis = 1.0f - edge_occlusion[q->edge];
+            } else if (n && transmission) {
+                float clear = (float)q->auto_clear;
+                for (uint32_t k = 0; k < q->rays; k++) clear += transmission[q->first + k];
+                vis = n == 1 && !(is_sampled(sh->shadows) && scene->lights[l].type == RTT_LIGHT_SPHERE)
+                          ? clear
+                          : clear / (float)n;
             } else if (n) {
                 uint32_t clear = q->auto_clear;
                 for (uint32_t k = 0; k < q->rays; k++) clear += shadow_clear[q->first + k];
@@ -306,6 +365,7 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
         else
             trace_shadows(tr, s, rays);
         trace_edge_rays(sh, tr, s, edges);
+        if (sh->transparent_shadows && rays) trace_transparent_shadows(sh, tr, s, rays);
         uint64_t t2 = s->timing ? rtt_clock_ns() : 0;
         s->stats.shadow_rays += rays + edges;
         resolve_locals(sh, s, d, first, end);

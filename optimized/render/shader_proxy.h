@@ -44,6 +44,7 @@ typedef struct sp_shading {
     rtt_shadow_method shadows;
     uint32_t shadow_samples;
     float epsilon;
+    bool transparent_shadows;        /* shadow rays pass transparent surfaces (shade.h) */
     rtt_edge_width_model edge_model; /* edgewidth: R, leak fix */
 } sp_shading;
 

@@ -24,13 +24,13 @@ sp_scratch *sp_scratch_create(uint32_t level_count, bool timing)
 
 /* Every buffer of a scratch but the levels' nodes, in one list for
  * destroy and match. */
-#define SP_SCRATCH_BUFFERS 13u
+#define SP_SCRATCH_BUFFERS 15u
 static void scratch_buffers(sp_scratch *s, rtt_buffer *out[SP_SCRATCH_BUFFERS])
 {
     rtt_buffer *buffers[SP_SCRATCH_BUFFERS] = {
         &s->packets,      &s->hits,     &s->occluded, &s->primary_lanes, &s->shadow_rays,
         &s->shadow_clear, &s->surfaces, &s->requests, &s->group_first,   &s->edge_rays,
-        &s->edge_order,   &s->edge_light, &s->edge_occlusion};
+        &s->edge_order,   &s->edge_light, &s->edge_occlusion, &s->shadow_transmission, &s->shadow_pending};
     memcpy(out, buffers, sizeof buffers);
 }
 

@@ -25,6 +25,9 @@ struct sp_scratch {
     uint32_t primary_packets;       /* packets pushed since sp_tile_begin */
     rtt_buffer shadow_rays;         /* rtt_ray */
     rtt_buffer shadow_clear;        /* uint8_t per shadow ray */
+    /* transparent shadows (scenes with transparent materials only) */
+    rtt_buffer shadow_transmission; /* float per shadow ray */
+    rtt_buffer shadow_pending;      /* uint32_t: rays still inside transparent surfaces */
     rtt_buffer surfaces;            /* rtt_surface per node of a chunk */
     rtt_buffer requests;            /* shader_proxy.c's light requests, per node and light */
     /* cone:N / pyramid:N: rays of group g are shadow_rays[group_first[g] ..

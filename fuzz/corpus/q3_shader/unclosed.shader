@@ -1,0 +1,4 @@
+textures/x
+{
+	{
+		map textures/x.tga
