@@ -51,6 +51,7 @@ _Static_assert(RTT_AOV_DEPTH == 1 << 0 && RTT_AOV_PRIM == 1 << 1 && RTT_AOV_NORM
 /* the help lines below state these bounds */
 _Static_assert(RTT_MAX_BOUNCES == 64, "--max-bounces help: 0 to 64");
 _Static_assert(RTT_MAX_SHADOW_SAMPLES == 256, "--shadows help: N = 1..256");
+_Static_assert(RTT_MAX_SPP == 256, "--spp help: 1 to 256");
 
 static const cli_option render_options[] = {
     {.name = "--output", .short_name = 'o', .value_name = "FILE",
@@ -62,6 +63,10 @@ static const cli_option render_options[] = {
     {.name = "--shadows", .value_name = "METHOD",
      .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R]",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
+    {.name = "--spp", .value_name = "N",
+     .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "
+             "(Hammersley, rotated per pixel), averaged by a box filter over the pixel",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.spp), .lo = 1, .hi = RTT_MAX_SPP},
     {.name = "--edge-leak-fix", .help = "with --shadows edgewidth: entry and exit polygons must share a vertex",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.edge_leak_fix)},
     {.name = "--threads", .value_name = "N", .help = "threads for the tree build and the render, 1 to 1024 (default: one per core)",
