@@ -27,12 +27,15 @@ bool cli_write_file_atomic(const char *path, const void *data, size_t size, rtt_
 /* Reads a whole file; *size receives its length.  NULL + err on failure. */
 void *cli_read_file(const char *path, size_t *size, rtt_error *err);
 
-/* Loads SCENE (any supported kind) with the standard load options. */
+/* Loads SCENE (any supported kind) with the standard load options, with
+ * progress on stderr when it takes over 2 s (progress.h); the _timed form
+ * also gives the seconds it took. */
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err);
+rtt_scene *cli_load_scene_timed(const char *path, uint32_t bezier_level, double *seconds, rtt_error *err);
 
 /* The subcommands (options.h: cli_command), each in its cmd_*.c. */
 struct cli_command;
 extern const struct cli_command render_command, bake_command, info_command, triangles_command, trace_command,
-    conform_command, compare_command, bench_command;
+    conform_command, compare_command, bench_command, rays_command;
 
 #endif

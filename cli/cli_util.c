@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "progress.h"
 
 int cli_fail(const rtt_error *err)
 {
@@ -100,6 +101,17 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err)
 {
+    return cli_load_scene_timed(path, bezier_level, NULL, err);
+}
+
+rtt_scene *cli_load_scene_timed(const char *path, uint32_t bezier_level, double *seconds, rtt_error *err)
+{
     rtt_scene_load_options opt = {.bezier_level = bezier_level};
-    return rtt_scene_load(path, &opt, err);
+    char stage[600];
+    snprintf(stage, sizeof stage, "loading %s", path);
+    cli_progress *progress = cli_progress_start(stage);
+    rtt_scene *scene = rtt_scene_load(path, &opt, err);
+    double elapsed = cli_progress_finish(progress);
+    if (seconds) *seconds = elapsed;
+    return scene;
 }

@@ -8,6 +8,7 @@
 #include "camera_options.h"
 #include "cli.h"
 #include "options.h"
+#include "progress.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/optimized.h"
@@ -83,7 +84,7 @@ static const cli_option render_options[] = {
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
-                                "stage times",
+                                "the renderer's stage times, and the wall times of load, build, render and write",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
 };
 
@@ -119,13 +120,10 @@ static void render_defaults(void *opaque)
     rtt_render_options_default(&args->render);
 }
 
-/* Progress on a terminal only: a line rewritten in place on stderr. */
-static void print_progress(void *context, uint32_t done, uint32_t total)
-{
-    (void)context;
-    if (total >= 16 && (done % (total / 16) == 0 || done == total))
-        fprintf(stderr, "\rrendering: %3u%%%s", (unsigned)(100.0 * done / total), done == total ? "\n" : "");
-}
+/* Wall seconds of the stages --stats reports. */
+typedef struct stage_times {
+    double load, build, render, write;
+} stage_times;
 
 /* The first accel the class has kernels for: what "the engine's default"
  * stands for. */
@@ -170,7 +168,8 @@ static void describe_engine(rtt_engine *engine, const char *name, const rtt_engi
         snprintf(out + used, size - used, ", leaf culling %s", opt->leaf_culling ? "on" : "off");
 }
 
-static void print_stats(const rtt_render_stats *s, const char *engine_used, const render_args *args)
+static void print_stats(const rtt_render_stats *s, const char *engine_used, const render_args *args,
+                        const stage_times *times)
 {
     double packets = s->packets ? (double)s->packets : 1.0;
     uint64_t rays = s->primary_rays + s->shadow_rays + s->secondary_rays;
@@ -181,6 +180,8 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
     printf("2x2 packets: %llu, N (traversal steps per packet) %.2f, I (intersection tests per packet) %.2f\n",
            (unsigned long long)s->packets, s->traversal_steps / packets, s->intersection_tests / packets);
     printf("time: total %.4f s wall (%.2f fps)\n", s->seconds_total, s->seconds_total > 0 ? 1.0 / s->seconds_total : 0.0);
+    printf("stages (wall): load %.4f s, build %.4f s, render %.4f s, write %.4f s\n", times->load, times->build,
+           times->render, times->write);
     /* the stage timers add up CPU time over the threads: their shares are of
      * that sum, not of the wall time */
     const double stages[4] = {s->seconds_primary_traversal, s->seconds_primary_intersection, s->seconds_shading,
@@ -194,12 +195,19 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
 }
 
 static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
-                               char *engine_used, size_t engine_used_size, rtt_error *err)
+                               char *engine_used, size_t engine_used_size, stage_times *times, rtt_error *err)
 {
     args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
+    cli_progress *progress = cli_progress_start("building the acceleration structure");
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
+    times->build = cli_progress_finish(progress);
     if (!engine) return false;
+    progress = cli_progress_start("rendering");
+    args->render.progress = cli_progress_update;
+    args->render.progress_context = progress;
     bool ok = rtt_render(engine, &args->render, image, stats, err);
+    times->render = cli_progress_finish(progress);
+    args->render.progress = NULL;
     describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
     rtt_engine_destroy(engine);
     return ok;
@@ -213,7 +221,8 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    stage_times times = {0};
+    rtt_scene *scene = cli_load_scene_timed(args->scene_path, args->bezier_level, &times.load, &err);
     status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (status != CLI_CONTINUE) {
@@ -224,15 +233,16 @@ static int render(void *opaque, const cli_parsed *parsed)
     uint32_t height = args->render.height ? args->render.height : scene->height;
     args->render.width = width;
     args->render.height = height;
-    if (isatty(STDERR_FILENO)) args->render.progress = print_progress;
 
     rtt_image *image = rtt_image_create(width, height, args->render.aovs, &err);
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
-    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &times, &err);
+    cli_progress *progress = ok ? cli_progress_start("writing") : NULL;
     for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
-    if (ok && args->render.stats) print_stats(&stats, engine_used, args);
+    times.write = cli_progress_finish(progress);
+    if (ok && args->render.stats) print_stats(&stats, engine_used, args, &times);
     rtt_image_free(image);
     rtt_scene_free(scene);
     return ok ? RTT_EXIT_OK : cli_fail(&err);
