@@ -252,7 +252,7 @@ if [ "$(cat "$work/keep.png")" != keep ]; then
 fi
 
 # --help on every command: exit 0, usage on stdout
-for command in render bake info triangles trace conform compare bench; do
+for command in render bake info triangles trace conform compare bench rays; do
     if ! "$rtt" "$command" --help >"$work/help" 2>&1 || ! grep -q "usage: rtt $command" "$work/help"; then
         echo "FAIL: rtt $command --help"
         failures=$((failures + 1))
