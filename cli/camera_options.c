@@ -99,8 +99,8 @@ int cli_camera_apply(const cli_parsed *parsed, const cli_camera_args *camera, rt
     rtt_error err = {{0}};
     if (camera->lights == CLI_LIGHTS_CAMERA)
         return rtt_scene_use_camera_light(scene, &err) ? CLI_CONTINUE : cli_fail(&err);
-    if (scene->light_source != RTT_LIGHTS_MAP) {
-        rtt_error_set(&err, "%s: the map has no light entities to light it with (--lights map)", scene->path);
+    if (scene->light_source != RTT_LIGHTS_MAP && scene->light_source != RTT_LIGHTS_MAP_GRID) {
+        rtt_error_set(&err, "%s: the map has neither light entities nor a light grid to light it with (--lights map)", scene->path);
         return cli_fail(&err);
     }
     return CLI_CONTINUE;
@@ -128,6 +128,7 @@ static const char *light_source_name(rtt_light_source source)
     switch (source) {
     case RTT_LIGHTS_AT_CAMERA: return "one point light at the camera";
     case RTT_LIGHTS_MAP: return "the map's light entities";
+    case RTT_LIGHTS_MAP_GRID: return "the brightest points of the map's light grid (it has no light entities)";
     case RTT_LIGHTS_FROM_OPTIONS: return "the command line";
     default: return "the scene file";
     }

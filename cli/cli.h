@@ -39,13 +39,17 @@ void cli_handle_signals(void);
 /* Reads a whole file; *size receives its length.  NULL + err on failure. */
 void *cli_read_file(const char *path, size_t *size, rtt_error *err);
 
-/* Loads SCENE (any supported kind) with the standard load options; a
- * max_memory of 0 takes the machine's budget (rtt/memory_budget.h). */
+/* Loads SCENE (any supported kind) with the standard load options, with
+ * progress on stderr when it takes over 2 s (progress.h); a max_memory of 0
+ * takes the machine's budget (rtt/memory_budget.h).  The _timed form also
+ * gives the seconds it took. */
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err);
+rtt_scene *cli_load_scene_timed(const char *path, uint32_t bezier_level, uint64_t max_memory, double *seconds,
+                                rtt_error *err);
 
 /* The subcommands (options.h: cli_command), each in its cmd_*.c. */
 struct cli_command;
 extern const struct cli_command render_command, bake_command, info_command, triangles_command, trace_command,
-    conform_command, compare_command, bench_command, view_command;
+    conform_command, compare_command, bench_command, view_command, rays_command;
 
 #endif

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "rtt/atomic_file.h"
 #include "rtt/files.h"
+#include "progress.h"
 
 int cli_fail(const rtt_error *err)
 {
@@ -55,8 +56,19 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err)
 {
+    return cli_load_scene_timed(path, bezier_level, max_memory, NULL, err);
+}
+
+rtt_scene *cli_load_scene_timed(const char *path, uint32_t bezier_level, uint64_t max_memory, double *seconds,
+                                rtt_error *err)
+{
     rtt_scene_load_options opt = {.bezier_level = bezier_level, .max_memory = max_memory};
+    char stage[600];
+    snprintf(stage, sizeof stage, "loading %s", path);
+    cli_progress *progress = cli_progress_start(stage);
     rtt_scene *scene = rtt_scene_load(path, &opt, err);
+    double elapsed = cli_progress_finish(progress);
+    if (seconds) *seconds = elapsed;
     if (scene && scene->missing_texture_count) /* the one warning: the scene still renders */
         fprintf(stderr, "rtt: warning: %s: %u texture%s not read, drawn in the material's own colour; the first: %s\n",
                 path, scene->missing_texture_count, scene->missing_texture_count == 1 ? "" : "s",

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "rtt/atomic_file.h"
 #include "options.h"
+#include "progress.h"
 
 typedef struct bench_args {
     const char *scene_path, *views, *markdown, *tsv;
@@ -122,10 +123,18 @@ static int configure(bench_args *a, const cli_parsed *parsed)
     return CLI_CONTINUE;
 }
 
+/* --progress names each row as it starts; the stage's progress lines (past
+ * 2 s) show the row running. */
+typedef struct bench_progress {
+    cli_progress *stage;
+    bool rows;
+} bench_progress;
+
 static void print_progress(void *context, const char *row)
 {
-    (void)context;
-    fprintf(stderr, "bench: %s\n", row);
+    bench_progress *p = context;
+    if (p->rows) fprintf(stderr, "bench: %s\n", row);
+    cli_progress_detail(p->stage, row);
 }
 
 static bool write_text(const char *path, char *text, rtt_error *err)
@@ -141,7 +150,6 @@ static int bench(void *opaque, const cli_parsed *parsed)
     bench_args *args = opaque;
     int status = configure(args, parsed);
     if (status != CLI_CONTINUE) return status;
-    if (args->progress) args->config.progress = print_progress;
 
     rtt_error err = {{0}};
     const char *outputs[] = {args->markdown, args->tsv}, *inputs[] = {args->scene_path, args->views};
@@ -163,7 +171,11 @@ static int bench(void *opaque, const cli_parsed *parsed)
         return status;
     }
     rtt_bench_report report;
+    bench_progress progress = {cli_progress_start("bench"), args->progress};
+    args->config.progress = print_progress;
+    args->config.progress_context = &progress;
     bool ok = rtt_bench_run(scene, &args->config, &report, &err);
+    cli_progress_finish(progress.stage);
     rtt_scene_free(scene);
     if (!ok) return cli_fail(&err);
     snprintf(report.view, sizeof report.view, "%s", view);

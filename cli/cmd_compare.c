@@ -39,8 +39,8 @@ static int compare(void *opaque, const cli_parsed *parsed)
     static const char *const metric_names[3] = {"rmse", "error", "share"};
 
     rtt_error err = {0};
-    rtt_image *a = rtt_image_read_exr(paths[0], &err);
-    rtt_image *b = a ? rtt_image_read_exr(paths[1], &err) : NULL;
+    rtt_image *a = rtt_image_read(paths[0], &err);
+    rtt_image *b = a ? rtt_image_read(paths[1], &err) : NULL;
     rtt_image_metrics m;
     bool ok = a && b && rtt_image_compare(a, b, &m, &err);
     rtt_image_free(a);
@@ -73,10 +73,13 @@ static int compare(void *opaque, const cli_parsed *parsed)
 const cli_command compare_command = {
     .name = "compare", .summary = "image metrics: RMSE, max error, share of pixels over 1/255", .run = compare,
     CLI_ARGS(compare_args, compare_defaults), CLI_ROWS(compare_options),
-    .synopsis = "A.exr B.exr [options]",
+    .synopsis = "A.exr|A.png B.exr|B.png [options]",
     .description = "Prints RMSE over all RGB samples, the largest channel error, and the share of\n"
-                   "pixels with any channel off by more than 1/255 (colours clamped to [0,1]).\n",
+                   "pixels with any channel off by more than 1/255 (colours clamped to [0,1]).\n"
+                   "Either image may be EXR (linear float) or PNG (8-bit sRGB, decoded to linear),\n"
+                   "so a PNG compares with an EXR: a render's PNG is within its 8-bit rounding\n"
+                   "of its EXR.\n",
     .operand = "IMAGE", .operand_min = 2, .operand_max = 2, .operand_offset = offsetof(compare_args, paths),
-    .operands_wrong = "expected two images, A.exr and B.exr",
+    .operands_wrong = "expected two images, A and B (.exr or .png)",
     .exit_status = "0 success, 1 bad input or a threshold exceeded, 2 bad usage.",
 };

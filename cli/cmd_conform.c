@@ -8,6 +8,7 @@
 #include "camera_options.h"
 #include "cli.h"
 #include "options.h"
+#include "progress.h"
 #include "conform.h"
 #include "extremes.h"
 
@@ -135,7 +136,10 @@ static int run_extremes(const conform_args *args)
     config.isa = args->engine.isa;
     rtt_extremes_report report;
     rtt_error err = {{0}};
-    if (!rtt_extremes_run(&config, &report, &err)) return cli_fail(&err);
+    cli_progress *progress = cli_progress_start("conform --extremes");
+    bool ran = rtt_extremes_run(&config, &report, &err);
+    cli_progress_finish(progress);
+    if (!ran) return cli_fail(&err);
     int rc = print_and_free(args->json ? rtt_extremes_report_json(&report) : rtt_extremes_report_table(&report));
     bool pass = report.pass;
     rtt_extremes_report_free(&report);
@@ -168,7 +172,9 @@ static int conform(void *opaque, const cli_parsed *parsed)
         return rc;
     }
     rtt_conform_report report;
+    cli_progress *progress = cli_progress_start("conform");
     bool ran = rtt_conform_run(scene, &args->config, &report, &err);
+    cli_progress_finish(progress);
     rtt_scene_free(scene);
     if (!ran) return cli_fail(&err);
     int rc_print = print_and_free(args->json ? rtt_conform_report_json(&report) : rtt_conform_report_table(&report));

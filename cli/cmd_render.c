@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "options.h"
 #include "rtt/atomic_file.h"
+#include "progress.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/optimized.h"
@@ -53,6 +54,7 @@ _Static_assert(RTT_AOV_DEPTH == 1 << 0 && RTT_AOV_PRIM == 1 << 1 && RTT_AOV_NORM
 /* the help lines below state these bounds */
 _Static_assert(RTT_MAX_BOUNCES == 64, "--max-bounces help: 0 to 64");
 _Static_assert(RTT_MAX_SHADOW_SAMPLES == 256, "--shadows help: N = 1..256");
+_Static_assert(RTT_MAX_SPP == 256, "--spp help: 1 to 256");
 
 static const cli_option render_options[] = {
     {.name = "--output", .short_name = 'o', .value_name = "FILE",
@@ -64,6 +66,10 @@ static const cli_option render_options[] = {
     {.name = "--shadows", .value_name = "METHOD",
      .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R]",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
+    {.name = "--spp", .value_name = "N",
+     .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "
+             "(Hammersley, rotated per pixel), averaged by a box filter over the pixel",
+     .kind = CLI_U32, CLI_FIELD(render_args, render.spp), .lo = 1, .hi = RTT_MAX_SPP},
     {.name = "--edge-leak-fix", .help = "with --shadows edgewidth: entry and exit polygons must share a vertex",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.edge_leak_fix)},
     CLI_OPTION_RENDER_THREADS(render_args, render),
@@ -74,7 +80,7 @@ static const cli_option render_options[] = {
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
-                                "stage times",
+                                "the renderer's stage times, and the wall times of load, build, render and write",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
     CLI_OPTION_MAX_MEMORY(render_args, max_memory),
 };
@@ -111,13 +117,10 @@ static void render_defaults(void *opaque)
     rtt_render_options_default(&args->render);
 }
 
-/* Progress on a terminal only: a line rewritten in place on stderr. */
-static void print_progress(void *context, uint32_t done, uint32_t total)
-{
-    (void)context;
-    if (total >= 16 && (done % (total / 16) == 0 || done == total))
-        fprintf(stderr, "\rrendering: %3u%%%s", (unsigned)(100.0 * done / total), done == total ? "\n" : "");
-}
+/* Wall seconds of the stages --stats reports. */
+typedef struct stage_times {
+    double load, build, render, write;
+} stage_times;
 
 /* The first accel the class has kernels for: what "the engine's default"
  * stands for. */
@@ -162,7 +165,8 @@ static void describe_engine(rtt_engine *engine, const char *name, const rtt_engi
         snprintf(out + used, size - used, ", leaf culling %s", opt->leaf_culling ? "on" : "off");
 }
 
-static void print_stats(const rtt_render_stats *s, const char *engine_used, const render_args *args)
+static void print_stats(const rtt_render_stats *s, const char *engine_used, const render_args *args,
+                        const stage_times *times)
 {
     double packets = s->packets ? (double)s->packets : 1.0;
     uint64_t rays = s->primary_rays + s->shadow_rays + s->secondary_rays;
@@ -173,6 +177,8 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
     printf("2x2 packets: %llu, N (traversal steps per packet) %.2f, I (intersection tests per packet) %.2f\n",
            (unsigned long long)s->packets, s->traversal_steps / packets, s->intersection_tests / packets);
     printf("time: total %.4f s wall (%.2f fps)\n", s->seconds_total, s->seconds_total > 0 ? 1.0 / s->seconds_total : 0.0);
+    printf("stages (wall): load %.4f s, build %.4f s, render %.4f s, write %.4f s\n", times->load, times->build,
+           times->render, times->write);
     /* the stage timers add up CPU time over the threads: their shares are of
      * that sum, not of the wall time */
     const double stages[4] = {s->seconds_primary_traversal, s->seconds_primary_intersection, s->seconds_shading,
@@ -186,12 +192,19 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
 }
 
 static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
-                               char *engine_used, size_t engine_used_size, rtt_error *err)
+                               char *engine_used, size_t engine_used_size, stage_times *times, rtt_error *err)
 {
     args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
+    cli_progress *progress = cli_progress_start("building the acceleration structure");
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
+    times->build = cli_progress_finish(progress);
     if (!engine) return false;
+    progress = cli_progress_start("rendering");
+    args->render.progress = cli_progress_update;
+    args->render.progress_context = progress;
     bool ok = rtt_render(engine, &args->render, image, stats, err);
+    times->render = cli_progress_finish(progress);
+    args->render.progress = NULL;
     describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
     rtt_engine_destroy(engine);
     return ok;
@@ -206,8 +219,10 @@ static int render(void *opaque, const cli_parsed *parsed)
 
     rtt_error err = {0};
     const char *inputs[] = {args->scene_path};
+    stage_times times = {0};
     rtt_scene *scene = cli_check_outputs(args->outputs, args->output_count, inputs, 1, &err)
-                           ? cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err)
+                           ? cli_load_scene_timed(args->scene_path, args->bezier_level, args->max_memory, &times.load,
+                                                  &err)
                            : NULL;
     status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
@@ -219,17 +234,18 @@ static int render(void *opaque, const cli_parsed *parsed)
     uint32_t height = args->render.height ? args->render.height : scene->height;
     args->render.width = width;
     args->render.height = height;
-    if (isatty(STDERR_FILENO)) args->render.progress = print_progress;
 
     rtt_image *image = rtt_image_create(width, height, args->render.aovs, &err);
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
-    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &times, &err);
+    cli_progress *progress = ok ? cli_progress_start("writing") : NULL;
     rtt_atomic_files_hold(); /* all the outputs or none */
     for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
     ok = rtt_atomic_files_release(ok, &err) && ok;
-    if (ok && args->render.stats) print_stats(&stats, engine_used, args);
+    times.write = cli_progress_finish(progress);
+    if (ok && args->render.stats) print_stats(&stats, engine_used, args, &times);
     rtt_image_free(image);
     rtt_scene_free(scene);
     return ok ? RTT_EXIT_OK : cli_fail(&err);

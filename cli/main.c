@@ -11,6 +11,7 @@
 static const cli_command *const commands[] = {
     &render_command, &bake_command,    &info_command,    &triangles_command,
     &trace_command,  &conform_command, &compare_command, &bench_command,   &view_command,
+    &rays_command,
 };
 
 static void print_usage(FILE *out)
@@ -18,9 +19,13 @@ static void print_usage(FILE *out)
     fprintf(out, "usage: rtt COMMAND [options]   (rtt COMMAND --help for each)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(out, "  %-10s %s\n", commands[i]->name, commands[i]->summary);
-    fprintf(out, "\nexit codes: 0 success, 1 bad input, 2 bad usage, 130 and 143 interrupted (SIGINT, SIGTERM:\n"
+    fprintf(out, "\nrtt --version prints the version.\n"
+                 "exit codes: 0 success, 1 bad input, 2 bad usage, 130 and 143 interrupted (SIGINT, SIGTERM:\n"
                  "no output is left half-written, no temporary is left behind)\n");
 }
+
+/* "rtt 0.2.0": the project's version (CMakeLists.txt). */
+static void print_version(void) { printf("rtt %s\n", RTT_VERSION); }
 
 int main(int argc, char **argv)
 {
@@ -30,6 +35,10 @@ int main(int argc, char **argv)
     if (argc < 2) {
         print_usage(stderr);
         return RTT_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "--version") == 0 && argc == 2) {
+        print_version();
+        return RTT_EXIT_OK;
     }
     if (cli_is_help(argv[1])) {
         print_usage(stdout);

@@ -32,6 +32,16 @@ int rtt_conform_ray_set_parse(const char *name);
 bool rtt_conform_make_rays(const rtt_scene *scene, rtt_conform_ray_set set, rtt_engine *reference,
                            size_t max_rays, uint64_t seed, rtt_ray **rays, size_t *count, rtt_error *err);
 
+/* The ray kinds `rtt rays` writes (conform_ray_kinds.c): the sets above and
+ * the extremes' patterns one at a time, by index (name and summary NULL past
+ * the last).  rtt_conform_make_kind fills *rays (malloc'd) with at most n
+ * rays of kind `kind`, from the suite's own generators; `reference` is needed
+ * by the shadow kind only. */
+const char *rtt_conform_kind_name(size_t kind);
+const char *rtt_conform_kind_summary(size_t kind);
+bool rtt_conform_make_kind(const rtt_scene *scene, size_t kind, rtt_engine *reference, size_t n, uint64_t seed,
+                           rtt_ray **rays, size_t *count, rtt_error *err);
+
 /* The categories one ray falls in when an engine's hit is compared with the
  * oracle's. */
 typedef enum rtt_conform_category {

@@ -11,6 +11,7 @@ void rtt_render_options_default(rtt_render_options *opt)
     memset(opt, 0, sizeof *opt);
     opt->shadows = RTT_SHADOWS_HARD;
     opt->shadow_samples = 16;
+    opt->spp = 1;
     opt->max_bounces = RTT_BOUNCES_OF_SCENE;
     rtt_engine_options_default(&opt->engine);
 }
@@ -78,6 +79,8 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
         return rtt_error_set(err, "shadow method edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
+    if (opt->spp > RTT_MAX_SPP)
+        return rtt_error_set(err, "%u samples per pixel: at most %u", opt->spp, RTT_MAX_SPP);
     if (width == 0 || height == 0)
         return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
     if (out->width != width || out->height != height)
@@ -97,6 +100,8 @@ uint32_t rtt_render_bounces(const rtt_render_options *opt, const rtt_scene *scen
     return opt->max_bounces == RTT_BOUNCES_OF_SCENE ? scene->max_bounces : opt->max_bounces;
 }
 
+uint32_t rtt_render_spp(const rtt_render_options *opt) { return opt->spp ? opt->spp : 1u; }
+
 bool rtt_render_options_check(const char *name, const rtt_render_options *opt, rtt_error *err)
 {
     if (!rtt_engine_options_check(name, &opt->engine, err)) return false;
@@ -108,6 +113,8 @@ bool rtt_render_options_check(const char *name, const rtt_render_options *opt, r
                              rtt_shadow_method_name(opt->shadows));
     if (opt->max_bounces != RTT_BOUNCES_OF_SCENE && opt->max_bounces > RTT_MAX_BOUNCES)
         return rtt_error_set(err, "max bounces %u: at most %u", opt->max_bounces, RTT_MAX_BOUNCES);
+    if (opt->spp > RTT_MAX_SPP)
+        return rtt_error_set(err, "%u samples per pixel: at most %u", opt->spp, RTT_MAX_SPP);
     return true;
 }
 

@@ -57,6 +57,7 @@ typedef struct render_job {
     uint32_t max_bounces;
     rtt_shadow_method shadows;
     uint32_t shadow_samples;
+    uint32_t spp;                        /* anti-aliasing samples per pixel */
     float epsilon;
     bool transparent_shadows;            /* shadow rays pass transparent surfaces */
     const rtt_kd_tree *edge_tree;        /* edgewidth only */
@@ -184,13 +185,24 @@ static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t
     return shade_hit(job, ray, &hit, depth, pixel, counts);
 }
 
+/* The pixel's colour is the mean of its spp samples (rtt_pixel_sample: a box
+ * filter); depth, prim and normal are those of its first sample. */
 static void render_pixel(render_job *job, uint32_t px, uint32_t py, ray_counts *counts)
 {
     const uint32_t pixel = py * job->width + px;
-    rtt_ray ray = rtt_camera_ray(&job->frame, px, py);
-    rtt_hit hit = trace_closest(job, &ray);
-    counts->primary++;
-    rtt_vec3 colour = hit.prim == RTT_MISS ? job->scene->background : shade_hit(job, &ray, &hit, 0, pixel, counts);
+    rtt_ray ray;
+    rtt_hit hit;
+    rtt_vec3 colour = rtt_v3(0.0f, 0.0f, 0.0f);
+    for (uint32_t i = job->spp; i-- > 0;) { /* the last traced is sample 0, whose hit the AOVs keep */
+        float offset[2];
+        rtt_pixel_sample(i, job->spp, pixel, offset);
+        ray = rtt_camera_ray_at(&job->frame, px, py, offset);
+        hit = trace_closest(job, &ray);
+        counts->primary++;
+        colour = rtt_v3_add(colour, hit.prim == RTT_MISS ? job->scene->background
+                                                         : shade_hit(job, &ray, &hit, 0, pixel, counts));
+    }
+    if (job->spp > 1) colour = rtt_v3_scale(colour, 1.0f / (float)job->spp);
 
     rtt_image *out = job->out;
     out->rgb[3 * (size_t)pixel + 0] = colour.x;
@@ -267,6 +279,7 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         .shadow_samples = opt->shadow_samples,
         .epsilon = rtt_scene_ray_epsilon(scene),
         .transparent_shadows = rtt_scene_has_transparent_shadows(scene),
+        .spp = rtt_render_spp(opt),
     };
     rtt_kd_tree edge_tree = {0};
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH) {

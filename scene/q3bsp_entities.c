@@ -36,7 +36,9 @@
  * Hostile input: the lump's offset and length are checked against the file,
  * its size is bounded, numbers must be finite, and a malformed lump is one
  * error line naming the entity and what is wrong.  A map with no camera
- * entity keeps the default camera; one with no lights the default light. */
+ * entity keeps the default camera.  A map with no light entities (q3map2
+ * drops them when it compiles a map) is lit from its light grid
+ * (q3bsp_lightgrid.c); one with neither gets the default light. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -229,6 +231,10 @@ static int spawn_rank(const char *classname)
     return -1;
 }
 
+typedef struct map_settings {
+    float grid_size[3]; /* worldspawn's "gridsize" */
+} map_settings;
+
 typedef struct camera_candidate {
     int rank; /* 0 intermission, 1 spawn point, -1 none yet */
     float origin[3], angles[3];
@@ -324,7 +330,8 @@ static bool light_of(const entity_reader *r, const entity *e, rtt_light *out, bo
 /* ---- the lump ---- */
 
 /* Pass 0: camera candidates and lights; pass 1: the camera's target. */
-static bool read_pass(entity_reader *r, int pass, rtt_scene *scene, camera_candidate *camera, entity *e)
+static bool read_pass(entity_reader *r, int pass, rtt_scene *scene, camera_candidate *camera, map_settings *map,
+                      entity *e)
 {
     r->at = 0;
     r->index = 0;
@@ -336,6 +343,9 @@ static bool read_pass(entity_reader *r, int pass, rtt_scene *scene, camera_candi
         }
         if (!consider_camera(r, e, camera)) return false;
         const char *classname = value_of(e, "classname");
+        bool present;
+        if (classname && strcmp(classname, "worldspawn") == 0 && !vector_of(r, e, "gridsize", map->grid_size, &present))
+            return false;
         if (!classname || strcmp(classname, "light") != 0) continue;
         rtt_light light;
         bool usable;
@@ -353,17 +363,23 @@ bool rtt_q3bsp_read_entities(rtt_scene *scene, const char *path, rtt_error *err)
     r.text = malloc(r.length + 1); /* each pass cuts its strings in a fresh copy */
     entity *e = malloc(sizeof *e);
     camera_candidate camera = {.rank = -1};
+    map_settings map = {{64.0f, 64.0f, 128.0f}};
     uint32_t lights_before = scene->light_count;
     bool ok = r.text && e ? true : rtt_error_set(err, "%s: entities: out of memory", path);
     for (int pass = 0; ok && pass < (camera.target[0] ? 2 : 1); pass++) {
         memcpy(r.text, lump, r.length + 1);
-        ok = read_pass(&r, pass, scene, &camera, e);
+        ok = read_pass(&r, pass, scene, &camera, &map, e);
     }
     if (ok && camera.rank >= 0) {
         scene->camera = camera_of(&camera);
         scene->camera_source = camera.rank == 0 ? RTT_CAMERA_INTERMISSION : RTT_CAMERA_SPAWN_POINT;
     }
-    if (ok && scene->light_count > lights_before) scene->light_source = RTT_LIGHTS_MAP;
+    if (ok && scene->light_count > lights_before) {
+        scene->light_source = RTT_LIGHTS_MAP;
+    } else if (ok) {
+        ok = rtt_q3bsp_lights_from_grid(scene, path, map.grid_size, err);
+        if (ok && scene->light_count > lights_before) scene->light_source = RTT_LIGHTS_MAP_GRID;
+    }
     free(e);
     free(r.text);
     free(lump);

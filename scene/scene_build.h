@@ -37,6 +37,10 @@ bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[
  * point) and its light entities as lights (q3bsp_entities.c, which documents
  * the rules); run after rtt_import_q3bsp when the map is the whole scene. */
 bool rtt_q3bsp_read_entities(rtt_scene *scene, const char *path, rtt_error *err);
+/* Lights (and the ambient term) for a map with no light entities, from its
+ * light grid of cells grid_size[3] units apart (q3bsp_lightgrid.c, which
+ * documents the rule); nothing when the map has no usable grid. */
+bool rtt_q3bsp_lights_from_grid(rtt_scene *scene, const char *path, const float grid_size[3], rtt_error *err);
 /* The baked kd-tree file (kdt_file.c): the whole scene plus the optimized
  * engine's tree, validated section by section; scene->baked carries the tree. */
 rtt_scene *rtt_kdt_read_scene(const char *path, rtt_error *err);

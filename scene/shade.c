@@ -28,12 +28,18 @@ rtt_camera_frame rtt_camera_frame_make(const rtt_camera *camera, uint32_t width,
     return f;
 }
 
-rtt_ray rtt_camera_ray(const rtt_camera_frame *frame, uint32_t px, uint32_t py)
+rtt_ray rtt_camera_ray_at(const rtt_camera_frame *frame, uint32_t px, uint32_t py, const float offset[2])
 {
-    rtt_vec3 d = rtt_v3_add(frame->corner, rtt_v3_add(rtt_v3_scale(frame->du, (float)px + 0.5f),
-                                                      rtt_v3_scale(frame->dv, (float)py + 0.5f)));
+    rtt_vec3 d = rtt_v3_add(frame->corner, rtt_v3_add(rtt_v3_scale(frame->du, (float)px + offset[0]),
+                                                      rtt_v3_scale(frame->dv, (float)py + offset[1])));
     d = rtt_v3_normalize(d);
     return (rtt_ray){{frame->eye.x, frame->eye.y, frame->eye.z}, {d.x, d.y, d.z}, 0.0f, INFINITY};
+}
+
+rtt_ray rtt_camera_ray(const rtt_camera_frame *frame, uint32_t px, uint32_t py)
+{
+    static const float centre[2] = {0.5f, 0.5f};
+    return rtt_camera_ray_at(frame, px, py, centre);
 }
 
 static float radical_inverse_base2(uint32_t bits)
@@ -65,6 +71,21 @@ static uint32_t hash_u32(uint32_t x)
 }
 
 static float wrap_unit(float x) { return x >= 1.0f ? x - 1.0f : x; }
+
+void rtt_pixel_sample(uint32_t i, uint32_t n, uint32_t pixel, float out[2])
+{
+    if (n <= 1) {
+        out[0] = out[1] = 0.5f;
+        return;
+    }
+    float h[2];
+    rtt_hammersley(i, n, h);
+    /* the light samples rotate by hash(2 pixel + 1): an even seed keeps the
+     * two patterns of a pixel apart */
+    uint32_t seed = hash_u32(pixel * 2u);
+    out[0] = wrap_unit(h[0] + (float)(seed >> 8) * (1.0f / 16777216.0f));
+    out[1] = wrap_unit(h[1] + (float)(hash_u32(seed) >> 8) * (1.0f / 16777216.0f));
+}
 
 rtt_vec3 rtt_light_sample(const rtt_light *light, rtt_vec3 p, uint32_t i, uint32_t n, uint32_t pixel)
 {

@@ -160,6 +160,21 @@ expect 2 "--lights sun: expected map or camera" -- render "$scene" --lights sun
 expect 2 "--eye 0,0,1: --extremes builds its own scenes and cameras" -- conform --extremes --eye 0,0,1
 expect 2 "--views .*: does not go with --view" -- bench "$scene" --views "$work/views.json" --view "$work/views.json"
 
+# anti-aliasing, rays, compare, --version
+expect 2 "--spp 0: expected a whole number from 1 to 256" -- render "$scene" --spp 0
+expect 2 "--spp 257: expected a whole number from 1 to 256" -- render "$scene" --spp 257
+expect 2 "no --kind given" -- rays "$scene" -o "$work/r.bin"
+expect 2 "--kind sideways: expected one of primary, shadow, random" -- rays "$scene" --kind sideways -o "$work/r.bin"
+expect 2 "no output given" -- rays "$scene" --kind random
+expect 2 "-n 0: expected a whole number from 1" -- rays "$scene" --kind random -n 0 -o "$work/r.bin"
+expect_absent "$work/r.bin"
+expect 1 "missing\.json" -- rays "$work/missing.json" --kind random -o "$work/r.bin"
+expect_absent "$work/r.bin"
+printf 'not a png' >"$work/notpng.png"
+expect 1 "notpng\.png: cannot read as PNG" -- compare "$work/notpng.png" "$work/notpng.png"
+expect 1 "rays33\.bin: unknown image format" -- compare "$work/rays33.bin" "$work/notpng.png"
+expect 2 "unknown command \"--versions\"" -- --versions
+
 # a baked .kdt: its tree is adopted as is and its patches are tessellated
 "$rtt" bake "$scene" -o "$work/baked.kdt" || { echo "FAIL: rtt bake"; failures=$((failures + 1)); }
 expect 2 "--max-depth 10: engine \"optimized\" adopts the tree baked into .*baked\.kdt as is; rebake" -- \
@@ -237,7 +252,7 @@ if [ "$(cat "$work/keep.png")" != keep ]; then
 fi
 
 # --help on every command: exit 0, usage on stdout
-for command in render bake info triangles trace conform compare bench; do
+for command in render bake info triangles trace conform compare bench rays; do
     if ! "$rtt" "$command" --help >"$work/help" 2>&1 || ! grep -q "usage: rtt $command" "$work/help"; then
         echo "FAIL: rtt $command --help"
         failures=$((failures + 1))

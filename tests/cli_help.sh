@@ -15,7 +15,7 @@ fail() {
     failures=$((failures + 1))
 }
 
-for command in render bake info triangles trace conform compare bench; do
+for command in render bake info triangles trace conform compare bench rays; do
     if ! "$rtt" "$command" --list-options >"$work/list" 2>"$work/err"; then
         fail "--list-options failed: $(cat "$work/err")"
         continue

@@ -39,13 +39,13 @@ typedef struct fixture {
     const kd_tree *tree;
 } fixture;
 
-static inline int setup_triangles(void **state, const float *xyz, uint32_t count)
+/* Both engines on `scene`, which the fixture then owns. */
+static inline int setup_engines(void **state, rtt_scene *scene)
 {
     rtt_error err = {{0}};
     fixture *f = calloc(1, sizeof *f);
     assert_non_null(f);
-    f->scene = rtt_scene_from_triangles(xyz, count, &err);
-    if (!f->scene) fail_msg("scene: %s", err.message);
+    f->scene = scene;
     rtt_engine_options opt;
     rtt_engine_options_default(&opt);
     f->optimized = rtt_optimized_engine_create(f->scene, &opt, &err);
@@ -56,6 +56,14 @@ static inline int setup_triangles(void **state, const float *xyz, uint32_t count
     assert_non_null(f->tree);
     *state = f;
     return 0;
+}
+
+static inline int setup_triangles(void **state, const float *xyz, uint32_t count)
+{
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, count, &err);
+    if (!scene) fail_msg("scene: %s", err.message);
+    return setup_engines(state, scene);
 }
 
 /* `count` random triangles of size ~`size` in the cube [-1, 1]^3, plus a

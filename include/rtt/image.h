@@ -31,6 +31,11 @@ uint8_t rtt_linear_to_srgb8(float linear);
 /* Picks the format from the extension (.exr or .png). */
 bool rtt_image_write(const rtt_image *image, const char *path, rtt_error *err);
 rtt_image *rtt_image_read_exr(const char *path, rtt_error *err);
+/* A PNG (any kind libpng reads) as linear colours: sRGB decoded, alpha
+ * composited on black; no AOVs. */
+rtt_image *rtt_image_read_png(const char *path, rtt_error *err);
+/* Picks the reader from the extension (.exr or .png). */
+rtt_image *rtt_image_read(const char *path, rtt_error *err);
 
 typedef struct rtt_image_metrics {
     double rmse;             /* over all RGB samples */

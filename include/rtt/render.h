@@ -18,6 +18,7 @@ typedef enum rtt_shadow_method {
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
+#define RTT_MAX_SPP 256u
 #define RTT_SHADOWS_ALL 0x3Fu                 /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
@@ -40,6 +41,7 @@ typedef struct rtt_render_options {
     uint32_t threads;                /* 0 → one per core */
     rtt_shadow_method shadows;       /* default hard */
     uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256 (default 16) */
+    uint32_t spp;                    /* anti-aliasing samples per pixel, 1..RTT_MAX_SPP (rtt_pixel_sample); 0 → 1 */
     float edge_radius;               /* edgewidth: R, early-exit width (0 → default) */
     bool edge_leak_fix;              /* edgewidth: entry/exit must share a vertex */
     uint32_t max_bounces;            /* 0..RTT_MAX_BOUNCES; RTT_BOUNCES_OF_SCENE → the scene's (default) */
@@ -82,6 +84,8 @@ bool rtt_render(rtt_engine *engine, const rtt_render_options *opt, struct rtt_im
 bool rtt_render_options_check(const char *name, const rtt_render_options *opt, rtt_error *err);
 /* The bounce limit a render uses: the options' unless they leave it to the scene. */
 uint32_t rtt_render_bounces(const rtt_render_options *opt, const rtt_scene *scene);
+/* The samples per pixel a render takes: the options' spp, 0 meaning 1. */
+uint32_t rtt_render_spp(const rtt_render_options *opt);
 const char *rtt_shadow_method_name(rtt_shadow_method method);
 /* The checks every renderer makes before it starts: a known shadow method
  * with a sample count in 1..RTT_MAX_SHADOW_SAMPLES (multi, cone, pyramid)

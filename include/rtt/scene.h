@@ -101,6 +101,7 @@ typedef enum rtt_light_source {
     RTT_LIGHTS_FROM_FILE = 0,     /* the scene file's (or the .kdt's) */
     RTT_LIGHTS_AT_CAMERA,         /* the default: one point light at the eye */
     RTT_LIGHTS_MAP,               /* a Quake III map's light entities */
+    RTT_LIGHTS_MAP_GRID,          /* lights found in a Quake III map's light grid */
     RTT_LIGHTS_FROM_OPTIONS       /* put there by the caller */
 } rtt_light_source;
 

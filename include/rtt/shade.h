@@ -47,6 +47,24 @@ typedef struct rtt_camera_frame {
 rtt_camera_frame rtt_camera_frame_make(const rtt_camera *camera, uint32_t width, uint32_t height);
 /* The primary ray of pixel (px, py): through its centre, tnear 0, tfar inf. */
 rtt_ray rtt_camera_ray(const rtt_camera_frame *frame, uint32_t px, uint32_t py);
+/* The same through the point `offset` (each in [0, 1)) of the pixel. */
+rtt_ray rtt_camera_ray_at(const rtt_camera_frame *frame, uint32_t px, uint32_t py, const float offset[2]);
+
+/* Anti-aliasing: subpixel sample i of n of pixel `pixel` (py * width + px),
+ * an offset in [0, 1)^2 into the pixel.  n = 1: the centre (0.5, 0.5), the
+ * one-ray-per-pixel image.  n > 1: the Hammersley set (i / n, radical inverse
+ * of i in base 2), stratified and low-discrepancy (for n a power of two a
+ * (0, m, 2)-net: one sample in every elementary interval of area 1/n),
+ * toroidally shifted by a rotation hashed from the pixel (Cranley-Patterson),
+ * so that neighbouring pixels do not repeat one pattern and edges show noise
+ * rather than a structured alias.  Deterministic: the same for any thread
+ * count and in both renderers.  The pixel's colour is the plain mean of its n
+ * samples: a box filter over the pixel, the estimate of the pixel's area
+ * integral that stratification converges fastest for, and one that keeps
+ * every sample inside its own pixel, so tiles stay independent and the image
+ * does not depend on how tiles go to threads (a wider tent or Gaussian filter
+ * would spread samples over neighbouring tiles). */
+void rtt_pixel_sample(uint32_t i, uint32_t n, uint32_t pixel, float out[2]);
 
 /* Sample i of n on sphere light `light` as seen from point p: a point on the
  * disk of the light's radius, centred on the light and facing p, from a

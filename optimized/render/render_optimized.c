@@ -33,18 +33,22 @@ typedef struct render_job {
     rtt_image *out;
     rtt_camera_frame frame;
     uint32_t width, height, tile;
+    uint32_t spp;                   /* anti-aliasing samples per pixel */
     sp_shading shading;
     sp_tracer tracer;
     sp_scratch **scratch;           /* one per thread */
     uint32_t threads;
 } render_job;
 
-/* Primary rays of the tile as quads: packet q holds pixels (x, y), (x+1, y),
+/* Primary rays of the tile as quads, for anti-aliasing sample `sample` of
+ * every pixel (rtt_pixel_sample): packet q holds pixels (x, y), (x+1, y),
  * (x, y+1), (x+1, y+1) of quad q; lanes off the image are left out (the
  * packet of a quad wholly off the image has none), so the block is always
- * the tile's (tile/2)^2 packets. */
+ * the tile's (tile/2)^2 packets.  One sample of every pixel of the tile makes
+ * one block: its rays are as coherent as one ray per pixel, and its frusta as
+ * tight (the multi-frusta paper's way to trace multi-sample anti-aliasing). */
 static void push_primary_packets(const render_job *job, sp_scratch *s, uint32_t x0, uint32_t y0, uint32_t x1,
-                                 uint32_t y1)
+                                 uint32_t y1, uint32_t sample)
 {
     uint32_t side = job->tile / 2u, packets = side * side;
     for (uint32_t q = 0; q < packets; q++) {
@@ -54,20 +58,26 @@ static void push_primary_packets(const render_job *job, sp_scratch *s, uint32_t 
         for (uint32_t l = 0; l < 4; l++) {
             uint32_t px = qx + (l & 1u), py = qy + (l >> 1);
             if (px >= x1 || py >= y1) continue;
-            rays[count] = rtt_camera_ray(&job->frame, px, py);
+            float offset[2];
+            rtt_pixel_sample(sample, job->spp, py * job->width + px, offset);
+            rays[count] = rtt_camera_ray_at(&job->frame, px, py, offset);
             pixels[count++] = py * job->width + px;
         }
         sp_primary_push(s, rays, pixels, count);
     }
 }
 
-static void write_pixel(const render_job *job, const sp_node *n)
+/* Adds a sample's colour to its pixel (the first one of a pixel sets it);
+ * the AOVs come from sample 0, the last one traced, as in the reference. */
+static void write_sample(const render_job *job, const sp_node *n, bool first, bool aovs)
 {
     rtt_image *out = job->out;
     size_t pixel = n->pixel;
-    out->rgb[3 * pixel + 0] = n->colour.x;
-    out->rgb[3 * pixel + 1] = n->colour.y;
-    out->rgb[3 * pixel + 2] = n->colour.z;
+    float *rgb = &out->rgb[3 * pixel];
+    rgb[0] = (first ? 0.0f : rgb[0]) + n->colour.x;
+    rgb[1] = (first ? 0.0f : rgb[1]) + n->colour.y;
+    rgb[2] = (first ? 0.0f : rgb[2]) + n->colour.z;
+    if (!aovs) return;
     if (out->depth) out->depth[pixel] = n->hit.prim == RTT_MISS ? INFINITY : n->hit.t;
     if (out->prim) out->prim[pixel] = n->hit.prim;
     if (out->normal) {
@@ -134,11 +144,17 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     sp_scratch *s = job->scratch[thread];
     if (sp_scratch_failed(s)) return;
     const uint32_t side = job->tile / 2u;
-    sp_tile_begin(s, side * side);
-    push_primary_packets(job, s, x0, y0, x1, y1);
+    sp_tile_begin(s, side * side * job->spp);
+    /* samples in the reference's order, last to first: the same sums */
+    for (uint32_t sample = job->spp; sample-- > 0;) push_primary_packets(job, s, x0, y0, x1, y1, sample);
     sp_primary_trace(&job->tracer, s);
     sp_tile_shade(&job->shading, &job->tracer, s);
-    for (uint32_t i = 0; i < sp_tile_pixel_count(s); i++) write_pixel(job, sp_tile_pixel(s, i));
+    const uint32_t pixels = (x1 - x0) * (y1 - y0), count = sp_tile_pixel_count(s);
+    for (uint32_t i = 0; i < count; i++) write_sample(job, sp_tile_pixel(s, i), i < pixels, i >= count - pixels);
+    if (job->spp == 1 || count == 0) return;
+    const float mean = 1.0f / (float)job->spp;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t c = 3 * (y * job->width + x0); c < 3 * (y * job->width + x1); c++) job->out->rgb[c] *= mean;
 }
 
 static void gather_stats(const render_job *job, rtt_render_stats *stats)
@@ -188,6 +204,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         .width = width,
         .height = height,
         .tile = tile,
+        .spp = rtt_render_spp(opt),
         .shading = {.scene = scene,
                     .max_bounces = rtt_render_bounces(opt, scene),
                     .shadows = opt->shadows,
