@@ -90,7 +90,7 @@ const rtt_engine_class rtt_optimized_engine_class = {
     .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method",
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
             RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA,
-    .shadow_methods = RTT_SHADOWS_ALL & ~(1u << RTT_SHADOWS_INTERLEAVED),
+    .shadow_methods = RTT_SHADOWS_ALL,
     .adopts_baked_tree = true,
     .create = rtt_optimized_engine_create,
     .check = optimized_check,
