@@ -42,7 +42,9 @@ static void print_scene(const rtt_scene *s)
                material_type_names[s->materials[i].type]);
     printf("\n  lights      %u:", s->light_count);
     for (uint32_t i = 0; i < s->light_count; i++)
-        printf(" %s", s->lights[i].type == RTT_LIGHT_SPHERE ? "sphere" : "point");
+        printf(" %s", s->lights[i].type == RTT_LIGHT_SPHERE ? "sphere"
+                      : s->lights[i].type == RTT_LIGHT_QUAD ? "quad"
+                                                            : "point");
     printf("\n");
 }
 
