@@ -310,8 +310,7 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
     }
     rtt_shadow_planes planes;
     if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
-        if (!rtt_shadow_planes_init(&planes, width, height, scene->lights, scene->light_count))
-            return rtt_error_set(err, "%s: out of memory for the %ux%u shadow planes", scene->path, width, height);
+        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
         job.planes = &planes;
     }
     atomic_init(&job.primary, 0);

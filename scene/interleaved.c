@@ -105,10 +105,18 @@ void rtt_discontinuity_filter(const float *visibility, const float *depth, const
 
 /* ---- shadow planes ---- */
 
+uint64_t rtt_shadow_planes_bytes(uint32_t width, uint32_t height, uint32_t lights)
+{
+    const uint64_t pixels = (uint64_t)width * height, per_pixel = 7u * sizeof(float) + (uint64_t)lights * 16u;
+    if (pixels && per_pixel > (UINT64_MAX - lights) / pixels) return UINT64_MAX; /* saturates */
+    return pixels * per_pixel + lights;
+}
+
 bool rtt_shadow_planes_init(rtt_shadow_planes *planes, uint32_t width, uint32_t height, const rtt_light *lights,
                             uint32_t count)
 {
     memset(planes, 0, sizeof *planes);
+    if (rtt_shadow_planes_bytes(width, height, count) > RTT_SHADOW_PLANES_MAX_BYTES) return false;
     const size_t pixels = (size_t)width * height, per_light = count ? count : 1u;
     if (width && pixels / width != height) return false;
     if (pixels > SIZE_MAX / sizeof(float) / 3u / per_light) return false;
@@ -129,6 +137,22 @@ bool rtt_shadow_planes_init(rtt_shadow_planes *planes, uint32_t width, uint32_t 
     for (size_t i = 0; i < pixels; i++) planes->depth[i] = INFINITY;
     for (size_t i = 0; i < pixels * count; i++) planes->visibility[i] = NAN;
     for (uint32_t l = 0; l < count; l++) planes->soft[l] = rtt_light_has_area(&lights[l]);
+    return true;
+}
+
+bool rtt_shadow_planes_create(rtt_shadow_planes *planes, const rtt_scene *scene, uint32_t width, uint32_t height,
+                              rtt_error *err)
+{
+    memset(planes, 0, sizeof *planes);
+    const uint64_t bytes = rtt_shadow_planes_bytes(width, height, scene->light_count);
+    if (bytes > RTT_SHADOW_PLANES_MAX_BYTES)
+        return rtt_error_set(err,
+                             "%s: interleaved shadows keep %.1f GiB of planes for %ux%u pixels and %u lights, more "
+                             "than %llu GiB: render smaller or with fewer lights",
+                             scene->path, (double)bytes / (double)(1u << 30), width, height, scene->light_count,
+                             (unsigned long long)(RTT_SHADOW_PLANES_MAX_BYTES >> 30));
+    if (!rtt_shadow_planes_init(planes, width, height, scene->lights, scene->light_count))
+        return rtt_error_set(err, "%s: out of memory for the %ux%u shadow planes", scene->path, width, height);
     return true;
 }
 

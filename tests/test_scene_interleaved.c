@@ -312,6 +312,28 @@ static void test_planes_compose_rest_plus_filtered_light_terms(void **state)
     assert_null(planes.visibility);
 }
 
+static void test_planes_too_large_are_refused_with_the_figures(void **state)
+{
+    (void)state;
+    assert_int_equal(rtt_shadow_planes_bytes(10, 10, 2), 100u * 28u + 100u * 2u * 16u + 2u);
+    assert_int_equal(rtt_shadow_planes_bytes(UINT32_MAX, UINT32_MAX, UINT32_MAX), UINT64_MAX);
+    static rtt_light lights[300];
+    rtt_scene scene;
+    memset(&scene, 0, sizeof scene);
+    strcpy(scene.path, "map.bsp");
+    scene.lights = lights;
+    scene.light_count = 300;
+    rtt_shadow_planes planes;
+    rtt_error err = {{0}};
+    assert_false(rtt_shadow_planes_create(&planes, &scene, 4096, 4096, &err));
+    assert_string_equal(err.message, "map.bsp: interleaved shadows keep 75.4 GiB of planes for 4096x4096 pixels and "
+                                     "300 lights, more than 4 GiB: render smaller or with fewer lights");
+    assert_null(planes.visibility);
+    assert_true(rtt_shadow_planes_create(&planes, &scene, 16, 8, &err));
+    assert_int_equal(planes.lights, 300);
+    rtt_shadow_planes_free(&planes);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_filter_keeps_depth_and_normal_edges),
         cmocka_unit_test(test_filter_skips_pixels_without_visibility_or_depth),
         cmocka_unit_test(test_planes_compose_rest_plus_filtered_light_terms),
+        cmocka_unit_test(test_planes_too_large_are_refused_with_the_figures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -134,11 +134,22 @@ typedef struct rtt_shadow_planes {
     bool *soft;
 } rtt_shadow_planes;
 
+/* The planes' size: 28 bytes per pixel and 16 per pixel and light.  The
+ * renderers refuse a render whose planes would exceed
+ * RTT_SHADOW_PLANES_MAX_BYTES (a map lit by hundreds of its light entities
+ * at a large size), with the figures, rather than run out of memory. */
+#define RTT_SHADOW_PLANES_MAX_BYTES (4ull << 30)
+uint64_t rtt_shadow_planes_bytes(uint32_t width, uint32_t height, uint32_t lights);
+
 /* Allocates zeroed planes (visibility NaN, depth INFINITY) for the `count`
- * lights; false when out of memory or the size overflows (nothing left
- * allocated). */
+ * lights; false when out of memory, the size overflows or exceeds
+ * RTT_SHADOW_PLANES_MAX_BYTES (nothing left allocated). */
 bool rtt_shadow_planes_init(rtt_shadow_planes *planes, uint32_t width, uint32_t height, const rtt_light *lights,
                             uint32_t count);
+/* rtt_shadow_planes_init for the scene's lights, with one line in err when
+ * the planes are too large or memory runs out: what the renderers call. */
+bool rtt_shadow_planes_create(rtt_shadow_planes *planes, const rtt_scene *scene, uint32_t width, uint32_t height,
+                              rtt_error *err);
 void rtt_shadow_planes_free(rtt_shadow_planes *planes);
 
 /* rgb (3 per pixel) = the composition above, each soft light's visibility

@@ -221,8 +221,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     };
     rtt_shadow_planes planes;
     if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
-        if (!rtt_shadow_planes_init(&planes, width, height, scene->lights, scene->light_count))
-            return rtt_error_set(err, "%s: out of memory for the %ux%u shadow planes", scene->path, width, height);
+        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
         job.shading.planes = &planes;
     }
     const uint32_t threads = rtt_thread_count(opt->threads);
