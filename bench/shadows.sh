@@ -24,7 +24,8 @@
 # Output (bench/results/, or RTT_SHADOW_RESULTS): shadows.json (every
 # row), shadows.md (the tables, Table 5.1 as ratios to hard shadows) and
 # shadows.png (time against RMSE, gnuplot).  Threads: RTT_SHADOW_THREADS
-# (default 1: the figures compare methods, not machines).
+# (default 1: the figures compare methods, not machines).  RTT_SHADOW_NOTE:
+# a sentence for the report's introduction (say when the machine was shared).
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)

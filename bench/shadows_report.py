@@ -37,7 +37,8 @@ def main():
           f"Optimized renderer (rows labelled `ref`: the reference renderer), {threads} thread(s), median of "
           f"{runs} runs of `rtt render --stats` (render time, no loading or tree build).  Error against the reference renderer's multi:256 (`rtt compare`): RMSE, "
           "largest channel error, share of pixels off by more than 1/255.  edgewidth:R, R a fraction of the "
-          "light-to-point distance; +fix = `--edge-leak-fix`.", ""]
+          "light-to-point distance; +fix = `--edge-leak-fix`." +
+          (f"  {os.environ['RTT_SHADOW_NOTE']}" if os.environ.get("RTT_SHADOW_NOTE") else ""), ""]
     for s in main_scenes:
         md += [f"## {s}", "", "| method | time (s) | × hard | rays/s | RMSE | × hard RMSE | max | > 1/255 |",
                "|---|---:|---:|---:|---:|---:|---:|---:|"]
