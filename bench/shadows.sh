@@ -3,7 +3,8 @@
 #
 #   bench/shadows.sh [RTT]        RTT: the rtt binary (default build/cli/rtt)
 #
-# For each scene — scenes/shadow_*.json, and the benchmark scenes of
+# For each scene — scenes/shadow_*.json, scenes/light_quad.json (no
+# edgewidth rows: it refuses quad lights), and the benchmark scenes of
 # ${RTT_DATA_DIR:-~/.cache/rtt-data} named in bench/views.json when both
 # exist — renders the truth with the reference renderer at multi:256, then
 # every method with the optimized renderer, and reports the median render
@@ -12,14 +13,19 @@
 # the error against the truth (`rtt compare --json`: RMSE, max, share of
 # pixels off by more than 1/255).  Methods: hard; edgewidth at three radii
 # (RTT_SHADOW_RADII, fractions of the light-to-point distance) without and
-# with --edge-leak-fix; multi:4, 8, 16, 32; cone:16; pyramid:16.  Then
-# cone:16 against pyramid:16 with the light radius set to 1 and to 2
-# (Table 4.6).
+# with --edge-leak-fix; multi:4, 8, 16, 32; cone:16; pyramid:16; and, with
+# the reference renderer (the image a frusta kernel must reproduce),
+# interleaved:4, 8, 16, 32 with and without the discontinuity filter
+# (labels "interleaved:N ref", "interleaved:N:nofilter ref"; one run each:
+# they are there for their error, the reference's time is the oracle's).  Then cone:16
+# against pyramid:16 with the light radius set to 1 and to 2 (Table 4.6).
+# Every row names its engine.
 #
 # Output (bench/results/, or RTT_SHADOW_RESULTS): shadows.json (every
 # row), shadows.md (the tables, Table 5.1 as ratios to hard shadows) and
 # shadows.png (time against RMSE, gnuplot).  Threads: RTT_SHADOW_THREADS
-# (default 1: the figures compare methods, not machines).
+# (default 1: the figures compare methods, not machines).  RTT_SHADOW_NOTE:
+# a sentence for the report's introduction (say when the machine was shared).
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -45,7 +51,7 @@ rows=$work/rows.jsonl
 # scene list: name<TAB>path
 scenes=$work/scenes.tsv
 : >"$scenes"
-for s in "$root"/scenes/shadow_*.json; do
+for s in "$root"/scenes/shadow_*.json "$root"/scenes/light_quad.json; do
     [ -e "$s" ] && printf '%s\t%s\n' "$(basename "$s" .json)" "$s" >>"$scenes"
 done
 # Benchmark scenes: a scene file wrapping the map or mesh with the view's
@@ -69,13 +75,14 @@ fi
 
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 
-# render NAME SCENE METHOD LEAKFIX LABEL: median time, rays/s, error vs truth
+# render NAME SCENE METHOD LEAKFIX LABEL [ENGINE]: median time, rays/s, error vs truth
 render() {
-    local name=$1 scene=$2 method=$3 fix=$4 label=$5 extra=()
+    local name=$1 scene=$2 method=$3 fix=$4 label=$5 engine=${6:-optimized} extra=()
     [ "$fix" = 1 ] && extra=(--edge-leak-fix)
-    local image=$work/$name.$label.exr times=() rate=0 line
-    for ((run = 0; run < runs; run++)); do
-        "$rtt" render "$scene" --engine optimized --shadows "$method" "${extra[@]}" --threads "$threads" \
+    local image=$work/$name.$label.exr times=() rate=0 line n=$runs
+    [ "$engine" = reference ] && n=1 # its rows are for the image; its time is the scalar oracle's
+    for ((run = 0; run < n; run++)); do
+        "$rtt" render "$scene" --engine "$engine" --shadows "$method" "${extra[@]}" --threads "$threads" \
             --stats -o "$image" >"$work/stats.txt"
         times+=("$(awk '/^time: total/ {print $3}' "$work/stats.txt")")
         rate=$(awk -F'; ' '/^rays:/ {split($2, r, " "); print r[1]}' "$work/stats.txt")
@@ -84,8 +91,8 @@ render() {
     time=$(printf '%s\n' "${times[@]}" | median)
     "$rtt" compare "$image" "$work/$name.truth.exr" --json >"$work/compare.json"
     jq -c --arg scene "$name" --arg method "$method" --arg lab "$label" --argjson fix "$fix" \
-        --argjson time "$time" --argjson rate "$rate" --argjson runs "$runs" \
-        '{scene: $scene, method: $method, "label": $lab, leak_fix: ($fix == 1), seconds: $time,
+        --argjson time "$time" --argjson rate "$rate" --argjson runs "$n" --arg engine "$engine" \
+        '{scene: $scene, engine: $engine, method: $method, "label": $lab, leak_fix: ($fix == 1), seconds: $time,
           rays_per_second: $rate, runs: $runs} + .' "$work/compare.json" >>"$rows"
     printf '  %-26s %8.4f s  %10.3g rays/s  rmse %.5f\n' "$label" "$time" "$rate" \
         "$(jq .rmse "$work/compare.json")" >&2
@@ -95,13 +102,20 @@ while IFS=$'\t' read -r name scene; do
     echo "$name: truth (reference, multi:256)" >&2
     "$rtt" render "$scene" --engine reference --shadows multi:256 --threads 2 -o "$work/$name.truth.exr" >/dev/null
     render "$name" "$scene" hard 0 hard
-    for r in $radii; do
-        render "$name" "$scene" "edgewidth:$r" 0 "edgewidth:$r"
-        render "$name" "$scene" "edgewidth:$r" 1 "edgewidth:$r+fix"
-    done
+    quad=$(jq '[.lights[]? | select(.type == "quad")] | length' "$scene")
+    if [ "$quad" = 0 ]; then
+        for r in $radii; do
+            render "$name" "$scene" "edgewidth:$r" 0 "edgewidth:$r"
+            render "$name" "$scene" "edgewidth:$r" 1 "edgewidth:$r+fix"
+        done
+    fi
     for n in 4 8 16 32; do render "$name" "$scene" "multi:$n" 0 "multi:$n"; done
     render "$name" "$scene" cone:16 0 cone:16
     render "$name" "$scene" pyramid:16 0 pyramid:16
+    for n in 4 8 16 32; do
+        render "$name" "$scene" "interleaved:$n" 0 "interleaved:$n ref" reference
+        render "$name" "$scene" "interleaved:$n:nofilter" 0 "interleaved:$n:nofilter ref" reference
+    done
 done <"$scenes"
 
 # Table 4.6: cone:16 against pyramid:16 for light radii 1 and 2 (the test

@@ -34,10 +34,11 @@ def main():
                   indent=1)
 
     md = ["# Soft shadows: time against error (bench/shadows.sh)", "",
-          f"Optimized renderer, {threads} thread(s), median of {runs} runs of `rtt render --stats` (render time, "
-          "no loading or tree build).  Error against the reference renderer's multi:256 (`rtt compare`): RMSE, "
+          f"Optimized renderer (rows labelled `ref`: the reference renderer), {threads} thread(s), median of "
+          f"{runs} runs of `rtt render --stats` (render time, no loading or tree build).  Error against the reference renderer's multi:256 (`rtt compare`): RMSE, "
           "largest channel error, share of pixels off by more than 1/255.  edgewidth:R, R a fraction of the "
-          "light-to-point distance; +fix = `--edge-leak-fix`.", ""]
+          "light-to-point distance; +fix = `--edge-leak-fix`." +
+          (f"  {os.environ['RTT_SHADOW_NOTE']}" if os.environ.get("RTT_SHADOW_NOTE") else ""), ""]
     for s in main_scenes:
         md += [f"## {s}", "", "| method | time (s) | × hard | rays/s | RMSE | × hard RMSE | max | > 1/255 |",
                "|---|---:|---:|---:|---:|---:|---:|---:|"]
@@ -107,7 +108,9 @@ def main():
                             ("edgewidth + leak fix", lambda l: l.startswith("edgewidth") and l.endswith("fix")),
                             ("multi:N", lambda l: l.startswith("multi")),
                             ("cone:16", lambda l: l == "cone:16"),
-                            ("pyramid:16", lambda l: l == "pyramid:16")])
+                            ("pyramid:16", lambda l: l == "pyramid:16"),
+                            ("interleaved:N (reference)", lambda l: l.startswith("interleaved") and "nofilter" not in l),
+                            ("interleaved:N:nofilter (reference)", lambda l: l.startswith("interleaved") and "nofilter" in l)])
     dat = os.path.join(out, "shadows.dat")
     with open(dat, "w") as f:
         for fam, test in families.items():

@@ -142,17 +142,23 @@ void cli_print_camera_and_lights(const rtt_scene *s)
     printf("  camera      eye (%g, %g, %g), look-at (%g, %g, %g), up (%g, %g, %g), fov %g (%s)\n", c->eye.x,
            c->eye.y, c->eye.z, c->look_at.x, c->look_at.y, c->look_at.z, c->up.x, c->up.y, c->up.z,
            (double)c->fov_deg, camera_source_name(s->camera_source));
-    uint32_t spheres = 0;
-    for (uint32_t i = 0; i < s->light_count; i++) spheres += s->lights[i].type == RTT_LIGHT_SPHERE;
-    printf("  lights      %u (%u sphere, %u point) from %s\n", s->light_count, spheres, s->light_count - spheres,
-           light_source_name(s->light_source));
+    uint32_t spheres = 0, quads = 0;
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        spheres += s->lights[i].type == RTT_LIGHT_SPHERE;
+        quads += s->lights[i].type == RTT_LIGHT_QUAD;
+    }
+    printf("  lights      %u (%u sphere, %u quad, %u point) from %s\n", s->light_count, spheres, quads,
+           s->light_count - spheres - quads, light_source_name(s->light_source));
     for (uint32_t i = 0; i < s->light_count && i < LIGHTS_LISTED; i++) {
         const rtt_light *l = &s->lights[i];
         printf("    %-6s at (%g, %g, %g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
-               l->type == RTT_LIGHT_SPHERE ? "sphere" : "point", l->position.x, l->position.y, l->position.z,
+               l->type == RTT_LIGHT_SPHERE ? "sphere" : l->type == RTT_LIGHT_QUAD ? "quad" : "point", l->position.x, l->position.y, l->position.z,
                l->color.x, l->color.y, l->color.z, (double)l->intensity, (double)l->attenuation[0],
                (double)l->attenuation[1], (double)l->attenuation[2]);
         if (l->type == RTT_LIGHT_SPHERE) printf(", radius %g", (double)l->radius);
+        if (l->type == RTT_LIGHT_QUAD)
+            printf(", edges (%g, %g, %g) and (%g, %g, %g)", l->edge_u.x, l->edge_u.y, l->edge_u.z, l->edge_v.x,
+                   l->edge_v.y, l->edge_v.z);
         printf("\n");
     }
     if (s->light_count > LIGHTS_LISTED) printf("    ... and %u more\n", s->light_count - LIGHTS_LISTED);

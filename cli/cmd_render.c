@@ -12,6 +12,7 @@
 #include "progress.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
+#include "rtt/interleaved.h"
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
 
@@ -55,6 +56,9 @@ _Static_assert(RTT_AOV_DEPTH == 1 << 0 && RTT_AOV_PRIM == 1 << 1 && RTT_AOV_NORM
 _Static_assert(RTT_MAX_BOUNCES == 64, "--max-bounces help: 0 to 64");
 _Static_assert(RTT_MAX_SHADOW_SAMPLES == 256, "--shadows help: N = 1..256");
 _Static_assert(RTT_MAX_SPP == 256, "--spp help: 1 to 256");
+_Static_assert(RTT_INTERLEAVED_MIN_SAMPLES == 4 && RTT_INTERLEAVED_MAX_SAMPLES == 32 &&
+                   RTT_INTERLEAVED_DEFAULT_SAMPLES == 16,
+               "--shadows help: interleaved N = 4..32, default 16");
 
 static const cli_option render_options[] = {
     {.name = "--output", .short_name = 'o', .value_name = "FILE",
@@ -64,7 +68,9 @@ static const cli_option render_options[] = {
     CLI_OPTION_ENGINE(render_args, engine),
     CLI_OPTIONS_KD_ENGINE(render_args, render.engine),
     {.name = "--shadows", .value_name = "METHOD",
-     .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R]",
+     .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R] (sphere and point "
+             "lights; refused with quad lights), interleaved[:N][:nofilter] (N = 4..32, default 16: the pixel's 4x4 "
+             "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines)",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--spp", .value_name = "N",
      .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "rtt/image.h"
+#include "rtt/interleaved.h"
 #include "rtt/render.h"
 
 void rtt_render_options_default(rtt_render_options *opt)
@@ -12,6 +13,7 @@ void rtt_render_options_default(rtt_render_options *opt)
     opt->shadows = RTT_SHADOWS_HARD;
     opt->shadow_samples = 16;
     opt->spp = 1;
+    opt->shadow_filter = true;
     opt->max_bounces = RTT_BOUNCES_OF_SCENE;
     rtt_engine_options_default(&opt->engine);
 }
@@ -25,6 +27,31 @@ static bool parse_sample_count(const char *text, const char *count, rtt_render_o
         return rtt_error_set(err, "shadow method \"%s\": the sample count must be a whole number from 1 to %u", text,
                              RTT_MAX_SHADOW_SAMPLES);
     opt->shadow_samples = (uint32_t)n;
+    return true;
+}
+
+/* "[:N][:nofilter]" after "interleaved": N in 4..32 (default 16), the filter on unless :nofilter. */
+static bool parse_interleaved(const char *text, const char *rest, rtt_render_options *opt, rtt_error *err)
+{
+    uint32_t n = RTT_INTERLEAVED_DEFAULT_SAMPLES;
+    bool filter = true;
+    if (*rest == ':' && rest[1] >= '0' && rest[1] <= '9') {
+        char *end = NULL;
+        long v = strtol(rest + 1, &end, 10);
+        if (v < (long)RTT_INTERLEAVED_MIN_SAMPLES || v > (long)RTT_INTERLEAVED_MAX_SAMPLES || (*end && *end != ':'))
+            return rtt_error_set(err, "shadow method \"%s\": the sample count must be a whole number from %u to %u",
+                                 text, RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
+        n = (uint32_t)v;
+        rest = end;
+    }
+    if (strcmp(rest, ":nofilter") == 0)
+        filter = false;
+    else if (*rest != '\0')
+        return rtt_error_set(err, "shadow method \"%s\": expected interleaved[:N][:nofilter], N from %u to %u", text,
+                             RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
+    opt->shadows = RTT_SHADOWS_INTERLEAVED;
+    opt->shadow_samples = n;
+    opt->shadow_filter = filter;
     return true;
 }
 
@@ -52,15 +79,20 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         opt->edge_radius = r;
         return true;
     }
-    return rtt_error_set(err, "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N or edgewidth[:R]",
+    if (strcmp(text, "interleaved") == 0 || strncmp(text, "interleaved:", 12) == 0)
+        return parse_interleaved(text, text + 11, opt, err);
+    return rtt_error_set(err,
+                         "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R] or "
+                         "interleaved[:N][:nofilter]",
                          text);
 }
 
-static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth"};
+static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth", "interleaved"};
+_Static_assert(sizeof method_names / sizeof method_names[0] == RTT_SHADOW_METHOD_COUNT, "a name per shadow method");
 
 const char *rtt_shadow_method_name(rtt_shadow_method method)
 {
-    return (unsigned)method <= RTT_SHADOWS_EDGEWIDTH ? method_names[method] : "unknown";
+    return (unsigned)method < RTT_SHADOW_METHOD_COUNT ? method_names[method] : "unknown";
 }
 
 static const char *sampled_method_name(rtt_shadow_method m)
@@ -72,15 +104,24 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
                       uint32_t height, rtt_error *err)
 {
     const char *sampled = sampled_method_name(opt->shadows);
-    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
+    if ((unsigned)opt->shadows >= RTT_SHADOW_METHOD_COUNT)
         return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
     if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
         return rtt_error_set(err, "shadow method %s:%u: the sample count must be a whole number from 1 to %u", sampled,
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
+    if (opt->shadows == RTT_SHADOWS_INTERLEAVED &&
+        (opt->shadow_samples < RTT_INTERLEAVED_MIN_SAMPLES || opt->shadow_samples > RTT_INTERLEAVED_MAX_SAMPLES))
+        return rtt_error_set(err, "shadow method interleaved:%u: the sample count must be a whole number from %u to %u",
+                             opt->shadow_samples, RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
         return rtt_error_set(err, "shadow method edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (opt->spp > RTT_MAX_SPP)
         return rtt_error_set(err, "%u samples per pixel: at most %u", opt->spp, RTT_MAX_SPP);
+    if (opt->shadows == RTT_SHADOWS_EDGEWIDTH)
+        for (uint32_t i = 0; i < scene->light_count; i++)
+            if (scene->lights[i].type == RTT_LIGHT_QUAD)
+                return rtt_error_set(err, "%s: light %u is a quad light: edgewidth shadows draw sphere and point lights only",
+                                     scene->path, i);
     if (width == 0 || height == 0)
         return rtt_error_set(err, "%s: the image size %ux%u is empty", scene->path, width, height);
     if (out->width != width || out->height != height)
@@ -106,7 +147,7 @@ bool rtt_render_options_check(const char *name, const rtt_render_options *opt, r
 {
     if (!rtt_engine_options_check(name, &opt->engine, err)) return false;
     const rtt_engine_class *cls = rtt_engine_find(name);
-    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH)
+    if ((unsigned)opt->shadows >= RTT_SHADOW_METHOD_COUNT)
         return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
     if (!(cls->shadow_methods & (1u << opt->shadows)))
         return rtt_error_set(err, "engine \"%s\" does not render %s shadows", name,

@@ -10,13 +10,20 @@
  *   none      1
  *   hard      one shadow ray to the light's centre (sphere lights too)
  *   multi:N   N rays to rtt_light_sample(light, p, i, N, pixel) on sphere
- *             lights, the mean of their transmissions; one ray for point
- *             lights.
+ *             and quad lights, the mean of their transmissions; one ray for
+ *             point lights.
+ *   interleaved:N[:nofilter]  N rays to the samples of the pixel's 4x4
+ *             interleaved set (rtt/interleaved.h) on lights with area, one
+ *             ray for the others; the primary hit's light terms go to
+ *             rtt_shadow_planes, whose visibility is filtered by the 4x4
+ *             discontinuity filter (unless :nofilter) and composed once
+ *             every tile is done.
  * A shadow ray's transmission is 1 when it is clear; when it is occluded in
  * a scene with transparent materials, the ray is traced again for its
  * closest hits, one surface after the other (tnear moved to each hit), and
  * carries the product of their transparencies (shade.h).
- *   edgewidth[:R]  Edge Width Soft Shadows (Thesis chapter 5): on sphere
+ *   edgewidth[:R]  Edge Width Soft Shadows (Thesis chapter 5; quad lights
+ *             are refused): on sphere
  *             lights 1 - the occlusion of rtt_edge_width_reference along
  *             the ray from the light's centre to p, through a reference
  *             kd-tree of its own (the tracer may be any engine, but edge
@@ -39,6 +46,7 @@
 #include "engine/threads.h"
 
 #include "edge_width_reference.h"
+#include "rtt/interleaved.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
 
@@ -62,6 +70,7 @@ typedef struct render_job {
     bool transparent_shadows;            /* shadow rays pass transparent surfaces */
     const rtt_kd_tree *edge_tree;        /* edgewidth only */
     rtt_edge_width_model edge_model;
+    rtt_shadow_planes *planes;           /* interleaved only */
     _Atomic uint64_t primary, shadow, secondary;
 } render_job;
 
@@ -106,8 +115,22 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
     switch (job->shadows) {
     case RTT_SHADOWS_NONE:
         return 1.0f;
+    case RTT_SHADOWS_INTERLEAVED:
+        if (rtt_light_has_area(light)) {
+            const uint32_t set = rtt_interleaved_set(pixel % job->width, pixel / job->width), n = job->shadow_samples;
+            const rtt_light_frame frame = rtt_light_sample_frame(light, p);
+            float clear = 0.0f;
+            for (uint32_t i = 0; i < n; i++) {
+                float s[2], xy[2];
+                rtt_interleaved_sample(set, i, n, s);
+                rtt_light_sample_coords(light, s, xy);
+                clear += segment_transmission(job, p, rtt_light_frame_point(&frame, xy[0], xy[1]), counts);
+            }
+            return clear / (float)n;
+        }
+        return segment_transmission(job, p, light->position, counts);
     case RTT_SHADOWS_MULTI:
-        if (light->type == RTT_LIGHT_SPHERE) {
+        if (light->type != RTT_LIGHT_POINT) {
             float clear = 0.0f;
             for (uint32_t i = 0; i < job->shadow_samples; i++)
                 clear += segment_transmission(job, p, rtt_light_sample(light, p, i, job->shadow_samples, pixel), counts);
@@ -130,7 +153,12 @@ static float light_visibility(const render_job *job, const rtt_light *light, rtt
 static rtt_vec3 trace_colour(const render_job *job, const rtt_ray *ray, uint32_t depth, uint32_t pixel,
                              ray_counts *counts);
 
-static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32_t pixel, ray_counts *counts)
+/* The ambient term plus every light's contribution times its visibility;
+ * with `planes` (interleaved, primary hits) the ambient term alone, each
+ * light's contribution times `weight` and its visibility going to the
+ * planes instead. */
+static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32_t pixel, ray_counts *counts,
+                             rtt_shadow_planes *planes, float weight)
 {
     const rtt_scene *scene = job->scene;
     rtt_vec3 colour = rtt_v3_scale(s->diffuse, scene->ambient);
@@ -142,7 +170,16 @@ static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32
         rtt_vec3 contribution = rtt_shade_light(s, rtt_v3_scale(to_light, 1.0f / distance), light, distance);
         if (contribution.x == 0.0f && contribution.y == 0.0f && contribution.z == 0.0f) continue;
         float vis = light_visibility(job, light, s->point, pixel, counts);
-        colour = rtt_v3_madd(colour, contribution, vis);
+        if (planes) {
+            const size_t at = (size_t)planes->width * planes->height * i + pixel;
+            planes->visibility[at] = vis;
+            rtt_vec3 c = rtt_v3_scale(contribution, weight);
+            planes->contribution[3 * at + 0] = c.x;
+            planes->contribution[3 * at + 1] = c.y;
+            planes->contribution[3 * at + 2] = c.z;
+        } else {
+            colour = rtt_v3_madd(colour, contribution, vis);
+        }
     }
     return colour;
 }
@@ -163,7 +200,8 @@ static rtt_vec3 shade_hit(const render_job *job, const rtt_ray *ray, const rtt_h
     rtt_surface s = rtt_surface_at(job->scene, ray, hit);
     float wr, wt;
     rtt_shade_weights(s.material, depth, job->max_bounces, &wr, &wt);
-    rtt_vec3 colour = rtt_v3_scale(local_colour(job, &s, pixel, counts), 1.0f - wr - wt);
+    rtt_shadow_planes *planes = depth == 0 ? job->planes : NULL;
+    rtt_vec3 colour = rtt_v3_scale(local_colour(job, &s, pixel, counts, planes, 1.0f - wr - wt), 1.0f - wr - wt);
     if (wr > 0.0f) {
         rtt_vec3 reflected = rtt_v3_reflect(s.dir, s.normal);
         colour = rtt_v3_madd(colour, secondary_colour(job, s.point, reflected, depth + 1, pixel, counts), wr);
@@ -210,6 +248,19 @@ static void render_pixel(render_job *job, uint32_t px, uint32_t py, ray_counts *
     out->rgb[3 * (size_t)pixel + 2] = colour.z;
     if (out->depth) out->depth[pixel] = hit.prim == RTT_MISS ? INFINITY : hit.t;
     if (out->prim) out->prim[pixel] = hit.prim;
+    if (job->planes) {
+        rtt_shadow_planes *planes = job->planes;
+        planes->rest[3 * (size_t)pixel + 0] = colour.x;
+        planes->rest[3 * (size_t)pixel + 1] = colour.y;
+        planes->rest[3 * (size_t)pixel + 2] = colour.z;
+        if (hit.prim != RTT_MISS) {
+            rtt_vec3 n = rtt_surface_at(job->scene, &ray, &hit).normal;
+            planes->depth[pixel] = hit.t;
+            planes->normal[3 * (size_t)pixel + 0] = n.x;
+            planes->normal[3 * (size_t)pixel + 1] = n.y;
+            planes->normal[3 * (size_t)pixel + 2] = n.z;
+        }
+    }
     if (out->normal) {
         rtt_vec3 n = rtt_v3(0.0f, 0.0f, 0.0f);
         if (hit.prim != RTT_MISS) n = rtt_surface_at(job->scene, &ray, &hit).normal;
@@ -245,7 +296,7 @@ static const char *shadow_method_text(const rtt_render_options *opt, char *buffe
 static bool check_request(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out,
                           uint32_t width, uint32_t height, rtt_error *err)
 {
-    if ((unsigned)opt->shadows > RTT_SHADOWS_EDGEWIDTH || !(RTT_REFERENCE_SHADOW_METHODS & (1u << opt->shadows))) {
+    if ((unsigned)opt->shadows >= RTT_SHADOW_METHOD_COUNT || !(RTT_REFERENCE_SHADOW_METHODS & (1u << opt->shadows))) {
         char method[64];
         return rtt_error_set(err, "shadow method %s is not drawn by the reference renderer (the optimized one draws it)",
                              shadow_method_text(opt, method, sizeof method));
@@ -288,12 +339,22 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
         job.edge_tree = &edge_tree;
         job.edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix);
     }
+    rtt_shadow_planes planes;
+    if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
+        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
+        job.planes = &planes;
+    }
     atomic_init(&job.primary, 0);
     atomic_init(&job.shadow, 0);
     atomic_init(&job.secondary, 0);
     rtt_tiles_run(width, height, REFERENCE_TILE, opt->threads, render_tile, &job, opt->progress,
                   opt->progress_context);
     if (job.edge_tree) rtt_kd_reference_free(&edge_tree);
+    if (job.planes) {
+        bool resolved = rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
+        rtt_shadow_planes_free(&planes);
+        if (!resolved) return rtt_error_set(err, "%s: out of memory for the shadow filter", scene->path);
+    }
 
     if (stats) {
         memset(stats, 0, sizeof *stats);

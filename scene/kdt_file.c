@@ -183,6 +183,10 @@ bool rtt_kdt_write(const char *path, const rtt_scene *scene, const rtt_baked_tre
     if (scene->texture_count || scene->texcoords) /* images and texture coordinates have no section */
         return rtt_error_set(err, "%s: %s has %u textures: a .kdt does not carry textures (render the scene file "
                                   "itself)", path, scene->path, scene->texture_count);
+    for (uint32_t i = 0; i < scene->light_count; i++) /* kdt_light has no edges */
+        if (scene->lights[i].type == RTT_LIGHT_QUAD)
+            return rtt_error_set(err, "%s: light %u is a quad light: the .kdt format stores point and sphere lights only",
+                                 scene->path, i);
     kdt_section table[KDT_SECTION_COUNT];
     const uint64_t file_size = layout_sections(scene, tree, table);
     kdt_header header;

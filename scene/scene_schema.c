@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "file_read.h"
+#include "rtt/shade.h"
 #include "scene_schema.h"
 
 #define MAX_IMAGE_SIDE 16384.0
@@ -264,9 +265,29 @@ bool rtt_schema_read_attenuation(rtt_schema_parser *p, const cJSON *v, const rtt
     return true;
 }
 
+/* "edge_u" and "edge_v": required on quad lights, not allowed on others; the
+ * quad they span must have area. */
+static bool parse_quad_edges(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_light *light)
+{
+    static const char *const names[2] = {"edge_u", "edge_v"};
+    rtt_vec3 *edges[2] = {&light->edge_u, &light->edge_v};
+    for (int i = 0; i < 2; i++) {
+        rtt_json_place at;
+        const cJSON *edge = rtt_schema_member(obj, place, names[i], &at);
+        if (light->type != RTT_LIGHT_QUAD && edge) return rtt_schema_fail(p, &at, " is only for quad lights");
+        if (light->type != RTT_LIGHT_QUAD) continue;
+        if (!edge) return rtt_schema_fail(p, place, ": a quad light needs \"%s\"", names[i]);
+        if (!rtt_schema_read_vec3(p, edge, &at, edges[i])) return false;
+    }
+    if (light->type == RTT_LIGHT_QUAD && !rtt_light_has_area(light))
+        return rtt_schema_fail(p, place, ": the quad light's edge_u and edge_v span no finite area (parallel, zero or too long)");
+    return true;
+}
+
 static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
 {
-    static const char *const keys[] = {"type", "position", "color", "intensity", "attenuation", "radius", NULL};
+    static const char *const keys[] = {"type",        "position", "color",  "intensity",
+                                       "attenuation", "radius",   "edge_u", "edge_v", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
     rtt_light light = {.type = RTT_LIGHT_POINT, .color = rtt_v3(1, 1, 1), .intensity = 1.0f,
                        .attenuation = {1.0f, 0.0f, 0.0f}};
@@ -275,8 +296,10 @@ static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     if (type) {
         if (cJSON_IsString(type) && strcmp(type->valuestring, "sphere") == 0)
             light.type = RTT_LIGHT_SPHERE;
+        else if (cJSON_IsString(type) && strcmp(type->valuestring, "quad") == 0)
+            light.type = RTT_LIGHT_QUAD;
         else if (!cJSON_IsString(type) || strcmp(type->valuestring, "point") != 0)
-            return rtt_schema_fail(p, &at, " must be \"point\" or \"sphere\"");
+            return rtt_schema_fail(p, &at, " must be \"point\", \"sphere\" or \"quad\"");
     }
     const cJSON *position = rtt_schema_member(obj, place, "position", &at);
     if (!position) return rtt_schema_fail(p, place, ": missing \"position\"");
@@ -285,10 +308,11 @@ static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     RTT_SCHEMA_OPTIONAL(obj, place, "intensity", rtt_schema_read_nonneg(p, v, at, false, &light.intensity));
     RTT_SCHEMA_OPTIONAL(obj, place, "attenuation", rtt_schema_read_attenuation(p, v, at, light.attenuation));
     const cJSON *radius = rtt_schema_member(obj, place, "radius", &at);
-    if (light.type == RTT_LIGHT_POINT && radius) return rtt_schema_fail(p, &at, " is only for sphere lights");
+    if (light.type != RTT_LIGHT_SPHERE && radius) return rtt_schema_fail(p, &at, " is only for sphere lights");
     if (light.type == RTT_LIGHT_SPHERE && !radius)
         return rtt_schema_fail(p, place, ": a sphere light needs a \"radius\"");
     if (radius && !rtt_schema_read_nonneg(p, radius, &at, true, &light.radius)) return false;
+    if (!parse_quad_edges(p, obj, place, &light)) return false;
     rtt_error inner;
     if (!rtt_scene_add_light(p->scene, &light, &inner)) return rtt_schema_fail(p, place, ": %s", inner.message);
     return true;

@@ -1,11 +1,12 @@
 /* The shading model of include/rtt/shade.h: camera rays, light samples,
- * the local illumination of one light, secondary-ray weights, refraction
- * and surface normals.  Both renderers call these same functions, so their
+ * light frames (rtt/interleaved.h), the local illumination of one light,
+ * secondary-ray weights, refraction and surface normals.  Both renderers call these same functions, so their
  * images differ only where the engines return different hits. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "rtt/interleaved.h"
 #include "rtt/shade.h"
 
 #define SHADE_PI 3.14159265358979f
@@ -87,24 +88,81 @@ void rtt_pixel_sample(uint32_t i, uint32_t n, uint32_t pixel, float out[2])
     out[1] = wrap_unit(h[1] + (float)(hash_u32(seed) >> 8) * (1.0f / 16777216.0f));
 }
 
+/* Two unit vectors u, v orthogonal to each other and to the direction from
+ * the centre of `light` towards p: the plane of the disc a sphere light shows p. */
+static void facing_basis(const rtt_light *light, rtt_vec3 p, rtt_vec3 *u, rtt_vec3 *v)
+{
+    rtt_vec3 w = rtt_v3_normalize(rtt_v3_sub(p, light->position));
+    if (!(rtt_v3_length(w) > 0.0f)) w = rtt_v3(0, 1, 0);
+    rtt_vec3 a = fabsf(w.x) < 0.9f ? rtt_v3(1, 0, 0) : rtt_v3(0, 1, 0);
+    *u = rtt_v3_normalize(rtt_v3_cross(a, w));
+    *v = rtt_v3_cross(w, *u);
+}
+
+bool rtt_light_has_area(const rtt_light *light)
+{
+    if (light->type == RTT_LIGHT_SPHERE) return light->radius > 0.0f;
+    if (light->type == RTT_LIGHT_QUAD) {
+        float area = rtt_v3_length(rtt_v3_cross(light->edge_u, light->edge_v));
+        return area > 0.0f && isfinite(area);
+    }
+    return false;
+}
+
 rtt_vec3 rtt_light_sample(const rtt_light *light, rtt_vec3 p, uint32_t i, uint32_t n, uint32_t pixel)
 {
-    if (light->type == RTT_LIGHT_POINT || !(light->radius > 0.0f)) return light->position;
+    if (!rtt_light_has_area(light)) return light->position;
     float h[2];
     rtt_hammersley(i, n, h);
     /* Cranley-Patterson rotation seeded by the pixel */
     uint32_t seed = hash_u32(pixel * 2u + 1u);
     float su = wrap_unit(h[0] + (float)(seed >> 8) * (1.0f / 16777216.0f));
     float sv = wrap_unit(h[1] + (float)(hash_u32(seed) >> 8) * (1.0f / 16777216.0f));
+    if (light->type == RTT_LIGHT_QUAD) {
+        rtt_light_frame frame = rtt_light_sample_frame(light, p);
+        return rtt_light_frame_point(&frame, su - 0.5f, sv - 0.5f);
+    }
     /* uniform on the disk of the light's radius, facing p */
     float r = light->radius * sqrtf(su), phi = 2.0f * SHADE_PI * sv;
-    rtt_vec3 w = rtt_v3_normalize(rtt_v3_sub(p, light->position));
-    if (!(rtt_v3_length(w) > 0.0f)) w = rtt_v3(0, 1, 0);
-    rtt_vec3 a = fabsf(w.x) < 0.9f ? rtt_v3(1, 0, 0) : rtt_v3(0, 1, 0);
-    rtt_vec3 u = rtt_v3_normalize(rtt_v3_cross(a, w));
-    rtt_vec3 v = rtt_v3_cross(w, u);
+    rtt_vec3 u, v;
+    facing_basis(light, p, &u, &v);
     return rtt_v3_add(light->position,
                       rtt_v3_add(rtt_v3_scale(u, r * cosf(phi)), rtt_v3_scale(v, r * sinf(phi))));
+}
+
+void rtt_light_sample_coords(const rtt_light *light, const float s[2], float out[2])
+{
+    if (light->type == RTT_LIGHT_QUAD) {
+        out[0] = s[0] - 0.5f;
+        out[1] = s[1] - 0.5f;
+    } else if (light->type == RTT_LIGHT_SPHERE) {
+        float r = sqrtf(s[0]), phi = 2.0f * SHADE_PI * s[1];
+        out[0] = r * cosf(phi);
+        out[1] = r * sinf(phi);
+    } else {
+        out[0] = out[1] = 0.0f;
+    }
+}
+
+rtt_light_frame rtt_light_sample_frame(const rtt_light *light, rtt_vec3 p)
+{
+    rtt_light_frame f = {light->position, rtt_v3(0, 0, 0), rtt_v3(0, 0, 0)};
+    if (!rtt_light_has_area(light)) return f;
+    if (light->type == RTT_LIGHT_QUAD) {
+        f.du = light->edge_u;
+        f.dv = light->edge_v;
+    } else {
+        rtt_vec3 u, v;
+        facing_basis(light, p, &u, &v);
+        f.du = rtt_v3_scale(u, light->radius);
+        f.dv = rtt_v3_scale(v, light->radius);
+    }
+    return f;
+}
+
+rtt_vec3 rtt_light_frame_point(const rtt_light_frame *frame, float x, float y)
+{
+    return rtt_v3_madd(rtt_v3_madd(frame->base, frame->du, x), frame->dv, y);
 }
 
 rtt_vec3 rtt_light_irradiance(const rtt_light *light, float distance)
@@ -128,6 +186,11 @@ rtt_vec3 rtt_shade_light(const rtt_surface *s, rtt_vec3 to_light, const rtt_ligh
     float n_dot_l = rtt_v3_dot(n, to_light);
     if (!(n_dot_l > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f); /* the light is behind the surface */
     rtt_vec3 e = rtt_light_irradiance(light, distance);
+    if (light->type == RTT_LIGHT_QUAD) { /* one-sided Lambertian emitter */
+        float cos_emit = -rtt_v3_dot(rtt_v3_normalize(rtt_v3_cross(light->edge_u, light->edge_v)), to_light);
+        if (!(cos_emit > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f); /* behind the quad's plane */
+        e = rtt_v3_scale(e, cos_emit);
+    }
     rtt_vec3 response = rtt_v3_scale(s->diffuse, n_dot_l);
     if (has_specular(m->type) && m->specular > 0.0f) {
         rtt_vec3 r = rtt_v3_reflect(rtt_v3_scale(to_light, -1.0f), n);

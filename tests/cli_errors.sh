@@ -54,6 +54,15 @@ expect 2 "--tile 7" -- render "$scene" --tile 7
 expect 2 "--shadows multi:0" -- render "$scene" --shadows multi:0
 expect 2 "--shadows multi:257" -- render "$scene" --shadows multi:257
 expect 2 "--shadows soft" -- render "$scene" --shadows soft
+expect 2 "--shadows interleaved:64: .*from 4 to 32" -- render "$scene" --shadows interleaved:64
+expect 2 "--shadows interleaved:16:blur" -- render "$scene" --shadows interleaved:16:blur
+quad="$src/scenes/light_quad.json"
+expect 1 "light_quad.json: light 0 is a quad light: edgewidth shadows draw sphere and point lights only" -- \
+    render "$quad" --shadows edgewidth -o "$work/quad.png"
+expect_absent "$work/quad.png"
+expect 1 "light_quad.json: light 0 is a quad light: the .kdt format stores point and sphere lights only" -- \
+    bake "$quad" -o "$work/quad.kdt"
+expect_absent "$work/quad.kdt"
 expect 2 "--threads 0" -- render "$scene" --threads 0
 expect 2 "--width abc" -- render "$scene" --width abc
 expect 2 "--aov colour" -- render "$scene" --aov colour

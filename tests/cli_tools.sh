@@ -22,7 +22,7 @@ if "$rtt" compare "$work/own.exr" "$work/eye.exr" --max-error 0 2>/dev/null; the
 "$rtt" info "$scene" --engine reference --view "$work/views.json:demo" >"$work/info"
 grep -q "camera      eye (1, 1.5, 4), look-at (0, 0.5, 0), up (0, 1, 0), fov 45 (the command line)" "$work/info" ||
     fail "info does not print the --view camera: $(grep camera "$work/info")"
-"$rtt" info "$scene" --engine reference --lights camera | grep -q "lights      1 (0 sphere, 1 point) from one point light at the camera" ||
+"$rtt" info "$scene" --engine reference --lights camera | grep -q "lights      1 (0 sphere, 0 quad, 1 point) from one point light at the camera" ||
     fail "--lights camera"
 
 # a bare mesh's default light follows the camera

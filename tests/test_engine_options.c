@@ -195,7 +195,9 @@ static void test_render_options_refuse_a_shadow_method_the_engine_does_not_draw(
 static void test_shadow_method_messages_name_no_command_line_flag(void **state)
 {
     (void)state;
-    static const char *const bad[] = {"multi:0", "cone:257", "pyramid:x", "edgewidth:-1", "soft", ""};
+    static const char *const bad[] = {"multi:0",        "cone:257",         "pyramid:x",     "edgewidth:-1",
+                                      "soft",           "",                 "interleaved:3", "interleaved:33",
+                                      "interleaved:16:", "interleaved:filter", "interleaved:8x", "interleaved:"};
     rtt_render_options opt;
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         rtt_error err = {{0}};
@@ -206,10 +208,34 @@ static void test_shadow_method_messages_name_no_command_line_flag(void **state)
     }
 }
 
+static void test_interleaved_parses_its_count_and_filter_flag(void **state)
+{
+    (void)state;
+    rtt_error err = {{0}};
+    rtt_render_options opt;
+    rtt_render_options_default(&opt);
+    assert_true(opt.shadow_filter);
+    static const struct { const char *text; uint32_t n; bool filter; } good[] = {
+        {"interleaved", 16, true},          {"interleaved:4", 4, true},         {"interleaved:32", 32, true},
+        {"interleaved:8:nofilter", 8, false}, {"interleaved:nofilter", 16, false},
+    };
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+        rtt_render_options_default(&opt);
+        assert_true(rtt_shadow_method_parse(good[i].text, &opt, &err));
+        assert_int_equal(opt.shadows, RTT_SHADOWS_INTERLEAVED);
+        assert_int_equal(opt.shadow_samples, good[i].n);
+        assert_int_equal(opt.shadow_filter, good[i].filter);
+    }
+    assert_string_equal(rtt_shadow_method_name(RTT_SHADOWS_INTERLEAVED), "interleaved");
+    assert_false(rtt_shadow_method_parse("interleaved:64", &opt, &err));
+    assert_string_equal(err.message, "shadow method \"interleaved:64\": the sample count must be a whole number from 4 to 32");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_registry_finds_registered_classes_by_name),
+        cmocka_unit_test(test_interleaved_parses_its_count_and_filter_flag),
         cmocka_unit_test(test_unknown_engine_is_one_line_naming_the_registered_ones),
         cmocka_unit_test(test_create_checks_options_before_the_constructor),
         cmocka_unit_test(test_option_given_to_an_engine_that_does_not_use_it_is_refused),

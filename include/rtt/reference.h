@@ -34,7 +34,8 @@ bool rtt_reference_intersect_triangle(const rtt_ray *ray, const rtt_vec3 tri[3],
 
 /* The shadow methods rtt_reference_render draws. */
 #define RTT_REFERENCE_SHADOW_METHODS                                                                             \
-    ((1u << RTT_SHADOWS_NONE) | (1u << RTT_SHADOWS_HARD) | (1u << RTT_SHADOWS_MULTI) | (1u << RTT_SHADOWS_EDGEWIDTH))
+    ((1u << RTT_SHADOWS_NONE) | (1u << RTT_SHADOWS_HARD) | (1u << RTT_SHADOWS_MULTI) | (1u << RTT_SHADOWS_EDGEWIDTH) | \
+     (1u << RTT_SHADOWS_INTERLEAVED))
 
 /* The reference engine for the registry (rtt_engine_register). */
 extern const rtt_engine_class rtt_reference_engine_class;

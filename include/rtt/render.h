@@ -14,12 +14,14 @@ typedef enum rtt_shadow_method {
     RTT_SHADOWS_MULTI,      /* N samples on each sphere light (reference ground truth) */
     RTT_SHADOWS_CONE,       /* N samples traced under one cone (thesis 4.1.6-4.1.9) */
     RTT_SHADOWS_PYRAMID,    /* the same samples under a pyramid frustum (Table 4.6) */
-    RTT_SHADOWS_EDGEWIDTH   /* Edge Width Soft Shadows (thesis chapter 5) */
+    RTT_SHADOWS_EDGEWIDTH,  /* Edge Width Soft Shadows (thesis chapter 5) */
+    RTT_SHADOWS_INTERLEAVED /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
 #define RTT_MAX_SPP 256u
-#define RTT_SHADOWS_ALL 0x3Fu                 /* every rtt_shadow_method bit */
+#define RTT_SHADOW_METHOD_COUNT 7u             /* rtt_shadow_method values */
+#define RTT_SHADOWS_ALL 0x7Fu                 /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {
@@ -40,7 +42,8 @@ typedef struct rtt_render_options {
     uint32_t width, height;          /* 0 → the scene's */
     uint32_t threads;                /* 0 → one per core */
     rtt_shadow_method shadows;       /* default hard */
-    uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256 (default 16) */
+    uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256; interleaved: 4..32 (default 16) */
+    bool shadow_filter;              /* interleaved: the 4x4 discontinuity filter (default on; :nofilter) */
     uint32_t spp;                    /* anti-aliasing samples per pixel, 1..RTT_MAX_SPP (rtt_pixel_sample); 0 → 1 */
     float edge_radius;               /* edgewidth: R, early-exit width (0 → default) */
     bool edge_leak_fix;              /* edgewidth: entry/exit must share a vertex */
@@ -89,12 +92,15 @@ uint32_t rtt_render_spp(const rtt_render_options *opt);
 const char *rtt_shadow_method_name(rtt_shadow_method method);
 /* The checks every renderer makes before it starts: a known shadow method
  * with a sample count in 1..RTT_MAX_SHADOW_SAMPLES (multi, cone, pyramid)
- * or a valid edge-width radius, a non-empty width x height that `out` has,
- * with the AOV planes the options ask for, and a finished scene. */
+ * or RTT_INTERLEAVED_MIN_SAMPLES..RTT_INTERLEAVED_MAX_SAMPLES (interleaved),
+ * or a valid edge-width radius and no quad light (edge widths are for
+ * sphere and point lights), a non-empty width x height that `out` has, with
+ * the AOV planes the options ask for, and a finished scene. */
 bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, const struct rtt_image *out,
                       uint32_t width, uint32_t height, rtt_error *err);
 
-/* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]". */
+/* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]",
+ * "interleaved[:N][:nofilter]". */
 bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err);
 
 #endif

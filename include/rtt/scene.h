@@ -70,10 +70,18 @@ typedef struct rtt_texture {
 
 typedef enum rtt_light_type {
     RTT_LIGHT_POINT = 0,
-    RTT_LIGHT_SPHERE = 1 /* spherical area light: soft shadows */
+    RTT_LIGHT_SPHERE = 1, /* spherical area light: soft shadows */
+    RTT_LIGHT_QUAD = 2    /* one-sided parallelogram light: soft shadows */
 } rtt_light_type;
 
-/* Irradiance at distance d: colour * intensity / (c + l*d + q*d*d). */
+/* Irradiance at distance d: colour * intensity / (c + l*d + q*d*d), d the
+ * distance to `position`.  A quad light is the parallelogram position +
+ * s*edge_u + t*edge_v, s, t in [-1/2, 1/2], emitting on the side of its
+ * normal normalize(edge_u x edge_v) only, as a Lambertian emitter: a point at
+ * distance d in direction l from the centre receives the irradiance above
+ * times max(0, normal . l) and nothing behind the quad's plane.  Every shadow
+ * method shades an area light from its centre and multiplies by the
+ * visibility it finds (rtt/shade.h). */
 typedef struct rtt_light {
     rtt_light_type type;
     rtt_vec3 position;
@@ -81,6 +89,7 @@ typedef struct rtt_light {
     float intensity;
     float attenuation[3]; /* constant, linear, quadratic; default {1, 0, 0} */
     float radius;         /* sphere lights only; 0 for point lights */
+    rtt_vec3 edge_u, edge_v; /* quad lights only (edge_u x edge_v non-zero); 0 otherwise */
 } rtt_light;
 
 typedef struct rtt_camera {

@@ -12,7 +12,9 @@
  *         + sum over lights of  vis * E(d) * (diffuse * max(0, n.l)
  *                                             + specular * max(0, r.v)^shininess)
  *
- * with E(d) = colour * intensity / (c + l d + q d^2), the specular term only
+ * with E(d) = colour * intensity / (c + l d + q d^2) (times the emitter's
+ * cosine for quad lights, rtt/scene.h), l and d towards and from the
+ * light's centre for every light type, the specular term only
  * for types SPECULAR, REFLECTIVE and TRANSPARENT_REFLECTIVE, and vis in [0,1]
  * the light's visibility from the chosen shadow method.  A shadow ray that
  * meets transparent surfaces (types TRANSPARENT, TRANSPARENT_REFLECTIVE)
@@ -66,11 +68,16 @@ rtt_ray rtt_camera_ray_at(const rtt_camera_frame *frame, uint32_t px, uint32_t p
  * would spread samples over neighbouring tiles). */
 void rtt_pixel_sample(uint32_t i, uint32_t n, uint32_t pixel, float out[2]);
 
-/* Sample i of n on sphere light `light` as seen from point p: a point on the
- * disk of the light's radius, centred on the light and facing p, from a
+/* Sample i of n on area light `light` as seen from point p, from a
  * Hammersley pattern scrambled per pixel (Cranley-Patterson rotation seeded
- * by `pixel`).  For a point light or n == 1 with radius 0, the centre. */
+ * by `pixel`) to (su, sv) in [0,1)^2: on a sphere light a point on the disk
+ * of the light's radius, centred on the light and facing p; on a quad light
+ * the quad's point at (su - 1/2, sv - 1/2) (rtt/interleaved.h's frame).  For
+ * a light without area (rtt_light_has_area), the centre. */
 rtt_vec3 rtt_light_sample(const rtt_light *light, rtt_vec3 p, uint32_t i, uint32_t n, uint32_t pixel);
+/* A sphere light with radius > 0 or a quad light with edge_u x edge_v != 0:
+ * a light whose soft-shadow methods trace more than its centre. */
+bool rtt_light_has_area(const rtt_light *light);
 /* Point i of n of the 2D Hammersley set in [0,1)^2. */
 void rtt_hammersley(uint32_t i, uint32_t n, float out[2]);
 

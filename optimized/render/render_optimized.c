@@ -4,7 +4,10 @@
  * chosen traversal (the frustum kernels bound the tile by its frusta/cones,
  * cull packets at leaves and intersect the rest), then the shader proxy
  * (shader_proxy.c): shadow packets (hard, multi:N, cone:N, pyramid:N,
- * edgewidth[:R]), secondary omni packets, colours.
+ * edgewidth[:R], interleaved:N), secondary omni packets, colours.  For
+ * interleaved:N the tiles fill rtt_shadow_planes (the primary hits' light
+ * terms, depth, normal and the rest of the colour), and one pass after the
+ * last tile filters and composes the image as the reference does.
  *
  * Primary rays are rtt_camera_ray's, the same as the reference renderer's.
  * Scratch is per thread (indexed by the tile callback's thread argument) and
@@ -80,6 +83,19 @@ static void write_sample(const render_job *job, const sp_node *n, bool first, bo
     if (!aovs) return;
     if (out->depth) out->depth[pixel] = n->hit.prim == RTT_MISS ? INFINITY : n->hit.t;
     if (out->prim) out->prim[pixel] = n->hit.prim;
+    rtt_shadow_planes *planes = job->shading.planes;
+    if (planes) {
+        planes->rest[3 * pixel + 0] = n->colour.x;
+        planes->rest[3 * pixel + 1] = n->colour.y;
+        planes->rest[3 * pixel + 2] = n->colour.z;
+        if (n->hit.prim != RTT_MISS) {
+            rtt_vec3 normal = rtt_surface_at(job->scene, &n->ray, &n->hit).normal;
+            planes->depth[pixel] = n->hit.t;
+            planes->normal[3 * pixel + 0] = normal.x;
+            planes->normal[3 * pixel + 1] = normal.y;
+            planes->normal[3 * pixel + 2] = normal.z;
+        }
+    }
     if (out->normal) {
         rtt_vec3 normal = rtt_v3(0.0f, 0.0f, 0.0f);
         if (n->hit.prim != RTT_MISS) normal = rtt_surface_at(job->scene, &n->ray, &n->hit).normal;
@@ -211,7 +227,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                     .shadow_samples = opt->shadow_samples,
                     .epsilon = rtt_scene_ray_epsilon(scene),
                     .transparent_shadows = rtt_scene_has_transparent_shadows(scene),
-                    .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix)},
+                    .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix),
+                    .width = width},
         .tracer = {.tree = tree,
                    .kernel = kd_kernel_find(engine_opt->traversal, isa),
                    .secondary = kd_kernel_for_secondary_rays(isa),
@@ -220,6 +237,11 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                    .block_packets = (tile / 2u) * (tile / 2u),
                    .leaf_culling = engine_opt->leaf_culling},
     };
+    rtt_shadow_planes planes;
+    if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
+        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
+        job.shading.planes = &planes;
+    }
     const uint32_t threads = rtt_thread_count(opt->threads);
     job.threads = threads;
     frame_memory *memory = frame_memory_get(opt->cache, threads, job.shading.max_bounces + 1,
@@ -229,6 +251,10 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         job.scratch = memory->scratch;
         rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
+    }
+    if (job.shading.planes) {
+        ok = ok && rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
+        rtt_shadow_planes_free(&planes);
     }
     if (ok && stats) {
         gather_stats(&job, stats);

@@ -27,7 +27,11 @@
  * traces one ray per point and sphere light from the light's centre
  * (kd/shadows/edge_width.c) and uses 1 - its occlusion, point lights
  * keeping the hard shadow ray (edge widths treat transparent occluders as
- * opaque).
+ * opaque); interleaved:N traces the N samples of the pixel's interleaved set
+ * (rtt/interleaved.h) in 2x2 packets like multi:N and, at the primary hits,
+ * leaves the light terms to the renderer's rtt_shadow_planes instead of
+ * adding them (the filter needs the whole image).  multi, cone, pyramid and
+ * interleaved sample sphere and quad lights alike.
  *
  * Transparent shadows (scenes with a transparent material): after any of
  * those methods, the shadow rays found occluded are traced again, as omni
@@ -85,10 +89,30 @@ static void shadow_segment(const sp_shading *sh, sp_scratch *s, rtt_vec3 p, rtt_
         (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, sh->epsilon, distance - sh->epsilon};
 }
 
-/* Methods that trace rtt_light_sample's N samples on sphere lights. */
+/* Methods that trace rtt_light_sample's N samples on sphere and quad lights. */
 static bool is_sampled(rtt_shadow_method m)
 {
     return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID;
+}
+
+/* Does this light get N sample rays (else one to its centre)?  As the
+ * reference: multi and its proxies sample every sphere and quad light,
+ * interleaved those with area. */
+static bool samples_light(const sp_shading *sh, const rtt_light *light)
+{
+    if (is_sampled(sh->shadows)) return light->type != RTT_LIGHT_POINT;
+    return sh->shadows == RTT_SHADOWS_INTERLEAVED && rtt_light_has_area(light);
+}
+
+/* Sample k of n of `light` for the shading point p of pixel `pixel`. */
+static rtt_vec3 sample_point(const sp_shading *sh, const rtt_light *light, const rtt_light_frame *frame, rtt_vec3 p,
+                             uint32_t k, uint32_t n, uint32_t pixel)
+{
+    if (sh->shadows != RTT_SHADOWS_INTERLEAVED) return rtt_light_sample(light, p, k, n, pixel);
+    float s[2], xy[2];
+    rtt_interleaved_sample(rtt_interleaved_set(pixel % sh->width, pixel / sh->width), k, n, s);
+    rtt_light_sample_coords(light, s, xy);
+    return rtt_light_frame_point(frame, xy[0], xy[1]);
 }
 
 static bool is_grouped(rtt_shadow_method m) { return m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID; }
@@ -102,7 +126,7 @@ static bool uses_edge_width(const sp_shading *sh, const rtt_light *light)
 static uint32_t samples_per_light(const sp_shading *sh, const rtt_light *light)
 {
     if (sh->shadows == RTT_SHADOWS_NONE) return 0;
-    if (is_sampled(sh->shadows) && light->type == RTT_LIGHT_SPHERE) return sh->shadow_samples;
+    if (samples_light(sh, light)) return sh->shadow_samples;
     return 1;
 }
 
@@ -159,9 +183,11 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
             if (q->contribution.x == 0.0f && q->contribution.y == 0.0f && q->contribution.z == 0.0f) continue;
             q->active = true;
             uint32_t n = samples_per_light(sh, light);
-            if (is_sampled(sh->shadows) && light->type == RTT_LIGHT_SPHERE) {
+            if (samples_light(sh, light)) {
+                const rtt_light_frame frame = rtt_light_sample_frame(light, surf->point);
                 for (uint32_t k = 0; k < n; k++)
-                    shadow_segment(sh, s, surf->point, rtt_light_sample(light, surf->point, k, n, node->pixel), q);
+                    shadow_segment(sh, s, surf->point, sample_point(sh, light, &frame, surf->point, k, n, node->pixel),
+                                   q);
             } else if (uses_edge_width(sh, light)) {
                 edge_ray(sh, s, surf->point, l, q, edges);
             } else if (n) {
@@ -286,6 +312,9 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
         const sp_light_request *req =
             &SP_ARRAY(s->requests, sp_light_request)[(size_t)(i - first) * scene->light_count];
         const rtt_material *m = surf->material;
+        float wr, wt;
+        rtt_shade_weights(m, d, sh->max_bounces, &wr, &wt);
+        rtt_shadow_planes *planes = d == 0 ? sh->planes : NULL;
         rtt_vec3 colour = rtt_v3_scale(surf->diffuse, scene->ambient);
         for (uint32_t l = 0; l < scene->light_count; l++) {
             const sp_light_request *q = &req[l];
@@ -297,20 +326,24 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             } else if (n && transmission) {
                 float clear = (float)q->auto_clear;
                 for (uint32_t k = 0; k < q->rays; k++) clear += transmission[q->first + k];
-                vis = n == 1 && !(is_sampled(sh->shadows) && scene->lights[l].type == RTT_LIGHT_SPHERE)
-                          ? clear
-                          : clear / (float)n;
+                vis = n == 1 && !samples_light(sh, &scene->lights[l]) ? clear : clear / (float)n;
             } else if (n) {
                 uint32_t clear = q->auto_clear;
                 for (uint32_t k = 0; k < q->rays; k++) clear += shadow_clear[q->first + k];
-                vis = n == 1 && !(is_sampled(sh->shadows) && scene->lights[l].type == RTT_LIGHT_SPHERE)
-                          ? (clear ? 1.0f : 0.0f)
-                          : (float)clear / (float)n;
+                vis = n == 1 && !samples_light(sh, &scene->lights[l]) ? (clear ? 1.0f : 0.0f)
+                                                                        : (float)clear / (float)n;
             }
-            colour = rtt_v3_madd(colour, q->contribution, vis);
+            if (planes) { /* as the reference's local_colour */
+                const size_t at = (size_t)planes->width * planes->height * l + node->pixel;
+                planes->visibility[at] = vis;
+                rtt_vec3 c = rtt_v3_scale(q->contribution, 1.0f - wr - wt);
+                planes->contribution[3 * at + 0] = c.x;
+                planes->contribution[3 * at + 1] = c.y;
+                planes->contribution[3 * at + 2] = c.z;
+            } else {
+                colour = rtt_v3_madd(colour, q->contribution, vis);
+            }
         }
-        float wr, wt;
-        rtt_shade_weights(m, d, sh->max_bounces, &wr, &wt);
         node->colour = rtt_v3_scale(colour, 1.0f - wr - wt);
         node->wr = wr, node->wt = wt;
         if (d + 1 >= s->level_count) continue;

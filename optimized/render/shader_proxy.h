@@ -22,6 +22,7 @@
 #include "kernels.h"
 #include "packet.h"
 #include "rtt/edge_width.h"
+#include "rtt/interleaved.h"
 #include "rtt/render.h"
 #include "rtt/shade.h"
 #include "shadow_kernels.h"
@@ -46,6 +47,8 @@ typedef struct sp_shading {
     float epsilon;
     bool transparent_shadows;        /* shadow rays pass transparent surfaces (shade.h) */
     rtt_edge_width_model edge_model; /* edgewidth: R, leak fix */
+    uint32_t width;                  /* the image's: a pixel's interleaved set from its index */
+    rtt_shadow_planes *planes;       /* interleaved: the primary hits' light terms go here */
 } sp_shading;
 
 /* One traced ray of a pixel's shading tree (80 bytes: levels are arrays of
