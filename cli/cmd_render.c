@@ -271,5 +271,6 @@ const cli_command render_command = {
     .environment = "RTT_ISA=auto|sse4|avx2|avx512 picks the instruction set when --isa is not\n"
                    "given.  RTT_TEXTURE_PATH=DIR[:DIR...] is where Quake III maps find their\n"
                    "textures (loose files and .pk3 archives; default: the map's directory, its\n"
-                   "parent and the parent's pk3/).\n",
+                   "parent and the parent's pk3/).  RTT_PROGRESS_AFTER=SECONDS: progress lines\n"
+                   "for stages longer than this (default 2).\n",
 };

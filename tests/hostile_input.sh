@@ -147,7 +147,8 @@ if command -v strace >/dev/null && strace -f -qq -e trace=clone,clone3 -o ../tra
         # shellcheck disable=SC2086
         # LeakSanitizer cannot run under ptrace: off for these runs of a sanitizer build
         ASAN_OPTIONS=detect_leaks=0 strace -f -qq -e trace=clone,clone3,prctl -o ../trace.$$ "$rtt" $command >/dev/null
-        clones=$(( $(grep -c 'clone' ../trace.$$) - $(grep -c 'PR_SET_NAME, "rtt-progress"' ../trace.$$) ))
+        # strace splits a call interrupted by another thread into "unfinished" and "resumed" lines
+        clones=$(( $(grep -v 'resumed>' ../trace.$$ | grep -c 'clone') - $(grep -c 'PR_SET_NAME, "rtt-progress"' ../trace.$$) ))
         if [ "$clones" -ne 0 ]; then
             echo "FAIL threads_one: rtt $command started $clones threads"
             failures=$((failures + 1))
