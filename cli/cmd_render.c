@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "dist/dist.h"
 #include "options.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
@@ -184,13 +185,26 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
     for (int i = 0; i < 4; i++) printf("  %s %.4f s  %5.1f%%\n", names[i], stages[i], sum > 0 ? 100 * stages[i] / sum : 0.0);
 }
 
-static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
-                               char *engine_used, size_t engine_used_size, rtt_error *err)
+/* Under MPI, for --stats: the share of the frame each rank rendered. */
+static void print_rank_tiles(const rtt_dist *dist)
+{
+    printf("tiles per rank:");
+    for (uint32_t r = 0; r < rtt_dist_size(dist); r++) printf(" %u", rtt_dist_tiles_of_rank(dist, r));
+    printf(" (%u ranks; rays and stages above are summed over them)\n", rtt_dist_size(dist));
+}
+
+/* Under MPI every rank builds its engine, and all go on only when all could
+ * (rtt_dist_agree); the frame's tiles are shared by the ranks. */
+static bool render_with_engine(rtt_dist *dist, const rtt_scene *scene, render_args *args, rtt_image *image,
+                               rtt_render_stats *stats, char *engine_used, size_t engine_used_size, rtt_error *err)
 {
     args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
-    if (!engine) return false;
-    bool ok = rtt_render(engine, &args->render, image, stats, err);
+    if (!rtt_dist_agree(dist, engine != NULL, err)) {
+        rtt_engine_destroy(engine);
+        return false;
+    }
+    bool ok = rtt_dist_render(dist, engine, &args->render, image, stats, err);
     describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
     rtt_engine_destroy(engine);
     return ok;
@@ -204,24 +218,31 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
+    rtt_dist *dist = NULL; /* the MPI job when mpirun started us, else NULL: this process alone */
+    if (!rtt_dist_open(&dist, &err)) return cli_fail(&err);
+    const bool writer = rtt_dist_rank(dist) == 0; /* rank 0 writes and prints for the job */
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
-    if (!scene) return cli_fail(&err);
-    uint32_t width = args->render.width ? args->render.width : scene->width;
-    uint32_t height = args->render.height ? args->render.height : scene->height;
-    args->render.width = width;
-    args->render.height = height;
-    if (isatty(STDERR_FILENO)) args->render.progress = print_progress;
-
-    rtt_image *image = rtt_image_create(width, height, args->render.aovs, &err);
+    rtt_image *image = NULL;
+    if (scene) {
+        args->render.width = args->render.width ? args->render.width : scene->width;
+        args->render.height = args->render.height ? args->render.height : scene->height;
+        if (isatty(STDERR_FILENO) && rtt_dist_size(dist) == 1) args->render.progress = print_progress;
+        image = rtt_image_create(args->render.width, args->render.height, args->render.aovs, &err);
+    }
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
-    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
-    for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
-    if (ok && args->render.stats) print_stats(&stats, engine_used, args);
+    bool ok = rtt_dist_agree(dist, image != NULL, &err) &&
+              render_with_engine(dist, scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    for (uint32_t i = 0; ok && writer && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
+    if (ok && writer && args->render.stats) print_stats(&stats, engine_used, args);
+    if (ok && writer && args->render.stats && rtt_dist_size(dist) > 1) print_rank_tiles(dist);
     rtt_image_free(image);
     rtt_scene_free(scene);
-    return ok ? RTT_EXIT_OK : cli_fail(&err);
+    /* rank 0 names the failing rank, before MPI_Finalize lets any rank exit */
+    status = ok ? RTT_EXIT_OK : writer ? cli_fail(&err) : RTT_EXIT_BAD_INPUT;
+    rtt_dist_close(dist);
+    return status;
 }
 
 const cli_command render_command = {

@@ -159,7 +159,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     for (uint32_t t = 0; ok && t < threads; t++)
         ok = (job.scratch[t] = sp_scratch_create(job.shading.max_bounces + 1, opt->stats || stats != NULL)) != NULL;
     if (ok) {
-        rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
+        rtt_tiles_run_from(opt->tile_source, width, height, tile, threads, render_tile, &job, opt->progress,
+                           opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     if (ok && stats) {
