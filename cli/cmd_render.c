@@ -5,6 +5,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "camera_options.h"
 #include "cli.h"
 #include "dist/dist.h"
 #include "options.h"
@@ -22,6 +23,7 @@ typedef struct render_args {
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
+    cli_camera_args camera;
 } render_args;
 
 static bool has_extension(const char *path, const char *extension)
@@ -73,6 +75,7 @@ static const cli_option render_options[] = {
      .help = "reflection/refraction depth, 0 (none) to 64 (default: the scene's)",
      .kind = CLI_U32, CLI_FIELD(render_args, render.max_bounces), .lo = 0, .hi = RTT_MAX_BOUNCES},
     CLI_OPTION_BEZIER_LEVEL(render_args, bezier_level),
+    CLI_OPTIONS_CAMERA(render_args, camera),
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
@@ -82,7 +85,7 @@ static const cli_option render_options[] = {
 
 /* What the parsed options ask that the engine, the scene file or the
  * outputs cannot honour. */
-static int check_applicable(const cli_parsed *parsed, const render_args *args)
+static int check_applicable(const cli_parsed *parsed, render_args *args)
 {
     int rc = cli_check_engine_options(parsed, args->engine, &args->render.engine);
     if (rc != CLI_CONTINUE) return rc;
@@ -101,7 +104,8 @@ static int check_applicable(const cli_parsed *parsed, const render_args *args)
             return cli_refuse(parsed, "--aov", "PNG output %s%s has no AOV channels; write an .exr", args->outputs[0],
                               cli_given(parsed, "--output") ? "" : " (the default)");
     }
-    return cli_check_scene_options(parsed, args->scene_path, args->engine);
+    int rc_scene = cli_check_scene_options(parsed, args->scene_path, args->engine);
+    return rc_scene != CLI_CONTINUE ? rc_scene : cli_camera_check(parsed, &args->camera, args->scene_path);
 }
 
 static void render_defaults(void *opaque)
@@ -222,8 +226,12 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (!rtt_dist_open(&dist, &err)) return cli_fail(&err);
     const bool writer = rtt_dist_rank(dist) == 0; /* rank 0 writes and prints for the job */
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    /* cli_camera_apply prints its own refusal; the other ranks must still hear of it */
+    const int camera_status = scene ? cli_camera_apply(parsed, &args->camera, scene) : CLI_CONTINUE;
+    cli_camera_free(&args->camera);
+    if (camera_status != CLI_CONTINUE) rtt_error_set(&err, "the camera options do not fit %s", args->scene_path);
     rtt_image *image = NULL;
-    if (scene) {
+    if (scene && camera_status == CLI_CONTINUE) {
         args->render.width = args->render.width ? args->render.width : scene->width;
         args->render.height = args->render.height ? args->render.height : scene->height;
         if (isatty(STDERR_FILENO) && rtt_dist_size(dist) == 1) args->render.progress = print_progress;
@@ -240,7 +248,10 @@ static int render(void *opaque, const cli_parsed *parsed)
     rtt_image_free(image);
     rtt_scene_free(scene);
     /* rank 0 names the failing rank, before MPI_Finalize lets any rank exit */
-    status = ok ? RTT_EXIT_OK : writer ? cli_fail(&err) : RTT_EXIT_BAD_INPUT;
+    status = ok                               ? RTT_EXIT_OK
+             : camera_status != CLI_CONTINUE ? camera_status
+             : writer                        ? cli_fail(&err)
+                                             : RTT_EXIT_BAD_INPUT;
     rtt_dist_close(dist);
     return status;
 }
