@@ -8,6 +8,7 @@
 #include "camera_options.h"
 #include "cli.h"
 #include "dist/dist.h"
+#include "frame_outputs.h"
 #include "options.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
@@ -24,6 +25,8 @@ typedef struct render_args {
     uint32_t bezier_level;
     rtt_render_options render;
     cli_camera_args camera;
+    const char *camera_path;         /* --camera-path: a views file */
+    uint32_t path_frames;            /* --path-frames: 0, one frame per view */
 } render_args;
 
 static bool has_extension(const char *path, const char *extension)
@@ -76,6 +79,14 @@ static const cli_option render_options[] = {
      .kind = CLI_U32, CLI_FIELD(render_args, render.max_bounces), .lo = 0, .hi = RTT_MAX_BOUNCES},
     CLI_OPTION_BEZIER_LEVEL(render_args, bezier_level),
     CLI_OPTIONS_CAMERA(render_args, camera),
+    {.name = "--camera-path", .value_name = "FILE",
+     .help = "render a sequence: one frame per view of a views file, in file order (or --path-frames); "
+             "each output names its frames with a number, as in frame_%04d.png",
+     .kind = CLI_STRING, CLI_FIELD(render_args, camera_path)},
+    {.name = "--path-frames", .value_name = "N",
+     .help = "with --camera-path: N frames (1 to 1000000) through the views as key frames, eye, look-at, up "
+             "and fov interpolated linearly",
+     .kind = CLI_U32, CLI_FIELD(render_args, path_frames), .lo = 1, .hi = RTT_MAX_PATH_FRAMES},
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
@@ -103,6 +114,17 @@ static int check_applicable(const cli_parsed *parsed, render_args *args)
         if (exr == 0)
             return cli_refuse(parsed, "--aov", "PNG output %s%s has no AOV channels; write an .exr", args->outputs[0],
                               cli_given(parsed, "--output") ? "" : " (the default)");
+    }
+    if (args->path_frames && !args->camera_path)
+        return cli_refuse(parsed, "--path-frames", "applies to --camera-path only");
+    static const char *const one_camera[] = {"--eye", "--look-at", "--up", "--view"};
+    for (size_t i = 0; args->camera_path && i < sizeof one_camera / sizeof one_camera[0]; i++)
+        if (cli_given(parsed, one_camera[i]))
+            return cli_refuse(parsed, one_camera[i], "does not go with --camera-path, whose cameras it would replace");
+    for (uint32_t i = 0; args->camera_path && i < args->output_count; i++) {
+        rtt_error why = {{0}};
+        if (!cli_frame_pattern_check(args->outputs[i], &why))
+            return cli_refuse(parsed, "--output", "with --camera-path, %s", why.message);
     }
     int rc_scene = cli_check_scene_options(parsed, args->scene_path, args->engine);
     return rc_scene != CLI_CONTINUE ? rc_scene : cli_camera_check(parsed, &args->camera, args->scene_path);
@@ -189,18 +211,31 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
     for (int i = 0; i < 4; i++) printf("  %s %.4f s  %5.1f%%\n", names[i], stages[i], sum > 0 ? 100 * stages[i] / sum : 0.0);
 }
 
-/* Under MPI, for --stats: the share of the frame each rank rendered. */
-static void print_rank_tiles(const rtt_dist *dist)
+/* Under MPI, for --stats: the share of the work each rank did. */
+static void print_rank_shares(const rtt_dist *dist)
 {
-    printf("tiles per rank:");
-    for (uint32_t r = 0; r < rtt_dist_size(dist); r++) printf(" %u", rtt_dist_tiles_of_rank(dist, r));
+    const bool frames = rtt_dist_frames_of_rank(dist, 0) > 0; /* whole frames: rank 0 renders some too */
+    printf("%s per rank:", frames ? "frames" : "tiles");
+    for (uint32_t r = 0; r < rtt_dist_size(dist); r++)
+        printf(" %u", frames ? rtt_dist_frames_of_rank(dist, r) : rtt_dist_tiles_of_rank(dist, r));
     printf(" (%u ranks; rays and stages above are summed over them)\n", rtt_dist_size(dist));
 }
 
+/* --camera-path's cameras, on every rank (a file only one node lacks is a
+ * rank's failure like any other). */
+static bool load_camera_path(const char *file, uint32_t frames, rtt_camera_path *path, rtt_error *err)
+{
+    rtt_view_list views = {0};
+    bool ok = rtt_views_load(file, &views, err) && rtt_camera_path_make(&views, frames, file, path, err);
+    rtt_views_free(&views);
+    return ok;
+}
+
 /* Under MPI every rank builds its engine, and all go on only when all could
- * (rtt_dist_agree); the frame's tiles are shared by the ranks. */
+ * (rtt_dist_agree); the ranks share the frames' tiles, or the frames. */
 static bool render_with_engine(rtt_dist *dist, const rtt_scene *scene, render_args *args, rtt_image *image,
-                               rtt_render_stats *stats, char *engine_used, size_t engine_used_size, rtt_error *err)
+                               const rtt_dist_frames *frames, rtt_render_stats *stats, char *engine_used,
+                               size_t engine_used_size, rtt_error *err)
 {
     args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
@@ -208,7 +243,7 @@ static bool render_with_engine(rtt_dist *dist, const rtt_scene *scene, render_ar
         rtt_engine_destroy(engine);
         return false;
     }
-    bool ok = rtt_dist_render(dist, engine, &args->render, image, stats, err);
+    bool ok = rtt_dist_render_frames(dist, engine, &args->render, image, frames, stats, err);
     describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
     rtt_engine_destroy(engine);
     return ok;
@@ -230,8 +265,11 @@ static int render(void *opaque, const cli_parsed *parsed)
     const int camera_status = scene ? cli_camera_apply(parsed, &args->camera, scene) : CLI_CONTINUE;
     cli_camera_free(&args->camera);
     if (camera_status != CLI_CONTINUE) rtt_error_set(&err, "the camera options do not fit %s", args->scene_path);
+    rtt_camera_path path = {0};
+    const bool framed = scene && camera_status == CLI_CONTINUE &&
+                        (!args->camera_path || load_camera_path(args->camera_path, args->path_frames, &path, &err));
     rtt_image *image = NULL;
-    if (scene && camera_status == CLI_CONTINUE) {
+    if (framed) {
         args->render.width = args->render.width ? args->render.width : scene->width;
         args->render.height = args->render.height ? args->render.height : scene->height;
         if (isatty(STDERR_FILENO) && rtt_dist_size(dist) == 1) args->render.progress = print_progress;
@@ -240,11 +278,19 @@ static int render(void *opaque, const cli_parsed *parsed)
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
+    cli_frames outputs = {.scene = scene, .path = args->camera_path ? &path : NULL,
+                          .fov_given = cli_given(parsed, "--fov"), .fov = args->camera.fov,
+                          .outputs = args->outputs, .output_count = args->output_count};
+    rtt_dist_frames frames = {.count = args->camera_path ? path.count : 1, .prepare = cli_frames_prepare,
+                              .write = cli_frames_write, .context = &outputs};
     bool ok = rtt_dist_agree(dist, image != NULL, &err) &&
-              render_with_engine(dist, scene, args, image, &stats, engine_used, sizeof engine_used, &err);
-    for (uint32_t i = 0; ok && writer && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
+              render_with_engine(dist, scene, args, image, &frames, &stats, engine_used, sizeof engine_used, &err);
     if (ok && writer && args->render.stats) print_stats(&stats, engine_used, args);
-    if (ok && writer && args->render.stats && rtt_dist_size(dist) > 1) print_rank_tiles(dist);
+    if (ok && writer && args->render.stats && frames.count > 1)
+        printf("frames: %u in %.3f s (%.3g frames/s)\n", frames.count, stats.seconds_total,
+               stats.seconds_total > 0 ? frames.count / stats.seconds_total : 0.0);
+    if (ok && writer && args->render.stats && rtt_dist_size(dist) > 1) print_rank_shares(dist);
+    rtt_camera_path_free(&path);
     rtt_image_free(image);
     rtt_scene_free(scene);
     /* rank 0 names the failing rank, before MPI_Finalize lets any rank exit */

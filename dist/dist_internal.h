@@ -8,10 +8,12 @@
 #include <stddef.h>
 
 #include "dist/dist.h"
+#include "dist_frames.h"
 
 struct rtt_dist {
     int rank, size;
-    atomic_uint *tiles_of_rank;   /* rank 0: the tiles handed to each rank in the last frame */
+    atomic_uint *tiles_of_rank;   /* rank 0: the tiles handed to each rank since the job began */
+    atomic_uint *frames_of_rank;  /* rank 0: the whole frames */
 };
 
 /* Tags of the point-to-point messages (all on MPI_COMM_WORLD). */
@@ -48,6 +50,16 @@ void dist_recv(void *data, size_t bytes, int from, int tag);
 int dist_recv_any(void *data, size_t bytes, int tag);
 /* Waits politely for any message; its source, tag and size in bytes. */
 void dist_probe(int *source, int *tag, size_t *bytes);
+/* Waits politely for a message from `source` with `tag`; its size. */
+void dist_probe_from(int source, int tag, size_t *bytes);
+
+/* Receives and drops a message rank 0 cannot use (its sender waits until
+ * it is received). */
+void dist_discard(int rank, int tag, size_t bytes);
+/* *buffer grown to hold `bytes`.  Rank 0 cannot stay in step with a rank
+ * whose message it cannot receive: without the memory, MPI_Abort ends
+ * every rank, non-zero. */
+unsigned char *dist_buffer_fit(unsigned char **buffer, size_t *size, size_t bytes);
 
 /* Rank 0 gathers reports: the lowest failing rank's error wins, rank 0's
  * own first. */
@@ -58,12 +70,24 @@ typedef struct dist_reports {
 } dist_reports;
 void dist_reports_init(dist_reports *reports);
 void dist_reports_note(dist_reports *reports, int rank, const dist_report *report);
+/* Notes that `rank` failed with message `what`. */
+void dist_reports_fail(dist_reports *reports, int rank, const char *what);
+/* Rank 0's serving loop, until every other rank has sent its report: run
+ * requests and pixels go to the server's own handlers, a failed report
+ * sets *stop, anything else is a rank out of step. */
+typedef struct dist_service {
+    void (*take)(void *server, int rank, size_t bytes);
+    void (*pixels)(void *server, int rank, size_t bytes);
+    void *server;
+    dist_reports *reports;
+    atomic_bool *stop;
+} dist_service;
+void dist_serve(rtt_dist *dist, const dist_service *service);
 /* Rank 0: tells every rank the outcome; returns it and fills err. */
 bool dist_verdict_send(rtt_dist *dist, const dist_reports *reports, rtt_error *err);
 /* Rank K: sends its report and waits for rank 0's verdict. */
 bool dist_verdict_await(rtt_dist *dist, bool ok, const rtt_error *mine, const rtt_render_stats *stats,
                         rtt_error *err);
-void dist_stats_add(rtt_render_stats *sum, const rtt_render_stats *more);
 
 /* Pixel planes of an image as bits (rgb 1, depth 2, prim 4, normal 8). */
 uint32_t dist_image_planes(const rtt_image *image);

@@ -40,12 +40,18 @@ bool rtt_dist_open(rtt_dist **out, rtt_error *err)
     MPI_Comm_rank(MPI_COMM_WORLD, &dist->rank);
     MPI_Comm_size(MPI_COMM_WORLD, &dist->size);
     dist->tiles_of_rank = malloc((size_t)dist->size * sizeof *dist->tiles_of_rank);
-    if (!dist->tiles_of_rank) {
+    dist->frames_of_rank = malloc((size_t)dist->size * sizeof *dist->frames_of_rank);
+    if (!dist->tiles_of_rank || !dist->frames_of_rank) {
+        free(dist->tiles_of_rank);
+        free(dist->frames_of_rank);
         free(dist);
         MPI_Finalize();
         return rtt_error_set(err, "mpi: out of memory");
     }
-    for (int r = 0; r < dist->size; r++) atomic_init(&dist->tiles_of_rank[r], 0);
+    for (int r = 0; r < dist->size; r++) {
+        atomic_init(&dist->tiles_of_rank[r], 0);
+        atomic_init(&dist->frames_of_rank[r], 0);
+    }
     *out = dist;
     return true;
 }
@@ -55,6 +61,7 @@ void rtt_dist_close(rtt_dist *dist)
     if (!dist) return;
     MPI_Finalize();
     free(dist->tiles_of_rank);
+    free(dist->frames_of_rank);
     free(dist);
 }
 
@@ -77,6 +84,11 @@ static void wait_status(MPI_Request *request, MPI_Status *status)
 uint32_t rtt_dist_tiles_of_rank(const rtt_dist *dist, uint32_t rank)
 {
     return dist && rank < (uint32_t)dist->size ? atomic_load(&dist->tiles_of_rank[rank]) : 0;
+}
+
+uint32_t rtt_dist_frames_of_rank(const rtt_dist *dist, uint32_t rank)
+{
+    return dist && rank < (uint32_t)dist->size ? atomic_load(&dist->frames_of_rank[rank]) : 0;
 }
 
 void dist_wait(MPI_Request *request)
@@ -107,32 +119,54 @@ int dist_recv_any(void *data, size_t bytes, int tag)
     return status.MPI_SOURCE;
 }
 
-void dist_probe(int *source, int *tag, size_t *bytes)
+static void probe(int source, int tag, MPI_Status *status)
 {
     int found = 0;
-    MPI_Status status;
-    for (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &found, &status); !found;
-         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &found, &status))
+    for (MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, status); !found;
+         MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, status))
         nap();
-    int count = 0;
-    MPI_Get_count(&status, MPI_BYTE, &count);
-    *source = status.MPI_SOURCE;
-    *tag = status.MPI_TAG;
-    *bytes = (size_t)count;
 }
 
-void dist_stats_add(rtt_render_stats *sum, const rtt_render_stats *more)
+static size_t byte_count(MPI_Status *status)
 {
-    sum->primary_rays += more->primary_rays;
-    sum->shadow_rays += more->shadow_rays;
-    sum->secondary_rays += more->secondary_rays;
-    sum->packets += more->packets;
-    sum->traversal_steps += more->traversal_steps;
-    sum->intersection_tests += more->intersection_tests;
-    sum->seconds_primary_traversal += more->seconds_primary_traversal;
-    sum->seconds_primary_intersection += more->seconds_primary_intersection;
-    sum->seconds_shading += more->seconds_shading;
-    sum->seconds_secondary += more->seconds_secondary;
+    int count = 0;
+    MPI_Get_count(status, MPI_BYTE, &count);
+    return (size_t)count;
+}
+
+void dist_probe_from(int source, int tag, size_t *bytes)
+{
+    MPI_Status status;
+    probe(source, tag, &status);
+    *bytes = byte_count(&status);
+}
+
+void dist_probe(int *source, int *tag, size_t *bytes)
+{
+    MPI_Status status;
+    probe(MPI_ANY_SOURCE, MPI_ANY_TAG, &status);
+    *source = status.MPI_SOURCE;
+    *tag = status.MPI_TAG;
+    *bytes = byte_count(&status);
+}
+
+void dist_discard(int rank, int tag, size_t bytes)
+{
+    unsigned char *scrap = malloc(bytes ? bytes : 1);
+    if (!scrap) MPI_Abort(MPI_COMM_WORLD, 1);
+    dist_recv(scrap, bytes, rank, tag);
+    free(scrap);
+}
+
+unsigned char *dist_buffer_fit(unsigned char **buffer, size_t *size, size_t bytes)
+{
+    if (bytes > *size || !*buffer) {
+        free(*buffer);
+        *buffer = malloc(bytes ? bytes : 1);
+        *size = *buffer ? bytes : 0;
+        if (!*buffer) MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    return *buffer;
 }
 
 void dist_reports_init(dist_reports *reports)
@@ -157,6 +191,38 @@ void dist_reports_note(dist_reports *reports, int rank, const dist_report *repor
     memcpy(message, report->error.message, sizeof message);
     message[sizeof message - 1] = '\0';
     rtt_error_set(&reports->error, "rank %d: %s", rank, message);
+}
+
+void dist_reports_fail(dist_reports *reports, int rank, const char *what)
+{
+    dist_report report = {.ok = 0};
+    rtt_error_set(&report.error, "%s", what);
+    dist_reports_note(reports, rank, &report);
+}
+
+void dist_serve(rtt_dist *dist, const dist_service *service)
+{
+    for (int left = dist->size - 1; left > 0;) {
+        int rank, tag;
+        size_t bytes;
+        dist_probe(&rank, &tag, &bytes);
+        if (tag == DIST_TAG_TAKE) {
+            service->take(service->server, rank, bytes);
+        } else if (tag == DIST_TAG_PIXELS) {
+            service->pixels(service->server, rank, bytes);
+        } else if (tag == DIST_TAG_REPORT && bytes == sizeof(dist_report)) {
+            dist_report report;
+            dist_recv(&report, sizeof report, rank, DIST_TAG_REPORT);
+            dist_reports_note(service->reports, rank, &report);
+            if (!report.ok) atomic_store(service->stop, true);
+            left--;
+        } else {
+            /* nothing else travels while rank 0 serves: a rank out of step */
+            dist_discard(rank, tag, bytes);
+            dist_reports_fail(service->reports, rank, "mpi: a message out of step with rank 0");
+            atomic_store(service->stop, true);
+        }
+    }
 }
 
 bool dist_verdict_send(rtt_dist *dist, const dist_reports *reports, rtt_error *err)

@@ -85,9 +85,7 @@ static bool take_local(void *context, const rtt_tile_grid *grid, uint32_t thread
 
 static void fail_rank(tile_server *server, int rank, const char *what)
 {
-    dist_report report = {.ok = 0};
-    rtt_error_set(&report.error, "%s", what);
-    dist_reports_note(&server->reports, rank, &report);
+    dist_reports_fail(&server->reports, rank, what);
     atomic_store(&server->stop, true);
 }
 
@@ -100,22 +98,12 @@ static void grid_from(const dist_run_header *header, rtt_tile_grid *grid)
                             .total = tiles_x * tiles_y};
 }
 
-/* Receives and drops a message rank 0 cannot use (a rank waits until its
- * send is received).  With no memory even for that, the job cannot go on
- * in step: MPI_Abort ends every rank, non-zero. */
-static void discard(int rank, int tag, size_t bytes)
+static void answer_take(void *context, int rank, size_t bytes)
 {
-    unsigned char *scrap = malloc(bytes ? bytes : 1);
-    if (!scrap) MPI_Abort(MPI_COMM_WORLD, 1);
-    dist_recv(scrap, bytes, rank, tag);
-    free(scrap);
-}
-
-static void answer_take(tile_server *server, int rank, size_t bytes)
-{
+    tile_server *server = context;
     dist_run_header header = {0};
     if (bytes != sizeof header) {
-        discard(rank, DIST_TAG_TAKE, bytes);
+        dist_discard(rank, DIST_TAG_TAKE, bytes);
         fail_rank(server, rank, "mpi: a request for tiles of the wrong size");
     } else {
         dist_recv(&header, sizeof header, rank, DIST_TAG_TAKE);
@@ -130,20 +118,12 @@ static void answer_take(tile_server *server, int rank, size_t bytes)
     dist_send(&run, sizeof run, rank, DIST_TAG_RUN);
 }
 
-static void take_pixels(tile_server *server, int rank, size_t bytes)
+static void take_pixels(void *context, int rank, size_t bytes)
 {
-    if (bytes > server->buffer_size) {
-        free(server->buffer);
-        server->buffer = malloc(bytes);
-        server->buffer_size = server->buffer ? bytes : 0;
-    }
-    if (!server->buffer) {
-        fail_rank(server, 0, "mpi: out of memory receiving a rank's pixels");
-        discard(rank, DIST_TAG_PIXELS, bytes);
-        return;
-    }
+    tile_server *server = context;
+    dist_buffer_fit(&server->buffer, &server->buffer_size, bytes);
     dist_recv(server->buffer, bytes, rank, DIST_TAG_PIXELS);
-    dist_run_header header;
+    dist_run_header header = {0};
     memcpy(&header, server->buffer, sizeof header < bytes ? sizeof header : bytes);
     rtt_tile_grid grid;
     grid_from(&header, &grid);
@@ -162,26 +142,9 @@ static void take_pixels(tile_server *server, int rank, size_t bytes)
 static void *serve(void *context)
 {
     tile_server *server = context;
-    for (int left = server->dist->size - 1; left > 0;) {
-        int rank, tag;
-        size_t bytes;
-        dist_probe(&rank, &tag, &bytes);
-        if (tag == DIST_TAG_TAKE) {
-            answer_take(server, rank, bytes);
-        } else if (tag == DIST_TAG_PIXELS) {
-            take_pixels(server, rank, bytes);
-        } else if (tag == DIST_TAG_REPORT && bytes == sizeof(dist_report)) {
-            dist_report report;
-            dist_recv(&report, sizeof report, rank, DIST_TAG_REPORT);
-            dist_reports_note(&server->reports, rank, &report);
-            if (!report.ok) atomic_store(&server->stop, true);
-            left--;
-        } else {
-            /* nothing else travels during a frame: a rank out of step */
-            discard(rank, tag, bytes);
-            fail_rank(server, rank, "mpi: a message out of step with the frame");
-        }
-    }
+    dist_service service = {.take = answer_take, .pixels = take_pixels, .server = server,
+                            .reports = &server->reports, .stop = &server->stop};
+    dist_serve(server->dist, &service);
     return NULL;
 }
 
@@ -195,7 +158,6 @@ bool dist_render_rank0(rtt_dist *dist, rtt_engine *engine, const rtt_render_opti
     atomic_init(&server.stop, false);
     atomic_init(&server.grid_differs, false);
     dist_reports_init(&server.reports);
-    for (int r = 0; r < dist->size; r++) atomic_store(&dist->tiles_of_rank[r], 0);
     server.tiles_of_rank = dist->tiles_of_rank;
     rtt_tile_source source = {.take = take_local, .context = &server};
     rtt_render_options local = *opt;

@@ -38,6 +38,13 @@ uint32_t rtt_dist_tiles_of_rank(const rtt_dist *dist, uint32_t rank)
     return 0;
 }
 
+uint32_t rtt_dist_frames_of_rank(const rtt_dist *dist, uint32_t rank)
+{
+    (void)dist;
+    (void)rank;
+    return 0;
+}
+
 bool rtt_dist_agree(rtt_dist *dist, bool ok, rtt_error *err)
 {
     (void)dist;

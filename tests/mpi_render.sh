@@ -2,7 +2,8 @@
 # mpirun -np N rtt render (dist/) on one machine, oversubscribed: the image
 # byte for byte the one-process render for 2, 3 and 4 ranks (EXR with every
 # AOV and PNG, one and two threads a rank, both engines, the demo and a
-# Quake III map); a rank that cannot read its scene ends the job with
+# Quake III map) and of sequences (whole frames to ranks, and tiles); a
+# rank that cannot read its scene ends the job with
 # exit 1, one line from rank 0 naming it, and no output; a rank killed in
 # the middle of a frame ends the job non-zero within 10 s with no output.
 # Skipped (77) when mpirun is absent or rtt was built without MPI.
@@ -67,6 +68,24 @@ else
 fi
 
 [ "$remote_tiles" = 1 ] || fail "no rank but 0 rendered a tile in any run: the comparisons tested nothing"
+
+# sequences: more frames than ranks (whole frames to the ranks: 5 frames,
+# 2 ranks) and no more (each frame's tiles over the ranks: 3 frames, 4
+# ranks), byte for byte the one-process frames
+path="$src/tests/data/demo_path.json"
+for pair in 2:5 4:3; do
+    ranks=${pair%:*} count=${pair#*:}
+    seq=(render "$src/scenes/demo.json" --width 40 --height 30 --camera-path "$path" --path-frames "$count" --aov depth)
+    "$rtt" "${seq[@]}" -o "one$count"_%d.exr -o "one$count"_%d.png || fail "a one-process sequence failed"
+    run_mpi "$ranks" "$rtt" "${seq[@]}" -o "np$ranks"_%d.exr -o "np$ranks"_%d.png --stats >"seq$ranks.log" 2>&1 ||
+        fail "a sequence over $ranks ranks failed: $(tail -3 "seq$ranks.log")"
+    for f in $(seq 0 $((count - 1))); do
+        cmp -s "one${count}_$f.exr" "np${ranks}_$f.exr" || fail "sequence over $ranks ranks: frame $f EXR differs"
+        cmp -s "one${count}_$f.png" "np${ranks}_$f.png" || fail "sequence over $ranks ranks: frame $f PNG differs"
+    done
+done
+grep -q "^frames per rank:" seq2.log || fail "5 frames over 2 ranks were not shared as whole frames"
+grep -q "^tiles per rank:" seq4.log || fail "3 frames over 4 ranks were not shared by tiles"
 
 # a rank that cannot read its scene (seen on one node only)
 rank_scene='s="$1"; [ "$OMPI_COMM_WORLD_RANK" = 2 ] && s=/nonexistent/demo.json; shift; exec "$@" "$s"'

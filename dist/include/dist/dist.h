@@ -44,7 +44,32 @@ bool rtt_dist_agree(rtt_dist *dist, bool ok, rtt_error *err);
 bool rtt_dist_render(rtt_dist *dist, rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
                      rtt_render_stats *stats, rtt_error *err);
 
-/* Rank 0, after rtt_dist_render: how many tiles rank r rendered (0 elsewhere). */
+/* A sequence of frames (rtt render --camera-path). */
+typedef struct rtt_dist_frames {
+    uint32_t count;
+    /* On every rank before it renders frame f: put f's camera into the scene
+     * the engine was built from (NULL: the frames differ in nothing). */
+    void (*prepare)(void *context, uint32_t frame);
+    /* On rank 0 with frame f complete in `image`: write it.  Called from
+     * one thread at a time, frames in any order. */
+    bool (*write)(void *context, uint32_t frame, const rtt_image *image, rtt_error *err);
+    void *context;
+} rtt_dist_frames;
+
+/* Renders and writes every frame.  Up to one frame per rank (and always in
+ * one process): frame after frame, each frame's tiles shared by the ranks
+ * (rtt_dist_render).  More frames than ranks: whole frames go to the ranks
+ * on demand, each rendered by one rank's threads into its own image and
+ * sent to rank 0 (rank 0 renders frames too).  Either way each frame is
+ * byte for byte its one-process render.  A failure stops the job: frames
+ * already written stay, complete; no frame is half-written.  stats: summed
+ * over frames and ranks, seconds_total the sequence's wall time. */
+bool rtt_dist_render_frames(rtt_dist *dist, rtt_engine *engine, const rtt_render_options *opt, rtt_image *image,
+                            const rtt_dist_frames *frames, rtt_render_stats *stats, rtt_error *err);
+
+/* Rank 0: how many tiles of frames shared by tiles, and how many whole
+ * frames, rank r has rendered since the job began (0 on the other ranks). */
 uint32_t rtt_dist_tiles_of_rank(const rtt_dist *dist, uint32_t rank);
+uint32_t rtt_dist_frames_of_rank(const rtt_dist *dist, uint32_t rank);
 
 #endif
