@@ -90,7 +90,7 @@ static const cli_option render_options[] = {
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
-                                "stage times",
+                                "stage times; frames; under mpirun the tiles or frames of each rank",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
 };
 
@@ -306,9 +306,13 @@ const cli_command render_command = {
     .name = "render", .summary = "render a scene to EXR or PNG", .run = render,
     CLI_ARGS(render_args, render_defaults), CLI_ROWS(render_options), CLI_SCENE_OPERAND(render_args),
     .engine_offset = offsetof(render_args, render.engine),
-    .synopsis = "SCENE [-o out.exr|out.png]... [options]",
+    .synopsis = "SCENE [-o out.exr|out.png]... [--camera-path FILE [--path-frames N]] [options]",
     .description = "Renders SCENE (scene .json, mesh file, Quake III .bsp or baked .kdt).  An option\n"
-                   "the chosen engine, scene file or output does not use is refused, not ignored.\n",
+                   "the chosen engine, scene file or output does not use is refused, not ignored.\n"
+                   "With --camera-path, a sequence: each -o holds one frame number (frame_%04d.png,\n"
+                   "frames from 0).  Started by mpirun, the ranks share each frame's tiles (or, with\n"
+                   "more frames than ranks, the frames); rank 0 writes the same bytes one process\n"
+                   "would.\n",
     .environment = "RTT_ISA=auto|sse4|avx2|avx512 picks the instruction set when --isa is not\n"
                    "given.\n",
 };
