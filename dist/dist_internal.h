@@ -39,6 +39,8 @@ typedef struct dist_report {
     rtt_render_stats stats;
 } dist_report;
 
+/* A short sleep between tests of something not yet done. */
+void dist_nap(void);
 /* MPI_Test until done, sleeping between tests: a rank that waits leaves
  * the core to the ranks and threads that render (an oversubscribed node
  * would otherwise spin its waiters against its workers). */

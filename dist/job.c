@@ -11,7 +11,7 @@
  * render time, long enough that a waiter costs its core nothing. */
 #define WAIT_NAP_NS 20000L
 
-static void nap(void)
+void dist_nap(void)
 {
     struct timespec pause = {0, WAIT_NAP_NS};
     nanosleep(&pause, NULL);
@@ -78,7 +78,7 @@ uint32_t rtt_dist_size(const rtt_dist *dist)
 static void wait_status(MPI_Request *request, MPI_Status *status)
 {
     int done = 0;
-    for (MPI_Test(request, &done, status); !done; MPI_Test(request, &done, status)) nap();
+    for (MPI_Test(request, &done, status); !done; MPI_Test(request, &done, status)) dist_nap();
 }
 
 uint32_t rtt_dist_tiles_of_rank(const rtt_dist *dist, uint32_t rank)
@@ -124,7 +124,7 @@ static void probe(int source, int tag, MPI_Status *status)
     int found = 0;
     for (MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, status); !found;
          MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, status))
-        nap();
+        dist_nap();
 }
 
 static size_t byte_count(MPI_Status *status)
