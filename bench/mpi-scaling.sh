@@ -8,8 +8,10 @@
 # a rank (default "1 2"): one process without mpirun, then mpirun -np 1..4.
 # Each row is the median over RTT_MPI_RUNS runs (default 3) of the frame
 # time on rank 0 (`--stats` "time: total": the render with every rank's
-# pixels gathered, not the start-up, load or tree build) and of the whole
-# command's wall time, the tiles each rank rendered in the median run, and
+# pixels gathered, not the start-up, load or tree build), of the whole
+# command's wall time and of its CPU seconds (user + system of the command
+# and every rank: start-up, load, every rank's tree build, render; the work
+# done, whatever the machine's load), the tiles each rank rendered in the median run, and
 # a check that the image is byte for byte the one-process image.  Prints a
 # markdown table (bench/results/mpi.md quotes it).
 set -euo pipefail
@@ -40,36 +42,42 @@ run() {
     for i in $(seq "$runs"); do
         local start end
         start=$(date +%s.%N)
-        "$@" "$scene" --width "$width" --height "$height" -o "$work/$label.$i.png" --stats >"$work/$label.$i.log"
+        /usr/bin/time -f "%U %S" -o "$work/cpu" \
+            "$@" "$scene" --width "$width" --height "$height" -o "$work/$label.$i.png" --stats >"$work/$label.$i.log"
         end=$(date +%s.%N)
         frame=$(awk '/^time: total/ {print $3}' "$work/$label.$i.log")
-        echo "$frame $i" >>"$work/frames"
+        # user + system seconds of the command and every rank (mpirun waits for its ranks)
+        cpu=$(awk '{printf "%.2f", $1 + $2}' "$work/cpu")
+        echo "$frame $i $cpu" >>"$work/frames"
         echo "$end - $start" | bc -l >>"$work/walls"
     done
     local mid
     mid=$(sort -g "$work/frames" | awk '{r[NR] = $2} END {print r[int((NR + 1) / 2)]}')
+    local cpu
+    cpu=$(cut -d' ' -f3 "$work/frames" | median)
     local shares same=yes
     shares=$(sed -n 's/^tiles per rank: \([0-9 ]*\).*/\1/p' "$work/$label.$mid.log")
     for i in $(seq "$runs"); do cmp -s "$work/reference.png" "$work/$label.$i.png" || same=no; done
-    printf '%s %s %s|%s\n' "$(cut -d' ' -f1 "$work/frames" | median)" "$(median <"$work/walls")" "$same" \
+    printf '%s %s %s %s|%s\n' "$(cut -d' ' -f1 "$work/frames" | median)" "$(median <"$work/walls")" "$same" "$cpu" \
         "${shares:--}"
 }
 
 "$rtt" render "$scene" --width "$width" --height "$height" --threads 1 -o "$work/reference.png"
 echo "scene $(basename "$scene"), ${width}x$height, median of $runs runs; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
-echo "| ranks x threads | frame time (s) | speed-up | whole command (s) | same bytes | tiles per rank |"
-echo "|---|---|---|---|---|---|"
+echo "| ranks x threads | frame time (s) | speed-up | whole command (s) | CPU, all ranks (s) | same bytes | tiles per rank |"
+echo "|---|---|---|---|---|---|---|"
 for threads in $threads_list; do
-    read -r base_frame base_wall same rest <<<"$(run "one.t$threads" "$rtt" render --threads "$threads" | tr '|' ' ')"
-    printf "| 1 process (no mpirun) x %s | %s | 1.00 | %.2f | %s | - |\n" "$threads" "$base_frame" "$base_wall" "$same"
+    read -r base_frame base_wall same cpu rest <<<"$(run "one.t$threads" "$rtt" render --threads "$threads" | tr '|' ' ')"
+    printf "| 1 process (no mpirun) x %s | %s | 1.00 | %.2f | %s | %s | - |\n" "$threads" "$base_frame" "$base_wall" \
+        "$cpu" "$same"
     for ranks in 1 2 3 4; do
         line=$(run "np$ranks.t$threads" mpirun --oversubscribe -np "$ranks" "$rtt" render --threads "$threads")
-        read -r frame wall same <<<"${line%%|*}"
+        read -r frame wall same cpu <<<"${line%%|*}"
         shares=${line#*|}
         speedup=$(echo "$base_frame / $frame" | bc -l)
-        printf '| %s x %s | %s | %.2f | %s | %s | %s |\n' "$ranks" "$threads" "$frame" "$speedup" \
-            "$(printf %.2f "$wall")" "$same" "$shares"
+        printf '| %s x %s | %s | %.2f | %s | %s | %s | %s |\n' "$ranks" "$threads" "$frame" "$speedup" \
+            "$(printf %.2f "$wall")" "$cpu" "$same" "$shares"
     done
 done
 echo
