@@ -47,6 +47,14 @@ typedef struct rtt_tile_source {
     void *context;
 } rtt_tile_source;
 
+/* Working memory a renderer keeps from one frame to the next, so that an
+ * interactive loop renders without allocating (rtt view).  Optional: a
+ * render without one allocates and frees its own.  A cache serves one
+ * render at a time. */
+typedef struct rtt_render_cache rtt_render_cache;
+rtt_render_cache *rtt_render_cache_create(void);
+void rtt_render_cache_destroy(rtt_render_cache *cache);
+
 typedef struct rtt_render_options {
     uint32_t width, height;          /* 0 → the scene's */
     uint32_t threads;                /* 0 → one per core */
@@ -64,6 +72,7 @@ typedef struct rtt_render_options {
     void *progress_context;
     /* NULL: this process renders every tile (the default) */
     const rtt_tile_source *tile_source;
+    rtt_render_cache *cache;         /* optional: memory kept between frames */
 } rtt_render_options;
 
 /* Counters of the thesis' tables.  N = traversal steps per 2x2 packet,
