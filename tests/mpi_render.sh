@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # mpirun -np N rtt render (dist/) on one machine, oversubscribed: the image
 # byte for byte the one-process render for 2, 3 and 4 ranks (EXR with every
-# AOV and PNG, one and two threads a rank, both engines, the demo and a
-# Quake III map) and of sequences (whole frames to ranks, and tiles); a
-# rank that cannot read its scene ends the job with
-# exit 1, one line from rank 0 naming it, and no output; a rank killed in
-# the middle of a frame ends the job non-zero within 10 s with no output.
+# AOV and PNG, one and two threads a rank, both engines, the demo, its baked
+# .kdt and a Quake III map) and of sequences (whole frames to the ranks, and
+# tiles); a rank that cannot read its scene, and a rank out of memory, end
+# the job with exit 1, one line from rank 0 naming the rank and its error,
+# and no output; a rank killed in the middle of a frame ends the job
+# non-zero within 10 s with no output.
 # Skipped (77) when mpirun is absent or rtt was built without MPI.
 set -u
 rtt=$(realpath "$1")
@@ -61,6 +62,9 @@ remote_tiles=0
 compare_ranks demo "2x1 2x2 3x1 3x2 4x1 4x2" "$src/scenes/demo.json" --width 96 --height 64 --aov depth,prim,normal
 compare_ranks demo-reference "3x2" "$src/scenes/demo.json" --engine reference --width 72 --height 40 --aov depth,prim
 compare_ranks demo-tile4 "4x1" "$src/scenes/demo.json" --traversal omni --tile 4 --width 50 --height 30 --shadows cone:8
+# every rank adopts a baked tree instead of building one
+"$rtt" bake "$src/scenes/demo.json" -o demo.kdt || fail "rtt bake failed"
+compare_ranks demo-kdt "3x2" demo.kdt --width 64 --height 40
 if [ -s "$data/maps/oa_dm4.bsp" ]; then
     compare_ranks map "2x2 4x2" "$data/maps/oa_dm4.bsp" --width 80 --height 60 --aov depth
 else
@@ -98,6 +102,21 @@ lines=$(grep -c '^rtt: ' unread.log)
 grep -q '^rtt: rank 2: /nonexistent/demo.json: cannot open' unread.log ||
     fail "a rank without its scene: rank 0 does not name rank 2 and its error: $(head -3 unread.log)"
 ls unread.png* >/dev/null 2>&1 && fail "a rank without its scene: an output was left"
+
+# a rank out of memory (its address space capped: an image it cannot allocate;
+# an AddressSanitizer build reserves more address space than any cap allows)
+if ldd "$rtt" | grep -q libasan; then
+    echo "mpi_render: an ASan build: the out-of-memory rank is left to the plain build"
+else
+    rank_capped='[ "$OMPI_COMM_WORLD_RANK" = 1 ] && ulimit -v 2000000; exec "$@"'
+    run_mpi 3 sh -c "$rank_capped" sh "$rtt" render "$src/scenes/demo.json" --width 16384 --height 16000 \
+        -o oom.png >oom.log 2>&1
+    rc=$?
+    [ "$rc" = 1 ] || fail "a rank out of memory: exit $rc, not 1"
+    grep -q '^rtt: rank 1: .*out of memory' oom.log || fail "a rank out of memory: rank 0 does not name it: $(head -3 oom.log)"
+    [ "$(grep -c '^rtt: ' oom.log)" = 1 ] || fail "a rank out of memory: not one line from rtt: $(cat oom.log)"
+    ls oom.png* >/dev/null 2>&1 && fail "a rank out of memory: an output was left"
+fi
 
 # a rank killed in the middle of a frame (the frame takes a minute on one core)
 rank_pid='echo $$ >"pid.$OMPI_COMM_WORLD_RANK"; exec "$@"'
