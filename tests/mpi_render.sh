@@ -113,7 +113,8 @@ else
         -o oom.png >oom.log 2>&1
     rc=$?
     [ "$rc" = 1 ] || fail "a rank out of memory: exit $rc, not 1"
-    grep -q '^rtt: rank 1: .*out of memory' oom.log || fail "a rank out of memory: rank 0 does not name it: $(head -3 oom.log)"
+    grep -q '^rtt: rank 1: .*out of memory' oom.log ||
+        fail "a rank out of memory: rank 0 does not name it: $(head -3 oom.log)"
     [ "$(grep -c '^rtt: ' oom.log)" = 1 ] || fail "a rank out of memory: not one line from rtt: $(cat oom.log)"
     ls oom.png* >/dev/null 2>&1 && fail "a rank out of memory: an output was left"
 fi
