@@ -57,7 +57,7 @@ grep -q "none.json" out.log || fail "a missing path file: the message does not n
 printf '{"a": {"camera": {"eye": [0, 1, 3], "look_at": [0, 1, 3]}}}\n' >same_point.json
 expect_exit 1 "a view looking at its own eye" --camera-path same_point.json -o "bad_%d.png"
 ls missing_* bad_* >/dev/null 2>&1 && fail "a bad path left an output"
-echo -n 'a %% in a pattern: ' && "$rtt" render "$scene" "${size[@]}" --camera-path "$path" -o "pct%%_%d.png" &&
+echo -n 'a literal percent sign in a pattern: ' && "$rtt" render "$scene" "${size[@]}" --camera-path "$path" -o "pct%%_%d.png" &&
     [ -s "pct%_1.png" ] && echo ok || fail "%% in a pattern is not a %"
 
 [ "$failures" = 0 ] || { echo "camera_path: $failures failure(s)"; exit 1; }
