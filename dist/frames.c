@@ -30,7 +30,10 @@ static bool frame_by_frame(rtt_dist *dist, rtt_engine *engine, const rtt_render_
         if (frames->prepare) frames->prepare(frames->context, f);
         memset(&frame_stats, 0, sizeof frame_stats);
         if (!rtt_dist_render(dist, engine, opt, image, stats ? &frame_stats : NULL, err)) return false;
-        if (stats) dist_stats_add(stats, &frame_stats);
+        if (stats) {
+            dist_stats_add(stats, &frame_stats);
+            stats->seconds_total += frame_stats.seconds_total; /* the renders', not the writes' */
+        }
         bool written = !writer || frames->write(frames->context, f, image, err);
         if (!rtt_dist_agree(dist, written, err)) return false;
     }
@@ -40,15 +43,14 @@ static bool frame_by_frame(rtt_dist *dist, rtt_engine *engine, const rtt_render_
 bool rtt_dist_render_frames(rtt_dist *dist, rtt_engine *engine, const rtt_render_options *opt, rtt_image *image,
                             const rtt_dist_frames *frames, rtt_render_stats *stats, rtt_error *err)
 {
-    const uint64_t start = rtt_clock_ns();
     if (stats) memset(stats, 0, sizeof *stats);
-    bool ok;
 #if RTT_HAVE_MPI
-    if (rtt_dist_size(dist) > 1 && frames->count > rtt_dist_size(dist))
-        ok = dist_render_whole_frames(dist, engine, opt, image, frames, stats, err);
-    else
+    if (rtt_dist_size(dist) > 1 && frames->count > rtt_dist_size(dist)) {
+        const uint64_t start = rtt_clock_ns();
+        bool ok = dist_render_whole_frames(dist, engine, opt, image, frames, stats, err);
+        if (stats) stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
+        return ok;
+    }
 #endif
-        ok = frame_by_frame(dist, engine, opt, image, frames, stats, err);
-    if (stats) stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
-    return ok;
+    return frame_by_frame(dist, engine, opt, image, frames, stats, err);
 }

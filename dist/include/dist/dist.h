@@ -63,7 +63,9 @@ typedef struct rtt_dist_frames {
  * sent to rank 0 (rank 0 renders frames too).  Either way each frame is
  * byte for byte its one-process render.  A failure stops the job: frames
  * already written stay, complete; no frame is half-written.  stats: summed
- * over frames and ranks, seconds_total the sequence's wall time. */
+ * over frames and ranks; seconds_total the frames' render times (one frame
+ * in one process: exactly rtt_render's), or with whole frames to the ranks
+ * the sequence's wall time on rank 0, writes included. */
 bool rtt_dist_render_frames(rtt_dist *dist, rtt_engine *engine, const rtt_render_options *opt, rtt_image *image,
                             const rtt_dist_frames *frames, rtt_render_stats *stats, rtt_error *err);
 
