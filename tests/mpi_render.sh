@@ -109,9 +109,9 @@ grep -q '^rtt: rank 2: /nonexistent/demo.json: cannot open' unread.log ||
 ls unread.png* >/dev/null 2>&1 && fail "a rank without its scene: an output was left"
 
 # a rank out of memory (its address space capped: an image it cannot allocate;
-# an AddressSanitizer build reserves more address space than any cap allows)
-if ldd "$rtt" | grep -q libasan; then
-    echo "mpi_render: an ASan build: the out-of-memory rank is left to the plain build"
+# an ASan or TSan build reserves more address space than any cap allows)
+if ldd "$rtt" | grep -Eq 'libasan|libtsan'; then
+    echo "mpi_render: a sanitizer build: the out-of-memory rank is left to the plain build"
 else
     rank_capped='[ "$OMPI_COMM_WORLD_RANK" = 1 ] && ulimit -v 2000000; exec "$@"'
     run_mpi 3 sh -c "$rank_capped" sh "$rtt" render "$src/scenes/demo.json" --width 16384 --height 16000 \
