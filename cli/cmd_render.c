@@ -24,6 +24,7 @@ typedef struct render_args {
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;
     const char *camera_path;         /* --camera-path: a views file */
     uint32_t path_frames;            /* --path-frames: 0, one frame per view */
@@ -86,6 +87,7 @@ static const cli_option render_options[] = {
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
                                 "stage times; frames; under mpirun the tiles or frames of each rank",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
+    CLI_OPTION_MAX_MEMORY(render_args, max_memory),
 };
 
 /* What the parsed options ask that the engine, the scene file or the
@@ -254,7 +256,10 @@ static int render(void *opaque, const cli_parsed *parsed)
     rtt_dist *dist = NULL; /* the MPI job when mpirun started us, else NULL: this process alone */
     if (!rtt_dist_open(&dist, &err)) return cli_fail(&err);
     const bool writer = rtt_dist_rank(dist) == 0; /* rank 0 writes and prints for the job */
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    const char *inputs[] = {args->scene_path};
+    rtt_scene *scene = cli_check_outputs(args->outputs, args->output_count, inputs, 1, &err)
+                           ? cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err)
+                           : NULL;
     /* cli_camera_apply prints its own refusal; the other ranks must still hear of it */
     const int camera_status = scene ? cli_camera_apply(parsed, &args->camera, scene) : CLI_CONTINUE;
     cli_camera_free(&args->camera);

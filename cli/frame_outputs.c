@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "frame_outputs.h"
+#include "rtt/atomic_file.h"
 #include "rtt/views.h"
 
 /* The conversion in `pattern`: where it starts, its length and width, and
@@ -84,15 +85,15 @@ void cli_frames_prepare(void *opaque, uint32_t frame)
 bool cli_frames_write(void *opaque, uint32_t frame, const rtt_image *image, rtt_error *err)
 {
     cli_frames *frames = opaque;
-    for (uint32_t i = 0; i < frames->output_count; i++) {
+    bool ok = true;
+    rtt_atomic_files_hold(); /* a frame's outputs all or none */
+    for (uint32_t i = 0; ok && i < frames->output_count; i++) {
         char name[4096];
         const char *path = frames->outputs[i];
-        if (frames->path) {
-            if (!cli_frame_name(path, frame, name, sizeof name))
-                return rtt_error_set(err, "%s: frame %u: the name is too long", path, frame);
-            path = name;
-        }
-        if (!rtt_image_write(image, path, err)) return false;
+        if (frames->path && !cli_frame_name(path, frame, name, sizeof name))
+            ok = rtt_error_set(err, "%s: frame %u: the name is too long", path, frame);
+        else
+            ok = rtt_image_write(image, frames->path ? name : path, err);
     }
-    return true;
+    return rtt_atomic_files_release(ok, err) && ok;
 }
