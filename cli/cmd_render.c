@@ -7,6 +7,8 @@
 
 #include "camera_options.h"
 #include "cli.h"
+#include "dist/dist.h"
+#include "frame_outputs.h"
 #include "options.h"
 #include "rtt/atomic_file.h"
 #include "progress.h"
@@ -27,6 +29,8 @@ typedef struct render_args {
     rtt_render_options render;
     uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;
+    const char *camera_path;         /* --camera-path: a views file */
+    uint32_t path_frames;            /* --path-frames: 0, one frame per view */
 } render_args;
 
 static bool has_extension(const char *path, const char *extension)
@@ -83,10 +87,19 @@ static const cli_option render_options[] = {
     CLI_OPTION_MAX_BOUNCES(render_args, render),
     CLI_OPTION_BEZIER_LEVEL(render_args, bezier_level),
     CLI_OPTIONS_CAMERA(render_args, camera),
+    {.name = "--camera-path", .value_name = "FILE",
+     .help = "render a sequence: one frame per view of a views file, in file order (or --path-frames); "
+             "each output names its frames with a number, as in frame_%04d.png",
+     .kind = CLI_STRING, CLI_FIELD(render_args, camera_path)},
+    {.name = "--path-frames", .value_name = "N",
+     .help = "with --camera-path: N frames (1 to 1000000) through the views as key frames, eye, look-at, up "
+             "and fov interpolated linearly",
+     .kind = CLI_U32, CLI_FIELD(render_args, path_frames), .lo = 1, .hi = RTT_MAX_PATH_FRAMES},
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
-                                "the renderer's stage times, and the wall times of load, build, render and write",
+                                "the renderer's stage times, and the wall times of load, build, render and write; frames; under "
+                                "mpirun the tiles or frames of each rank",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
     CLI_OPTION_MAX_MEMORY(render_args, max_memory),
 };
@@ -111,6 +124,17 @@ static int check_applicable(const cli_parsed *parsed, render_args *args)
         if (exr == 0)
             return cli_refuse(parsed, "--aov", "PNG output %s%s has no AOV channels; write an .exr", args->outputs[0],
                               cli_given(parsed, "--output") ? "" : " (the default)");
+    }
+    if (args->path_frames && !args->camera_path)
+        return cli_refuse(parsed, "--path-frames", "applies to --camera-path only");
+    static const char *const one_camera[] = {"--eye", "--look-at", "--up", "--view"};
+    for (size_t i = 0; args->camera_path && i < sizeof one_camera / sizeof one_camera[0]; i++)
+        if (cli_given(parsed, one_camera[i]))
+            return cli_refuse(parsed, one_camera[i], "does not go with --camera-path, whose cameras it would replace");
+    for (uint32_t i = 0; args->camera_path && i < args->output_count; i++) {
+        rtt_error why = {{0}};
+        if (!cli_frame_pattern_check(args->outputs[i], &why))
+            return cli_refuse(parsed, "--output", "with --camera-path, %s", why.message);
     }
     int rc_scene = cli_check_scene_options(parsed, args->scene_path, args->engine);
     return rc_scene != CLI_CONTINUE ? rc_scene : cli_camera_check(parsed, &args->camera, args->scene_path);
@@ -197,18 +221,44 @@ static void print_stats(const rtt_render_stats *s, const char *engine_used, cons
     for (int i = 0; i < 4; i++) printf("  %s %.4f s  %5.1f%%\n", names[i], stages[i], sum > 0 ? 100 * stages[i] / sum : 0.0);
 }
 
-static bool render_with_engine(const rtt_scene *scene, render_args *args, rtt_image *image, rtt_render_stats *stats,
-                               char *engine_used, size_t engine_used_size, stage_times *times, rtt_error *err)
+/* Under MPI, for --stats: the share of the work each rank did. */
+static void print_rank_shares(const rtt_dist *dist)
+{
+    const bool frames = rtt_dist_frames_of_rank(dist, 0) > 0; /* whole frames: rank 0 renders some too */
+    printf("%s per rank:", frames ? "frames" : "tiles");
+    for (uint32_t r = 0; r < rtt_dist_size(dist); r++)
+        printf(" %u", frames ? rtt_dist_frames_of_rank(dist, r) : rtt_dist_tiles_of_rank(dist, r));
+    printf(" (%u ranks; rays and stages above are summed over them)\n", rtt_dist_size(dist));
+}
+
+/* --camera-path's cameras, on every rank (a file only one node lacks is a
+ * rank's failure like any other). */
+static bool load_camera_path(const char *file, uint32_t frames, rtt_camera_path *path, rtt_error *err)
+{
+    rtt_view_list views = {0};
+    bool ok = rtt_views_load(file, &views, err) && rtt_camera_path_make(&views, frames, file, path, err);
+    rtt_views_free(&views);
+    return ok;
+}
+
+/* Under MPI every rank builds its engine, and all go on only when all could
+ * (rtt_dist_agree); the ranks share the frames' tiles, or the frames. */
+static bool render_with_engine(rtt_dist *dist, const rtt_scene *scene, render_args *args, rtt_image *image,
+                               const rtt_dist_frames *frames, rtt_render_stats *stats, char *engine_used,
+                               size_t engine_used_size, stage_times *times, rtt_error *err)
 {
     args->render.engine.threads = args->render.threads; /* --threads bounds the build too */
     cli_progress *progress = cli_progress_start("building the acceleration structure");
     rtt_engine *engine = rtt_engine_create(args->engine, scene, &args->render.engine, err);
     times->build = cli_progress_finish(progress);
-    if (!engine) return false;
-    progress = cli_progress_start("rendering");
-    args->render.progress = cli_progress_update;
+    if (!rtt_dist_agree(dist, engine != NULL, err)) {
+        rtt_engine_destroy(engine);
+        return false;
+    }
+    progress = rtt_dist_rank(dist) == 0 ? cli_progress_start("rendering") : NULL; /* rank 0 speaks for the job */
+    args->render.progress = progress ? cli_progress_update : NULL;
     args->render.progress_context = progress;
-    bool ok = rtt_render(engine, &args->render, image, stats, err);
+    bool ok = rtt_dist_render_frames(dist, engine, &args->render, image, frames, stats, err);
     times->render = cli_progress_finish(progress);
     args->render.progress = NULL;
     describe_engine(engine, args->engine, &args->render.engine, engine_used, engine_used_size);
@@ -224,50 +274,80 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
+    rtt_dist *dist = NULL; /* the MPI job when mpirun started us, else NULL: this process alone */
+    if (!rtt_dist_open(&dist, &err)) return cli_fail(&err);
+    const bool writer = rtt_dist_rank(dist) == 0; /* rank 0 writes and prints for the job */
     const char *inputs[] = {args->scene_path};
     stage_times times = {0};
     rtt_scene *scene = cli_check_outputs(args->outputs, args->output_count, inputs, 1, &err)
                            ? cli_load_scene_timed(args->scene_path, args->bezier_level, args->max_memory, &times.load,
                                                   &err)
                            : NULL;
-    status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    /* cli_camera_apply prints its own refusal; the other ranks must still hear of it */
+    const int camera_status = scene ? cli_camera_apply(parsed, &args->camera, scene) : CLI_CONTINUE;
     cli_camera_free(&args->camera);
-    if (status != CLI_CONTINUE) {
-        rtt_scene_free(scene);
-        return status;
+    if (camera_status != CLI_CONTINUE) rtt_error_set(&err, "the camera options do not fit %s", args->scene_path);
+    rtt_camera_path path = {0};
+    const bool framed = scene && camera_status == CLI_CONTINUE &&
+                        (!args->camera_path || load_camera_path(args->camera_path, args->path_frames, &path, &err));
+    rtt_image *image = NULL;
+    if (framed) {
+        args->render.width = args->render.width ? args->render.width : scene->width;
+        args->render.height = args->render.height ? args->render.height : scene->height;
+        image = rtt_image_create(args->render.width, args->render.height, args->render.aovs, &err);
     }
-    uint32_t width = args->render.width ? args->render.width : scene->width;
-    uint32_t height = args->render.height ? args->render.height : scene->height;
-    args->render.width = width;
-    args->render.height = height;
-
-    rtt_image *image = rtt_image_create(width, height, args->render.aovs, &err);
     rtt_render_stats stats;
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
-    bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &times, &err);
-    cli_progress *progress = ok ? cli_progress_start("writing") : NULL;
-    rtt_atomic_files_hold(); /* all the outputs or none */
-    for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
-    ok = rtt_atomic_files_release(ok, &err) && ok;
-    times.write = cli_progress_finish(progress);
-    if (ok && args->render.stats) print_stats(&stats, engine_used, args, &times);
+    cli_frames outputs = {.scene = scene, .path = args->camera_path ? &path : NULL,
+                          .fov_given = cli_given(parsed, "--fov"), .fov = args->camera.fov,
+                          .outputs = args->outputs, .output_count = args->output_count};
+    rtt_dist_frames frames = {.count = args->camera_path ? path.count : 1, .prepare = cli_frames_prepare,
+                              .write = cli_frames_write, .context = &outputs};
+    /* interleaved:N filters and composes the whole image after its tiles, from
+     * planes the ranks do not exchange */
+    if (image && rtt_dist_size(dist) > 1 && args->render.shadows == RTT_SHADOWS_INTERLEAVED) {
+        rtt_image_free(image);
+        image = NULL;
+        rtt_error_set(&err, "interleaved shadows filter across tiles: they render in one process, not under mpirun");
+    }
+    bool ok = rtt_dist_agree(dist, image != NULL, &err) &&
+              render_with_engine(dist, scene, args, image, &frames, &stats, engine_used, sizeof engine_used, &times,
+                                 &err);
+    times.write = outputs.write_seconds;
+    times.render -= times.write; /* the frames are written as they finish */
+    if (ok && writer && args->render.stats) print_stats(&stats, engine_used, args, &times);
+    if (ok && writer && args->render.stats && frames.count > 1)
+        printf("frames: %u in %.3f s (%.3g frames/s)\n", frames.count, stats.seconds_total,
+               stats.seconds_total > 0 ? frames.count / stats.seconds_total : 0.0);
+    if (ok && writer && args->render.stats && rtt_dist_size(dist) > 1) print_rank_shares(dist);
+    rtt_camera_path_free(&path);
     rtt_image_free(image);
     rtt_scene_free(scene);
-    return ok ? RTT_EXIT_OK : cli_fail(&err);
+    /* rank 0 names the failing rank, before MPI_Finalize lets any rank exit */
+    status = ok                               ? RTT_EXIT_OK
+             : camera_status != CLI_CONTINUE ? camera_status
+             : writer                        ? cli_fail(&err)
+                                             : RTT_EXIT_BAD_INPUT;
+    rtt_dist_close(dist);
+    return status;
 }
 
 const cli_command render_command = {
     .name = "render", .summary = "render a scene to EXR or PNG", .run = render,
     CLI_ARGS(render_args, render_defaults), CLI_ROWS(render_options), CLI_SCENE_OPERAND(render_args),
     .engine_offset = offsetof(render_args, render.engine),
-    .synopsis = "SCENE [-o out.exr|out.png]... [options]",
+    .synopsis = "SCENE [-o out.exr|out.png]... [--camera-path FILE [--path-frames N]] [options]",
     .description = "Renders SCENE (scene .json, mesh file, Quake III .bsp or baked .kdt).  An option\n"
                    "the chosen engine, scene file or output does not use is refused, not ignored.\n"
                    "Transparent materials let light through in proportion to their transparency\n"
                    "with hard, multi:N, cone:N and pyramid:N shadows; edgewidth treats them as\n"
                    "opaque on sphere lights.  Textures that cannot be read draw in their\n"
-                   "material's colour, with one warning.\n",
+                   "material's colour, with one warning.\n"
+                   "With --camera-path, a sequence: each -o holds one frame number (frame_%04d.png,\n"
+                   "frames from 0).  Started by mpirun, the ranks share each frame's tiles (or, with\n"
+                   "more frames than ranks, the frames); rank 0 writes the same bytes one process\n"
+                   "would.\n",
     .environment = "RTT_ISA=auto|sse4|avx2|avx512 picks the instruction set when --isa is not\n"
                    "given.  RTT_TEXTURE_PATH=DIR[:DIR...] is where Quake III maps find their\n"
                    "textures (loose files and .pk3 archives; default: the map's directory, its\n"

@@ -347,8 +347,8 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
     atomic_init(&job.primary, 0);
     atomic_init(&job.shadow, 0);
     atomic_init(&job.secondary, 0);
-    rtt_tiles_run(width, height, REFERENCE_TILE, opt->threads, render_tile, &job, opt->progress,
-                  opt->progress_context);
+    rtt_tiles_run_from(opt->tile_source, width, height, REFERENCE_TILE, opt->threads, render_tile, &job,
+                       opt->progress, opt->progress_context);
     if (job.edge_tree) rtt_kd_reference_free(&edge_tree);
     if (job.planes) {
         bool resolved = rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);

@@ -145,6 +145,76 @@ static void test_one_thread_runs_inline_on_the_caller(void **state)
     assert_int_equal(atomic_load(&r.other_thread_tiles), 0);
 }
 
+/* A tile source as dist/ uses one: runs of 3 tiles from every third run on
+ * (a process with a third of the frame), each run's rendered callback
+ * after its tiles. */
+typedef struct third_source {
+    atomic_uint next_run;
+    uint32_t total;
+    atomic_uint runs_rendered, bad_runs;
+    coverage *c;
+} third_source;
+
+static bool take_third(void *context, const rtt_tile_grid *grid, uint32_t thread, uint32_t *first, uint32_t *count)
+{
+    (void)thread;
+    third_source *s = context;
+    s->total = grid->total;
+    uint32_t run = atomic_fetch_add(&s->next_run, 1);
+    if (run * 9 >= grid->total) return false;
+    *first = run * 9;
+    *count = 3;
+    return true;
+}
+
+static void third_rendered(void *context, const rtt_tile_grid *grid, uint32_t thread, uint32_t first, uint32_t count)
+{
+    third_source *s = context;
+    if (thread >= s->c->threads || first % 9 != 0 || count != 3 || grid->tile != 5) atomic_fetch_add(&s->bad_runs, 1);
+    atomic_fetch_add(&s->runs_rendered, 1);
+}
+
+static void test_tiles_from_a_source_renders_its_runs_only(void **state)
+{
+    (void)state;
+    const uint32_t width = 53, height = 31, tile = 5, tiles_x = 11; /* 11 x 7 tiles, clipped */
+    for (uint32_t threads = 1; threads <= 3; threads++) {
+        coverage c = {.width = width, .height = height, .threads = threads};
+        c.visits = calloc((size_t)width * height, sizeof *c.visits);
+        assert_non_null(c.visits);
+        third_source s = {.c = &c};
+        atomic_init(&s.next_run, 0);
+        rtt_tile_source source = {.take = take_third, .rendered = third_rendered, .context = &s};
+        rtt_tiles_run_from(&source, width, height, tile, threads, count_tile, &c, NULL, NULL);
+        assert_int_equal(s.total, 77);
+        for (uint32_t y = 0; y < height; y++)
+            for (uint32_t x = 0; x < width; x++) {
+                uint32_t t = (y / tile) * tiles_x + x / tile;
+                assert_int_equal(atomic_load(&c.visits[(size_t)y * width + x]), t % 9 < 3 ? 1 : 0);
+            }
+        assert_int_equal(atomic_load(&s.runs_rendered), 9); /* runs at 0, 9, .., 72; the last clipped to 72..76 */
+        assert_int_equal(atomic_load(&s.bad_runs), 0);
+        assert_int_equal(atomic_load(&c.bad_tile), 0);
+        free(c.visits);
+    }
+}
+
+static void test_tile_rect_clips_at_the_edges(void **state)
+{
+    (void)state;
+    rtt_tile_grid grid = {.width = 10, .height = 7, .tile = 4, .tiles_x = 3, .total = 6};
+    uint32_t x0, y0, x1, y1;
+    rtt_tile_rect(&grid, 5, &x0, &y0, &x1, &y1);
+    assert_int_equal(x0, 8);
+    assert_int_equal(y0, 4);
+    assert_int_equal(x1, 10);
+    assert_int_equal(y1, 7);
+    rtt_tile_rect(&grid, 1, &x0, &y0, &x1, &y1);
+    assert_int_equal(x0, 4);
+    assert_int_equal(x1, 8);
+    assert_int_equal(y1, 4);
+}
+
 static void test_cpu_count_is_at_least_one(void **state)
 {
     (void)state;
@@ -217,6 +287,8 @@ int main(void)
         cmocka_unit_test(test_tiles_empty_image_calls_nothing),
         cmocka_unit_test(test_progress_reports_each_tile_once_with_total),
         cmocka_unit_test(test_one_thread_runs_inline_on_the_caller),
+        cmocka_unit_test(test_tiles_from_a_source_renders_its_runs_only),
+        cmocka_unit_test(test_tile_rect_clips_at_the_edges),
         cmocka_unit_test(test_cpu_count_is_at_least_one),
         cmocka_unit_test(test_nested_runs_do_every_task),
         cmocka_unit_test(test_concurrent_callers_and_many_runs),

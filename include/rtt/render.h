@@ -30,6 +30,26 @@ typedef enum rtt_aov {
     RTT_AOV_NORMAL = 1 << 2
 } rtt_aov;
 
+/* The tile grid of a render: tile x tile squares of a width x height image,
+ * clipped at the right and bottom edges, numbered row-major 0..total-1. */
+typedef struct rtt_tile_grid {
+    uint32_t width, height, tile, tiles_x, total;
+} rtt_tile_grid;
+
+/* Tile t's pixels: columns x0..x1-1, rows y0..y1-1. */
+void rtt_tile_rect(const rtt_tile_grid *grid, uint32_t t, uint32_t *x0, uint32_t *y0, uint32_t *x1, uint32_t *y1);
+
+/* Where a render's tiles come from when this process renders only some of
+ * them (dist/: tiles handed out by another process).  Each worker asks
+ * `take` for a run of consecutive tiles [*first, *first + *count) until it
+ * returns false, and calls `rendered` after the run's last tile.  Both are
+ * called from the render's workers, possibly at once. */
+typedef struct rtt_tile_source {
+    bool (*take)(void *context, const rtt_tile_grid *grid, uint32_t thread, uint32_t *first, uint32_t *count);
+    void (*rendered)(void *context, const rtt_tile_grid *grid, uint32_t thread, uint32_t first, uint32_t count);
+    void *context;
+} rtt_tile_source;
+
 /* Working memory a renderer keeps from one frame to the next, so that an
  * interactive loop renders without allocating (rtt view).  Optional: a
  * render without one allocates and frees its own.  A cache serves one
@@ -55,6 +75,8 @@ typedef struct rtt_render_options {
      * worker threads with tiles done / total). */
     void (*progress)(void *context, uint32_t done, uint32_t total);
     void *progress_context;
+    /* NULL: this process renders every tile (the default) */
+    const rtt_tile_source *tile_source;
     rtt_render_cache *cache;         /* optional: memory kept between frames */
 } rtt_render_options;
 

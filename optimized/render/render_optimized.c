@@ -249,7 +249,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     bool ok = memory != NULL;
     if (ok) {
         job.scratch = memory->scratch;
-        rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
+        rtt_tiles_run_from(opt->tile_source, width, height, tile, threads, render_tile, &job, opt->progress,
+                           opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     if (job.shading.planes) {

@@ -4,13 +4,16 @@
  * (the calling thread is worker 0) through an atomic counter, so workers take
  * the next task as soon as they finish one and the load balances itself.
  * rtt_tiles_run cuts an image into tile x tile squares (clipped at the right
- * and bottom edges) in row-major order and runs them as tasks.  Tasks are
+ * and bottom edges) in row-major order and runs them as tasks;
+ * rtt_tiles_run_from runs only the tiles a source hands out (rtt/render.h).  Tasks are
  * independent, so results never depend on the thread count or on which
  * worker ran which task. */
 #ifndef RTT_ENGINE_THREADS_H
 #define RTT_ENGINE_THREADS_H
 
 #include <stdint.h>
+
+#include "rtt/render.h"
 
 #define RTT_MAX_THREADS 1024u
 
@@ -31,5 +34,11 @@ typedef void (*rtt_tile_fn)(void *context, uint32_t thread, uint32_t x0, uint32_
 typedef void (*rtt_progress_fn)(void *context, uint32_t done, uint32_t total);
 void rtt_tiles_run(uint32_t width, uint32_t height, uint32_t tile, uint32_t threads, rtt_tile_fn fn,
                    void *context, rtt_progress_fn progress, void *progress_context);
+/* source NULL: rtt_tiles_run.  Otherwise every worker renders the runs of
+ * tiles source->take gives it, one tile at a time, until it says none are
+ * left; `done` counts this process's tiles. */
+void rtt_tiles_run_from(const rtt_tile_source *source, uint32_t width, uint32_t height, uint32_t tile,
+                        uint32_t threads, rtt_tile_fn fn, void *context, rtt_progress_fn progress,
+                        void *progress_context);
 
 #endif
