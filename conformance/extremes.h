@@ -37,6 +37,7 @@ typedef struct rtt_extremes_config {
     size_t max_rays;         /* per check (default 8192); watertight meshes sample their vertices to fit */
     double embree_escape_limit; /* share of escaping rays allowed from Embree (default 0.02) */
     rtt_isa isa;             /* as rtt_conform_config */
+    rtt_isect isect;         /* as rtt_conform_config */
 } rtt_extremes_config;
 
 void rtt_extremes_config_default(rtt_extremes_config *config);

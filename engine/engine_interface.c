@@ -8,6 +8,7 @@
 #include "rtt/engine.h"
 
 static const char *const accel_names[RTT_ACCEL_COUNT] = {"default", "kd"};
+static const char *const isect_names[RTT_ISECT_COUNT] = {"default", "watertight", "projected"};
 
 void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n)
 {
@@ -41,6 +42,11 @@ const char *rtt_engine_kernel_name(rtt_engine *engine)
     return engine->vt->kernel_name ? engine->vt->kernel_name(engine) : "";
 }
 
+const char *rtt_engine_isect_name(rtt_engine *engine)
+{
+    return engine->vt->isect_name ? engine->vt->isect_name(engine) : "";
+}
+
 void rtt_engine_options_default(rtt_engine_options *opt)
 {
     memset(opt, 0, sizeof *opt);
@@ -53,12 +59,30 @@ const char *rtt_accel_name(rtt_accel accel)
     return (unsigned)accel < RTT_ACCEL_COUNT ? accel_names[accel] : "unknown";
 }
 
+/* The index of `name` among names[1..count-1] (0, "default", is not a name
+ * a caller may give), or -1. */
+static int name_index(const char *const *names, int count, const char *name)
+{
+    for (int i = 1; i < count; i++)
+        if (name && strcmp(name, names[i]) == 0) return i;
+    return -1;
+}
+
 bool rtt_accel_parse(const char *name, rtt_accel *out)
 {
-    for (int i = RTT_ACCEL_DEFAULT + 1; i < RTT_ACCEL_COUNT; i++)
-        if (name && strcmp(name, accel_names[i]) == 0) {
-            *out = (rtt_accel)i;
-            return true;
-        }
-    return false;
+    const int i = name_index(accel_names, RTT_ACCEL_COUNT, name);
+    if (i > 0) *out = (rtt_accel)i;
+    return i > 0;
+}
+
+const char *rtt_isect_name(rtt_isect isect)
+{
+    return (unsigned)isect < RTT_ISECT_COUNT ? isect_names[isect] : "unknown";
+}
+
+bool rtt_isect_parse(const char *name, rtt_isect *out)
+{
+    const int i = name_index(isect_names, RTT_ISECT_COUNT, name);
+    if (i > 0) *out = (rtt_isect)i;
+    return i > 0;
 }

@@ -26,7 +26,7 @@
 #endif
 
 #define KDT_MAGIC "RTTKDT\0\0"
-#define KDT_VERSION 1u
+#define KDT_VERSION 2u
 #define KDT_DEPTH_LIMIT 64u          /* deeper trees are refused: kernels' stacks rely on it */
 #define KDT_ALIGN 16u
 #define KDT_CHECKSUM_START 32u
@@ -128,7 +128,7 @@ typedef struct kdt_leaf {
 _Static_assert(sizeof(kdt_leaf) == 32, "kdt_leaf is 32 bytes");
 
 typedef struct kdt_triangle {
-    float n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv;
+    float n_u, n_v, a_k, a_u, a_v, b_nu, b_nv, c_nu, c_nv;
     uint32_t k, prim, pad;
 } kdt_triangle;
 _Static_assert(sizeof(kdt_triangle) == 48, "kdt_triangle is 48 bytes");
