@@ -134,6 +134,13 @@ bool rtt_bench_apply_view(rtt_scene *scene, const char *views_path, const char *
     if (ok && scene->light_count == 0)
         ok = rtt_error_set(err, "%s: the scene has no light slot (rtt_scene_finish was not called)", scene->path);
     if (ok) {
+        /* the view is in the scene's own coordinates: move it to the stored ones */
+        const double eye[3] = {camera.eye.x, camera.eye.y, camera.eye.z};
+        const double at[3] = {camera.look_at.x, camera.look_at.y, camera.look_at.z};
+        const double pos[3] = {light.position.x, light.position.y, light.position.z};
+        camera.eye = rtt_scene_point_to_stored(scene, eye);
+        camera.look_at = rtt_scene_point_to_stored(scene, at);
+        light.position = rtt_scene_point_to_stored(scene, pos);
         scene->camera = camera;
         scene->lights[0] = light;
         scene->light_count = 1;

@@ -101,5 +101,9 @@ void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err)
 {
     rtt_scene_load_options opt = {.bezier_level = bezier_level};
-    return rtt_scene_load(path, &opt, err);
+    rtt_scene *scene = rtt_scene_load(path, &opt, err);
+    if (scene && scene->collapsed_count)
+        fprintf(stderr, "rtt: warning: %s: %u of %u triangles collapse to zero area when stored in float (they never hit)\n",
+                path, scene->collapsed_count, scene->triangle_count);
+    return scene;
 }

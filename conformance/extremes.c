@@ -550,9 +550,11 @@ static bool sphere_checks(run_context *ctx)
         rtt_scene *scene = soup_scene(ctx, spheres[i].name, soup, count);
         if (!scene) return false;
         const float *c = spheres[i].centre;
-        float r = spheres[i].radius;
-        const float second[3] = {c[0] + 0.31f * r, c[1] - 0.22f * r, c[2] + 0.17f * r};
-        bool ok = watertight_scene(ctx, spheres[i].name, scene, c, second, spheres[i].beyond_embree);
+        const double r = spheres[i].radius;
+        const double first_file[3] = {c[0], c[1], c[2]}, second_file[3] = {c[0] + 0.31 * r, c[1] - 0.22 * r, c[2] + 0.17 * r};
+        const rtt_vec3 a = rtt_scene_point_to_stored(scene, first_file), b = rtt_scene_point_to_stored(scene, second_file);
+        const float first[3] = {a.x, a.y, a.z}, second[3] = {b.x, b.y, b.z};
+        bool ok = watertight_scene(ctx, spheres[i].name, scene, first, second, spheres[i].beyond_embree);
         rtt_scene_free(scene);
         if (!ok) return false;
     }

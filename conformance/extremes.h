@@ -51,7 +51,9 @@ char *rtt_extremes_report_json(const rtt_extremes_report *report);
  * A closed UV sphere of radius r around c (shared vertices bit-identical). */
 float *rtt_extremes_sphere(uint32_t segments, uint32_t rings, float radius, const float centre[3], uint32_t *count);
 /* Rays from `inside` to every vertex and every edge midpoint of the scene's
- * triangles (each edge once per triangle), at most max (evenly sampled). */
+ * triangles (each edge once per triangle), at most max (evenly sampled).
+ * `inside` and the rays are in the scene's stored coordinates
+ * (rtt_scene_point_to_stored; rtt_ext_inside_point gives such a point). */
 rtt_ray *rtt_extremes_watertight_rays(const rtt_scene *scene, const float inside[3], size_t max, size_t *count);
 
 #endif

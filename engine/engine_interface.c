@@ -42,6 +42,24 @@ const char *rtt_engine_kernel_name(rtt_engine *engine)
     return engine->vt->kernel_name ? engine->vt->kernel_name(engine) : "";
 }
 
+void rtt_rays_to_stored(const rtt_scene *scene, rtt_ray *rays, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        const double org[3] = {rays[i].org[0], rays[i].org[1], rays[i].org[2]};
+        const rtt_vec3 stored = rtt_scene_point_to_stored(scene, org);
+        rays[i].org[0] = stored.x, rays[i].org[1] = stored.y, rays[i].org[2] = stored.z;
+    }
+}
+
+void rtt_rays_from_stored(const rtt_scene *scene, rtt_ray *rays, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        double org[3];
+        rtt_scene_point_from_stored(scene, rtt_v3(rays[i].org[0], rays[i].org[1], rays[i].org[2]), org);
+        for (int a = 0; a < 3; a++) rays[i].org[a] = (float)org[a];
+    }
+}
+
 const char *rtt_engine_isect_name(rtt_engine *engine)
 {
     return engine->vt->isect_name ? engine->vt->isect_name(engine) : "";

@@ -81,9 +81,10 @@ typedef struct kdt_scene_settings {
     float eye[3], look_at[3], up[3], fov_deg;
     uint32_t width, height, max_bounces, degenerate_count;
     float background[3], ambient;
-    uint32_t has_normals, reserved;
+    uint32_t has_normals, collapsed_count;
+    double origin[3];                /* the scene's coordinates = stored + origin (rtt_scene.origin) */
 } kdt_scene_settings;
-_Static_assert(sizeof(kdt_scene_settings) == 80, "kdt_scene_settings is 80 bytes");
+_Static_assert(sizeof(kdt_scene_settings) == 104, "kdt_scene_settings is 104 bytes");
 
 /* 80 bytes. */
 typedef struct kdt_mesh {

@@ -106,7 +106,9 @@ static void test_reference_never_leaks_from_inside_a_sphere(void **state)
         rtt_engine *reference = rtt_engine_create("reference", scene, NULL, &err);
         if (!reference) fail_msg("reference: %s", err.message);
         size_t n = 0;
-        rtt_ray *rays = rtt_extremes_watertight_rays(scene, centres[s], 1u << 20, &n);
+        const double centre[3] = {centres[s][0], centres[s][1], centres[s][2]};
+        const rtt_vec3 stored = rtt_scene_point_to_stored(scene, centre);
+        rtt_ray *rays = rtt_extremes_watertight_rays(scene, (const float[3]){stored.x, stored.y, stored.z}, 1u << 20, &n);
         rtt_hit *hits = malloc(n * sizeof *hits);
         assert_non_null(rays);
         assert_non_null(hits);

@@ -174,6 +174,14 @@ bool rtt_engine_options_check(const char *name, const rtt_engine_options *opt, r
 /* The same for a class in hand (engine constructors called directly use it). */
 bool rtt_engine_class_check(const rtt_engine_class *cls, const rtt_engine_options *opt, rtt_error *err);
 
+/* Rays given in the scene's own coordinates (rays.bin, a user's rays) moved
+ * into its stored ones (origin minus rtt_scene.origin, in double): what an
+ * engine traces.  t, u, v and prim are the same in both. */
+void rtt_rays_to_stored(const rtt_scene *scene, rtt_ray *rays, size_t n);
+/* The reverse, for rays an engine's caller generated from the scene (the
+ * conformance sets) and writes out for `rtt trace --rays`. */
+void rtt_rays_from_stored(const rtt_scene *scene, rtt_ray *rays, size_t n);
+
 /* name: a registered engine.  opt may be NULL (defaults).  Checks the
  * options (rtt_engine_options_check) before building anything. */
 rtt_engine *rtt_engine_create(const char *name, const rtt_scene *scene, const rtt_engine_options *opt,
