@@ -13,9 +13,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
+#include "rtt/memory_budget.h"
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
+#include "rtt/views.h"
 #include "transform.h"
 
 /* Scenes larger than this are refused: indices stay far from overflow and a
@@ -444,18 +447,13 @@ bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
     }
     if (scene->normals) fill_vertex_normals(scene);
     if (!classify_meshes(scene, err)) return false;
-    if (!has_camera(scene)) default_camera(scene);
+    if (!has_camera(scene)) {
+        default_camera(scene);
+        scene->camera_source = RTT_CAMERA_FRAMING;
+    }
     if (scene->width == 0) scene->width = RTT_DEFAULT_WIDTH;
     if (scene->height == 0) scene->height = RTT_DEFAULT_HEIGHT;
-    if (scene->light_count == 0) {
-        rtt_light light = {.type = RTT_LIGHT_POINT,
-                           .position = scene->camera.eye,
-                           .color = rtt_v3(1.0f, 1.0f, 1.0f),
-                           .intensity = 1.0f,
-                           .attenuation = {1.0f, 0.0f, 0.0f},
-                           .radius = 0.0f};
-        if (!rtt_scene_add_light(scene, &light, err)) return false;
-    }
+    if (scene->light_count == 0 && !rtt_scene_use_camera_light(scene, err)) return false;
     return true;
 }
 
@@ -466,6 +464,10 @@ rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, 
         return NULL;
     }
     rtt_scene *scene = rtt_scene_new("triangles", err);
+    if (scene && !rtt_scene_budget_reserve(scene, "triangles", triangle_count, 0, err)) {
+        rtt_scene_free(scene);
+        return NULL;
+    }
     uint32_t *indices = malloc((size_t)triangle_count * 3 * sizeof *indices + 1);
     rtt_material m = rtt_material_default();
     if (!scene || !indices || rtt_scene_add_material(scene, &m) == UINT32_MAX) {
@@ -491,24 +493,28 @@ _Static_assert(sizeof(rtt_vec3) == 3 * sizeof(float), "rtt_vec3 is three packed 
 rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err)
 {
     const rtt_file_kind kind = rtt_file_kind_of(path);
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    fclose(probe);
-    if (kind == RTT_FILE_KDT) return rtt_kdt_read_scene(path, err);
-
+    if (!rtt_file_check_regular(path, err)) return NULL;
     rtt_scene_load_options defaults = {.bezier_level = 0};
     if (!opt) opt = &defaults;
+    if (kind == RTT_FILE_KDT) { /* the file holds the tree: its triangles are all there is to reserve */
+        rtt_scene *baked = rtt_kdt_read_scene(path, err);
+        if (baked) baked->memory_budget = opt->max_memory;
+        if (baked && !rtt_scene_budget_reserve(baked, path, baked->triangle_count, 0, err)) {
+            rtt_scene_free(baked);
+            return NULL;
+        }
+        return baked;
+    }
+
     uint32_t level = opt->bezier_level ? opt->bezier_level : RTT_DEFAULT_BEZIER_LEVEL;
     rtt_scene *scene = rtt_scene_new(path, err);
     if (!scene) return NULL;
+    scene->memory_budget = opt->max_memory;
     bool ok;
     if (kind == RTT_FILE_SCENE_JSON) {
         ok = rtt_scene_parse_json(scene, path, opt, err); /* bezier_level 0: the file's own, else the default */
     } else if (kind == RTT_FILE_Q3BSP) {
-        ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err);
+        ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err) && rtt_q3bsp_read_entities(scene, path, err);
     } else { /* a mesh, or a file of unknown kind that Assimp may recognise by its content */
         ok = rtt_import_assimp(scene, path, NULL, UINT32_MAX, err);
     }

@@ -73,6 +73,22 @@ typedef struct rtt_camera {
     float fov_deg; /* vertical field of view */
 } rtt_camera;
 
+/* Where a scene's camera and lights came from (rtt info prints it). */
+typedef enum rtt_camera_source {
+    RTT_CAMERA_FROM_FILE = 0,     /* the scene file's (or the .kdt's) */
+    RTT_CAMERA_FRAMING,           /* the default framing the bounds */
+    RTT_CAMERA_INTERMISSION,      /* a Quake III map's info_player_intermission */
+    RTT_CAMERA_SPAWN_POINT,       /* a Quake III map's first spawn point */
+    RTT_CAMERA_FROM_OPTIONS       /* put there by the caller (rtt_scene_set_camera) */
+} rtt_camera_source;
+
+typedef enum rtt_light_source {
+    RTT_LIGHTS_FROM_FILE = 0,     /* the scene file's (or the .kdt's) */
+    RTT_LIGHTS_AT_CAMERA,         /* the default: one point light at the eye */
+    RTT_LIGHTS_MAP,               /* a Quake III map's light entities */
+    RTT_LIGHTS_FROM_OPTIONS       /* put there by the caller */
+} rtt_light_source;
+
 /* One imported mesh: a run of triangles in the global order. */
 typedef struct rtt_mesh {
     char name[64];
@@ -118,6 +134,8 @@ typedef struct rtt_scene {
     rtt_material *materials;
     rtt_light *lights;
     rtt_camera camera;
+    rtt_camera_source camera_source;
+    rtt_light_source light_source;
     uint32_t width, height;
     rtt_vec3 background;
     float ambient;
@@ -125,10 +143,15 @@ typedef struct rtt_scene {
 
     rtt_baked_tree *baked;            /* non-NULL for scenes loaded from .kdt */
     void (*baked_free)(rtt_baked_tree *);
+
+    /* the memory budget (rtt/memory_budget.h): bytes allowed (0: the
+     * machine's default), bytes and triangles the loaders reserved */
+    uint64_t memory_budget, memory_reserved, memory_triangles;
 } rtt_scene;
 
 typedef struct rtt_scene_load_options {
     uint32_t bezier_level;            /* 0 → RTT_DEFAULT_BEZIER_LEVEL */
+    uint64_t max_memory;              /* the scene's memory budget in bytes; 0 → rtt_memory_budget_default() */
 } rtt_scene_load_options;
 
 /* What a file is by its extension: the text after the last dot of the last
