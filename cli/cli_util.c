@@ -58,8 +58,7 @@ rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_
     rtt_scene_load_options opt = {.bezier_level = bezier_level, .max_memory = max_memory};
     rtt_scene *scene = rtt_scene_load(path, &opt, err);
     if (scene && scene->collapsed_count)
-        fprintf(stderr, "rtt: warning: %s: %u of %u triangles collapse to zero area when stored in float (they never hit)
-",
+        fprintf(stderr, "rtt: warning: %s: %u of %u triangles collapse to zero area when stored in float (they never hit)\n",
                 path, scene->collapsed_count, scene->triangle_count);
     return scene;
 }
