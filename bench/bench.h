@@ -55,6 +55,8 @@ typedef struct rtt_bench_config {
     uint32_t max_tree_depth;                /* the kd-tree's depth bound, 0 → the builder's default */
     rtt_isa isa;                            /* the kernels' instruction set; RTT_ISA_AUTO (default):
                                                $RTT_ISA when set, else the widest the CPU has */
+    rtt_isect isect;                        /* the kernels' triangle test; RTT_ISECT_DEFAULT: the engine's */
+    bool compare_isects;                    /* kernel rows once per triangle test, in the same run */
     const char *image_dir;                  /* write each render row's image here (EXR), or NULL */
     /* Called before each row from the running thread (the CLI prints it). */
     void (*progress)(void *context, const char *row);
@@ -68,6 +70,7 @@ typedef struct rtt_bench_row {
     char family[16];           /* "mft", "frustum", "packet", ... / "embree" */
     char variant[32];          /* embree: "native robust" ...; rtt: "cull on" / "cull off" */
     char shadows[24];          /* render rows: the shadow method */
+    char isect[12];            /* rtt rows: "watertight" or "projected"; "" for Embree */
     uint32_t tile;             /* 0 when the method has none */
     int leaf_culling;          /* -1 when not applicable */
     uint32_t lanes;            /* embree: rays per call (1, 4, 8, 16) */

@@ -530,6 +530,7 @@ char *rtt_bench_report_json(const rtt_bench_report *rep)
         cJSON_AddStringToObject(o, "family", r->family);
         cJSON_AddStringToObject(o, "variant", r->variant);
         cJSON_AddStringToObject(o, "shadows", r->shadows);
+        cJSON_AddStringToObject(o, "isect", r->isect);
         cJSON_AddNumberToObject(o, "tile", r->tile);
         cJSON_AddNumberToObject(o, "leaf_culling", r->leaf_culling);
         cJSON_AddNumberToObject(o, "lanes", r->lanes);

@@ -24,6 +24,11 @@ typedef struct bench_state {
     rtt_bench_report *report;
     rtt_engine *engine;
     const kd_tree *tree;
+    /* the trees the kernel rows trace: the engine's, and with compare_isects
+     * the same tree with the other triangle test (corners dropped) */
+    kd_tree projected_view;
+    const kd_tree *isect_trees[2];
+    uint32_t isect_tree_count;
     bench_embree *peers[EMBREE_VARIANTS];
     uint32_t width, height;
     uint32_t warmup, frames;
@@ -140,11 +145,17 @@ static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_ray
         if (!bench_blocks_make(rays, block_tiles[bt], &blocks)) return false;
         for (size_t m = 0; m < method_count; m++) {
             if ((methods[m].tile ? methods[m].tile : 8u) != block_tiles[bt]) continue;
-            for (uint32_t t = 0; t < s->config->thread_count; t++) {
+            /* each thread count, and at each the triangle tests one after the other */
+            for (uint32_t run = 0; run < s->config->thread_count * s->isect_tree_count; run++) {
+                const uint32_t t = run / s->isect_tree_count;
+                const kd_tree *tree = s->isect_trees[run % s->isect_tree_count];
+                const char *isect = tree->corners ? "watertight" : "projected";
                 rtt_bench_row row = row_start(s, kind, "rtt", s->config->threads[t]);
                 method_label(&methods[m], row.method, sizeof row.method);
                 snprintf(row.family, sizeof row.family, "%s", methods[m].family);
-                snprintf(row.variant, sizeof row.variant, "cull %s", methods[m].leaf_culling ? "on" : "off");
+                snprintf(row.isect, sizeof row.isect, "%s", isect);
+                snprintf(row.variant, sizeof row.variant, "cull %s%s%s", methods[m].leaf_culling ? "on" : "off",
+                         s->isect_tree_count > 1 ? " " : "", s->isect_tree_count > 1 ? isect : "");
                 row.tile = methods[m].tile;
                 row.leaf_culling = methods[m].leaf_culling;
                 row.rays = rays->active;
@@ -152,7 +163,7 @@ static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_ray
                 bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0,
                                          s->config->isa};
                 bool check = t == 0 && s->have_oracle;
-                if (!bench_kernel_row(s->tree, &blocks, s->width, s->height, methods[m].family,
+                if (!bench_kernel_row(tree, &blocks, s->width, s->height, methods[m].family,
                                       methods[m].leaf_culling, &spec, &row, check ? s->result : NULL)) {
                     bench_blocks_free(&blocks);
                     return false;
@@ -296,6 +307,7 @@ static bool render_row(bench_state *s, const kernel_method *m, const char *shado
     f.options.engine.tile = m->tile ? m->tile : 8u;
     f.options.engine.leaf_culling = m->leaf_culling;
     f.options.engine.isa = s->config->isa;
+    f.options.engine.isect = s->config->isect;
     if (!rtt_shadow_method_parse(shadows, &f.options, &f.err)) {
         row_error(&row, "", f.err.message);
         return bench_report_push(s->report, &row);
@@ -441,9 +453,16 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     options.threads = 1; /* the build row is a one-core build */
     options.max_tree_depth = config->max_tree_depth;
     options.isa = config->isa;
+    options.isect = config->isect;
     s.engine = rtt_optimized_engine_create(scene, &options, err);
     if (!s.engine) return false;
     s.tree = kd_engine_tree(s.engine);
+    s.isect_trees[s.isect_tree_count++] = s.tree;
+    if (config->compare_isects && s.tree->corners) {
+        s.projected_view = *s.tree;
+        s.projected_view.corners = NULL; /* the same tree and records, Wald's projected test */
+        s.isect_trees[s.isect_tree_count++] = &s.projected_view;
+    }
     report->have_tree = rtt_engine_tree_info(s.engine, &report->tree);
 
     size_t pixels = (size_t)s.width * s.height;

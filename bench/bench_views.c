@@ -24,6 +24,8 @@ bool rtt_bench_apply_view(rtt_scene *scene, const rtt_view *view, rtt_error *err
         rtt_light *one = realloc(scene->lights, sizeof *one);
         if (!one) return rtt_error_set(err, "%s: out of memory for a light", scene->path);
         *one = view->light;
+        const double position[3] = {one->position.x, one->position.y, one->position.z};
+        one->position = rtt_scene_point_to_stored(scene, position); /* views are in the scene's own coordinates */
         scene->lights = one;
         scene->light_count = 1;
         scene->light_source = RTT_LIGHTS_FROM_OPTIONS;

@@ -73,5 +73,8 @@ rtt_scene *cli_load_scene_timed(const char *path, uint32_t bezier_level, uint64_
         fprintf(stderr, "rtt: warning: %s: %u texture%s not read, drawn in the material's own colour; the first: %s\n",
                 path, scene->missing_texture_count, scene->missing_texture_count == 1 ? "" : "s",
                 scene->missing_texture);
+    if (scene && scene->collapsed_count)
+        fprintf(stderr, "rtt: warning: %s: %u of %u triangles collapse to zero area when stored in float (they never hit)\n",
+                path, scene->collapsed_count, scene->triangle_count);
     return scene;
 }

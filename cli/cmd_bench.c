@@ -57,6 +57,7 @@ static const cli_option bench_options[] = {
      .kind = CLI_U32, CLI_FIELD(bench_args, config.warmup), .lo = 0, .hi = 64},
     CLI_OPTION_MAX_DEPTH(bench_args, engine),
     CLI_OPTION_ISA(bench_args, engine),
+    CLI_OPTION_ISECT(bench_args, engine),
     {.name = "--threads", .value_name = "LIST", .help = "thread counts, each row runs at each (default 1,2)",
      .kind = CLI_CUSTOM, CLI_FIELD(bench_args, config), .parse = parse_threads},
     {.name = "--quick",
@@ -76,6 +77,10 @@ static const cli_option bench_options[] = {
      .kind = CLI_STRING, CLI_FIELD(bench_args, tsv)},
     {.name = "--images", .value_name = "DIR", .help = "write each full render as DIR/<method>_<shadows>_t<threads>.exr",
      .kind = CLI_STRING, CLI_FIELD(bench_args, config.image_dir)},
+    {.name = "--compare-isects",
+     .help = "time every kernel row with the watertight and with the projected triangle test, one after the "
+             "other in this run (the test's column says which)",
+     .kind = CLI_FLAG, CLI_FIELD(bench_args, config.compare_isects)},
     {.name = "--progress", .help = "name each row on stderr as it starts", .kind = CLI_FLAG,
      CLI_FIELD(bench_args, progress)},
     CLI_OPTION_MAX_MEMORY(bench_args, max_memory),
@@ -85,6 +90,8 @@ static const cli_option bench_options[] = {
 static int check_applicable(const cli_parsed *parsed, bench_args *a)
 {
     if (a->views && a->camera.view) return cli_refuse(parsed, "--views", "does not go with --view");
+    if (a->config.compare_isects && cli_given(parsed, "--isect"))
+        return cli_refuse(parsed, "--compare-isects", "times both triangle tests: give no --isect");
     if (a->config.quick && cli_given(parsed, "--frames"))
         return cli_refuse(parsed, "--frames", "--quick times one frame per row");
     if (a->config.quick && cli_given(parsed, "--warmup"))
@@ -120,6 +127,7 @@ static int configure(bench_args *a, const cli_parsed *parsed)
     a->config.width = a->config.height = a->size;
     a->config.max_tree_depth = a->engine.max_tree_depth;
     a->config.isa = a->engine.isa;
+    a->config.isect = a->engine.isect;
     return CLI_CONTINUE;
 }
 

@@ -55,6 +55,7 @@ static const cli_option conform_options[] = {
              "reference (default: optimized,embree)",
      .kind = CLI_CUSTOM, CLI_FIELD(conform_args, config.engines), .parse = parse_engines},
     CLI_OPTION_ISA(conform_args, engine),
+    CLI_OPTION_ISECT(conform_args, engine),
     {.name = "--max-rays", .value_name = "N",
      .help = "rays per set, 16 to 100000000 (default 65536; primary renders smaller to fit)",
      .kind = CLI_U32, CLI_FIELD(conform_args, max_rays), .lo = 16, .hi = 100000000u},
@@ -73,26 +74,32 @@ static const cli_option conform_options[] = {
     CLI_OPTIONS_CAMERA(conform_args, camera),
 };
 
-/* --isa goes to the listed engines that read an instruction-set choice: at
- * least one must, and each must accept it. */
-static int check_isa(const cli_parsed *parsed, const conform_args *args)
+/* --isa and --isect go to the listed engines that read them: at least one
+ * must, and each must accept them. */
+static int check_engine_option(const cli_parsed *parsed, const conform_args *args, const char *name, uint32_t bit,
+                               const char *what)
 {
-    if (!cli_given(parsed, "--isa")) return CLI_CONTINUE;
+    if (!cli_given(parsed, name)) return CLI_CONTINUE;
     const char *list = args->config.engines ? args->config.engines : rtt_conform_default_engines();
     rtt_conform_engine_spec specs[64];
     rtt_error err = {{0}};
     int count = rtt_conform_expand_engines(list, specs, 64, &err);
     if (count < 0) return cli_refuse(parsed, "--engines", "%s", err.message);
-    rtt_conform_specs_set_isa(specs, count, args->engine.isa);
+    rtt_conform_specs_set_isa(specs, count, args->engine.isa, args->engine.isect);
     int readers = 0;
     for (int i = 0; i < count; i++) {
-        if (!(specs[i].opt.given & RTT_OPTION_ISA)) continue;
+        if (!(specs[i].opt.given & bit)) continue;
         readers++;
         int rc = cli_check_engine_options(parsed, specs[i].name, &specs[i].opt);
         if (rc != CLI_CONTINUE) return rc;
     }
-    return readers ? CLI_CONTINUE
-                   : cli_refuse(parsed, "--isa", "none of the engines %s reads an instruction-set choice", list);
+    return readers ? CLI_CONTINUE : cli_refuse(parsed, name, "none of the engines %s reads %s", list, what);
+}
+
+static int check_isa(const cli_parsed *parsed, const conform_args *args)
+{
+    int rc = check_engine_option(parsed, args, "--isa", RTT_OPTION_ISA, "an instruction-set choice");
+    return rc != CLI_CONTINUE ? rc : check_engine_option(parsed, args, "--isect", RTT_OPTION_ISECT, "a triangle-test choice");
 }
 
 /* The options one mode reads and the other does not. */
@@ -134,6 +141,7 @@ static int run_extremes(const conform_args *args)
     if (args->meshes) config.mesh_dir = args->meshes;
     if (args->max_rays) config.max_rays = args->max_rays;
     config.isa = args->engine.isa;
+    config.isect = args->engine.isect;
     rtt_extremes_report report;
     rtt_error err = {{0}};
     cli_progress *progress = cli_progress_start("conform --extremes");
@@ -162,6 +170,7 @@ static int conform(void *opaque, const cli_parsed *parsed)
     if (args->max_rays) args->config.max_rays = args->max_rays;
     if (cli_given(parsed, "--seed")) args->config.seed = args->seed;
     args->config.isa = args->engine.isa;
+    args->config.isect = args->engine.isect;
 
     rtt_error err = {{0}};
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);

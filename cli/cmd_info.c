@@ -39,8 +39,14 @@ static void print_scene(const rtt_scene *s)
     printf("  triangles   %u (%u degenerate)\n", s->triangle_count, s->degenerate_count);
     printf("  vertices    %u%s\n", s->vertex_count, s->normals ? " with normals" : "");
     printf("  meshes      %u (%u closed)\n", s->mesh_count, closed);
-    printf("  bounds      (%g, %g, %g) .. (%g, %g, %g)\n", s->bounds.lo.x, s->bounds.lo.y, s->bounds.lo.z,
-           s->bounds.hi.x, s->bounds.hi.y, s->bounds.hi.z);
+    double lo[3], hi[3];
+    rtt_scene_point_from_stored(s, s->bounds.lo, lo);
+    rtt_scene_point_from_stored(s, s->bounds.hi, hi);
+    printf("  bounds      (%.9g, %.9g, %.9g) .. (%.9g, %.9g, %.9g)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (s->origin[0] != 0.0 || s->origin[1] != 0.0 || s->origin[2] != 0.0)
+        printf("  stored      relative to (%.17g, %.17g, %.17g)\n", s->origin[0], s->origin[1], s->origin[2]);
+    if (s->collapsed_count)
+        printf("  collapsed   %u triangles lose their area in float\n", s->collapsed_count);
     printf("  image       %ux%u, max bounces %u\n", s->width, s->height, s->max_bounces);
     printf("  materials   %u:", s->material_count);
     for (uint32_t i = 0; i < s->material_count; i++)

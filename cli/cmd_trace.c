@@ -99,6 +99,7 @@ static int trace(void *opaque, const cli_parsed *parsed)
     bool ok = results != NULL;
     if (engine && !results) rtt_error_set(&err, "%s: out of memory for %zu rays", args->rays_path, count);
     if (ok) {
+        rtt_rays_to_stored(scene, rays, count); /* rays.bin is in the scene's own coordinates */
         if (args->occluded) rtt_engine_occluded(engine, rays, results, count);
         else rtt_engine_intersect(engine, rays, results, count);
         ok = cli_write_file_atomic(args->out_path, results, count * record, &err);

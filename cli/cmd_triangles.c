@@ -39,7 +39,11 @@ static int triangles(void *opaque, const cli_parsed *parsed)
     for (uint32_t i = 0; ok && i < scene->triangle_count; i++) {
         rtt_vec3 corners[3];
         rtt_scene_triangle(scene, i, corners);
-        memcpy(&xyz[(size_t)i * 9], corners, sizeof corners);
+        for (int k = 0; k < 3; k++) { /* in the scene's own coordinates */
+            double p[3];
+            rtt_scene_point_from_stored(scene, corners[k], p);
+            for (int a = 0; a < 3; a++) xyz[(size_t)i * 9 + 3 * k + a] = (float)p[a];
+        }
     }
     ok = ok && cli_write_file_atomic(args->out_path, xyz, size, &err);
     free(xyz);

@@ -452,6 +452,11 @@ bool cli_parse_isa(const char *value, void *field, rtt_error *why)
     return rtt_isa_parse(value, (rtt_isa *)field) || expected_names(why, "auto or one of", cli_help_isas);
 }
 
+bool cli_parse_isect(const char *value, void *field, rtt_error *why)
+{
+    return rtt_isect_parse(value, (rtt_isect *)field) || rtt_error_set(why, "expected watertight or projected");
+}
+
 static void append(char *out, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static void append(char *out, size_t size, const char *fmt, ...)
 {

@@ -121,6 +121,7 @@ bool cli_parse_accel(const char *value, void *field, rtt_error *why);
 bool cli_parse_traversal(const char *value, void *field, rtt_error *why);
 bool cli_parse_tile(const char *value, void *field, rtt_error *why);
 bool cli_parse_isa(const char *value, void *field, rtt_error *why);
+bool cli_parse_isect(const char *value, void *field, rtt_error *why);
 void cli_help_engines(char *out, size_t size);
 void cli_help_accels(char *out, size_t size);
 void cli_help_kernels(char *out, size_t size);
@@ -153,6 +154,11 @@ extern const char *const cli_on_off[];
              "CPU has) or one of",                                                                              \
      .kind = CLI_CUSTOM, CLI_FIELD(type, engine.isa), .parse = cli_parse_isa, .help_more = cli_help_isas,       \
      .given = RTT_OPTION_ISA}
+#define CLI_OPTION_ISECT(type, engine)                                                                          \
+    {.name = "--isect", .value_name = "NAME",                                                                   \
+     .help = "ray/triangle test of the kernels: watertight (default; no ray slips through a shared edge) or "  \
+             "projected (Wald's, not watertight)",                                                              \
+     .kind = CLI_CUSTOM, CLI_FIELD(type, engine.isect), .parse = cli_parse_isect, .given = RTT_OPTION_ISECT}
 #define CLI_OPTION_MAX_DEPTH(type, engine)                                                                      \
     {.name = "--max-depth", .value_name = "N",                                                                  \
      .help = "kd-tree depth bound, 1 to 64 (default round(2 + log2 N), at least 8, N the triangles)",           \
@@ -162,7 +168,8 @@ extern const char *const cli_on_off[];
  * engine option but --engine itself (render, trace). */
 #define CLI_OPTIONS_KD_ENGINE(type, engine)                                                                     \
     CLI_OPTION_ACCEL(type, engine), CLI_OPTION_TRAVERSAL(type, engine), CLI_OPTION_TILE(type, engine),          \
-        CLI_OPTION_LEAF_CULLING(type, engine), CLI_OPTION_ISA(type, engine), CLI_OPTION_MAX_DEPTH(type, engine)
+        CLI_OPTION_LEAF_CULLING(type, engine), CLI_OPTION_ISA(type, engine), CLI_OPTION_ISECT(type, engine),      \
+        CLI_OPTION_MAX_DEPTH(type, engine)
 /* The options of building a kd-tree (bake, info). */
 #define CLI_OPTIONS_KD_TREE(type, engine) CLI_OPTION_ACCEL(type, engine), CLI_OPTION_MAX_DEPTH(type, engine)
 /* --threads N for the commands that build a tree but do not render. */

@@ -102,6 +102,7 @@ typedef struct rtt_conform_config {
     uint64_t seed;
     rtt_isa isa;           /* given to each listed engine that reads an instruction-set choice;
                               RTT_ISA_AUTO (default): each engine's own ($RTT_ISA, else the widest) */
+    rtt_isect isect;       /* likewise the triangle test; RTT_ISECT_DEFAULT: each engine's own */
 } rtt_conform_config;
 
 void rtt_conform_config_default(rtt_conform_config *config);
@@ -122,9 +123,9 @@ typedef struct rtt_conform_engine_spec {
 bool rtt_conform_register_engines(rtt_error *err);
 
 int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs, int cap, rtt_error *err);
-/* Gives instruction set `isa` to each spec whose engine reads one (AUTO
- * leaves the specs as they are). */
-void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa);
+/* Gives instruction set `isa` and triangle test `isect` to each spec whose
+ * engine reads them (AUTO and DEFAULT leave the specs as they are). */
+void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa, rtt_isect isect);
 /* Checks an engine list without running anything. */
 bool rtt_conform_engines_valid(const char *engines, rtt_error *err);
 

@@ -70,13 +70,21 @@ int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs,
     return n;
 }
 
-void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa)
+/* One engine option (its RTT_OPTION_* bit) for each spec whose engine reads it. */
+static void give_option(rtt_conform_engine_spec *spec, uint32_t bit, rtt_isa isa, rtt_isect isect)
 {
-    for (int i = 0; isa != RTT_ISA_AUTO && i < count; i++) {
-        const rtt_engine_class *cls = rtt_engine_find(specs[i].name);
-        if (!cls || !(cls->uses & RTT_OPTION_ISA)) continue;
-        specs[i].opt.isa = isa;
-        specs[i].opt.given |= RTT_OPTION_ISA;
+    const rtt_engine_class *cls = rtt_engine_find(spec->name);
+    if (!cls || !(cls->uses & bit)) return;
+    if (bit == RTT_OPTION_ISA) spec->opt.isa = isa;
+    if (bit == RTT_OPTION_ISECT) spec->opt.isect = isect;
+    spec->opt.given |= bit;
+}
+
+void rtt_conform_specs_set_isa(rtt_conform_engine_spec *specs, int count, rtt_isa isa, rtt_isect isect)
+{
+    for (int i = 0; i < count; i++) {
+        if (isa != RTT_ISA_AUTO) give_option(&specs[i], RTT_OPTION_ISA, isa, isect);
+        if (isect != RTT_ISECT_DEFAULT) give_option(&specs[i], RTT_OPTION_ISECT, isa, isect);
     }
 }
 
@@ -164,7 +172,7 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
     rtt_conform_engine_spec specs[64];
     int n_specs = rtt_conform_expand_engines(config->engines ? config->engines : rtt_conform_default_engines(), specs, 64, err);
     if (n_specs < 0) return false;
-    rtt_conform_specs_set_isa(specs, n_specs, config->isa);
+    rtt_conform_specs_set_isa(specs, n_specs, config->isa, config->isect);
 
     rtt_engine *reference = rtt_engine_create("reference", scene, NULL, err);
     if (!reference) return false;

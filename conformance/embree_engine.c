@@ -16,7 +16,8 @@
  * - Embree's interval is [tnear, tfar], inclusive at both ends, where ours is
  *   open: a hit exactly at tnear or tfar may be reported.  The conformance
  *   comparison counts hits within tolerance of either bound as "boundary".
- * - Rays Embree does not accept (a non-finite origin or direction, a NaN
+ * - Rays Embree does not accept (a non-finite origin or direction, a
+ *   component of 1.844e18 or more, which aborts it on an assertion, a NaN
  *   bound, an empty interval tnear >= tfar or tfar <= 0, a zero direction)
  *   are answered as misses without asking Embree: its behaviour on them is
  *   unspecified.
@@ -52,10 +53,17 @@ static void record_error(void *user, enum RTCError code, const char *str)
         snprintf(e->first_error, sizeof e->first_error, "embree error %d: %s", (int)code, str ? str : "(no message)");
 }
 
+/* Embree's own validity bound on ray components (FLT_LARGE in its
+ * sources, 1.844e18): a component at or beyond it trips an assertion that
+ * aborts the process, so such rays are never handed to Embree. */
+#define EMBREE_COMPONENT_LIMIT 1.844e18f
+
 static bool ray_is_traceable(const rtt_ray *r)
 {
     for (int k = 0; k < 3; k++)
         if (!isfinite(r->org[k]) || !isfinite(r->dir[k])) return false;
+    for (int k = 0; k < 3; k++)
+        if (!(fabsf(r->org[k]) < EMBREE_COMPONENT_LIMIT && fabsf(r->dir[k]) < EMBREE_COMPONENT_LIMIT)) return false;
     /* Our interval is open: (tnear, tfar) is empty unless tnear < tfar, also
      * after tnear is raised to 0 for Embree (an untraced ray keeps its tfar,
      * and a tfar of -inf would read as "occluded"). */

@@ -37,6 +37,7 @@ typedef struct rtt_extremes_config {
     size_t max_rays;         /* per check (default 8192); watertight meshes sample their vertices to fit */
     double embree_escape_limit; /* share of escaping rays allowed from Embree (default 0.02) */
     rtt_isa isa;             /* as rtt_conform_config */
+    rtt_isect isect;         /* as rtt_conform_config */
 } rtt_extremes_config;
 
 void rtt_extremes_config_default(rtt_extremes_config *config);
@@ -50,7 +51,9 @@ char *rtt_extremes_report_json(const rtt_extremes_report *report);
  * A closed UV sphere of radius r around c (shared vertices bit-identical). */
 float *rtt_extremes_sphere(uint32_t segments, uint32_t rings, float radius, const float centre[3], uint32_t *count);
 /* Rays from `inside` to every vertex and every edge midpoint of the scene's
- * triangles (each edge once per triangle), at most max (evenly sampled). */
+ * triangles (each edge once per triangle), at most max (evenly sampled).
+ * `inside` and the rays are in the scene's stored coordinates
+ * (rtt_scene_point_to_stored; rtt_ext_inside_point gives such a point). */
 rtt_ray *rtt_extremes_watertight_rays(const rtt_scene *scene, const float inside[3], size_t max, size_t *count);
 
 #endif

@@ -61,6 +61,7 @@ static const struct { uint32_t bit; const char *what; } option_names[] = {
     {RTT_OPTION_ACCEL, "an acceleration structure"}, {RTT_OPTION_TRAVERSAL, "a traversal kernel"},
     {RTT_OPTION_TILE, "a tile size"},               {RTT_OPTION_LEAF_CULLING, "a leaf-culling setting"},
     {RTT_OPTION_MAX_DEPTH, "a tree depth bound"},   {RTT_OPTION_ISA, "an instruction-set choice"},
+    {RTT_OPTION_ISECT, "a triangle-test choice"},
 };
 
 static bool check_isa(rtt_isa isa, rtt_error *err)
@@ -101,6 +102,7 @@ bool rtt_engine_class_check(const rtt_engine_class *cls, const rtt_engine_option
     if (memchr(opt->traversal, '\0', sizeof opt->traversal) == NULL)
         return rtt_error_set(err, "traversal name longer than %u characters", RTT_TRAVERSAL_NAME_MAX - 1);
     if (!check_isa(opt->isa, err)) return false;
+    if ((unsigned)opt->isect >= RTT_ISECT_COUNT) return rtt_error_set(err, "unknown triangle test %d", (int)opt->isect);
     return cls->check ? cls->check(opt, err) : true;
 }
 

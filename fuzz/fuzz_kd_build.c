@@ -10,12 +10,15 @@
  *  2. the reference and the optimized engine are built; their tree info must
  *     hold its bounds (depth <= max_depth, references <= reference_cap);
  *  3. the rays go through the reference and every optimized traversal mode
- *     and each answer is checked against brute force (fuzz_oracle.h: strict
- *     for the reference, lenient near edges for the optimized kernels).
+ *     (with the watertight test, or the projected one when flag bit 3 is
+ *     set) and each answer is checked against brute force (fuzz_oracle.h:
+ *     strict for the reference and the watertight test, which is the
+ *     reference's arithmetic; lenient near edges for the projected test).
  *
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
  *   [2] offset choice                 [3] max tree depth (0 = default), [4] flags
+ *   (bit 0 leaf culling, bits 1-2 tile, bit 3 the projected test)
  *   triangles: per vertex 1 control byte (< 48 and a vertex exists: repeat
  *     vertex ctrl % count) then 3 coordinates (1 palette byte each, or 4 raw
  *     bytes in raw mode)
@@ -186,6 +189,7 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     opt.leaf_culling = flags & 1;
     static const uint32_t tiles[4] = { 4, 8, 16, 32 };
     opt.tile = tiles[(flags >> 1) % 4];
+    const bool projected = flags >> 3 & 1;
     fuzz_oracle *oracle = fuzz_oracle_create(scene, rays, ray_count);
     rtt_error err = { "" };
 
@@ -199,14 +203,15 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     const char *kernel;
     for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(RTT_ACCEL_KD, mode)); mode++) {
         snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
+        opt.isect = projected ? RTT_ISECT_PROJECTED : RTT_ISECT_WATERTIGHT;
         rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
         if (!optimized)
             fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
         char label[64];
-        snprintf(label, sizeof label, "optimized/%s", kernel);
+        snprintf(label, sizeof label, "optimized/%s/%s", kernel, projected ? "projected" : "watertight");
         if (mode == 0)
             fuzz_check_tree_info(optimized, label, scene, true);
-        fuzz_oracle_check(oracle, optimized, label, true);
+        fuzz_oracle_check(oracle, optimized, label, projected);
         rtt_engine_destroy(optimized);
     }
     fuzz_oracle_free(oracle);

@@ -43,10 +43,17 @@ _Static_assert(sizeof(kd_triangle) == sizeof(kdt_triangle) &&
                "kd_triangle and the .kdt triangle record agree");
 _Static_assert(KD_DEPTH_LIMIT == KDT_DEPTH_LIMIT, "the builder and the .kdt reader bound depth alike");
 
+/* The triangle test when the options leave it to the engine: watertight.
+ * It lets no ray out of a closed mesh, and on primary frames it costs what
+ * bench/results/accuracy.md measures against the projected test (within
+ * the 1.15x the production path may spend on it). */
+#define RTT_OPTIMIZED_DEFAULT_ISECT RTT_ISECT_WATERTIGHT
+
 typedef struct optimized_engine {
     rtt_engine base;
     kd_tree tree;
     bool owns_tree;           /* false when the arrays belong to scene->baked */
+    kd_corners *corners;      /* the watertight test's corners (tree.corners), NULL for the projected test */
     rtt_engine_options opt;
     const kd_kernel *kernel;  /* the descriptor-table row the options name */
     char kernel_label[48];    /* "mft/avx512" */
@@ -57,6 +64,7 @@ static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *
 static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n);
 static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info);
 static const char *optimized_kernel_name(rtt_engine *base);
+static const char *optimized_isect_name(rtt_engine *base);
 
 static const rtt_engine_vtable optimized_vtable = {
     .name = "optimized",
@@ -66,6 +74,7 @@ static const rtt_engine_vtable optimized_vtable = {
     .destroy = optimized_destroy,
     .tree_info = optimized_tree_info,
     .kernel_name = optimized_kernel_name,
+    .isect_name = optimized_isect_name,
 };
 
 static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
@@ -89,7 +98,7 @@ const rtt_engine_class rtt_optimized_engine_class = {
     .name = "optimized",
     .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method",
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
-            RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA,
+            RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA | RTT_OPTION_ISECT,
     .shadow_methods = RTT_SHADOWS_ALL,
     .adopts_baked_tree = true,
     .create = rtt_optimized_engine_create,
@@ -100,6 +109,11 @@ const rtt_engine_class rtt_optimized_engine_class = {
 static const char *optimized_kernel_name(rtt_engine *base)
 {
     return ((optimized_engine *)base)->kernel_label;
+}
+
+static const char *optimized_isect_name(rtt_engine *base)
+{
+    return rtt_isect_name(((optimized_engine *)base)->tree.corners ? RTT_ISECT_WATERTIGHT : RTT_ISECT_PROJECTED);
 }
 
 static optimized_engine *as_optimized(rtt_engine *engine)
@@ -132,6 +146,24 @@ static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
     tree->info = baked->info;
 }
 
+/* The watertight test reads each record's triangle as the scene stores it:
+ * one kd_corners per record, in the records' (leaf) order. */
+static bool attach_corners(optimized_engine *e, const rtt_scene *scene, rtt_error *err)
+{
+    const uint32_t n = e->tree.triangle_count;
+    e->corners = aligned_alloc(16, (size_t)(n ? n : 1) * sizeof *e->corners); /* 48-byte entries: a multiple of 16 */
+    if (!e->corners) return rtt_error_set(err, "%s: out of memory for the watertight test", scene->path);
+    for (uint32_t i = 0; i < n; i++) {
+        rtt_vec3 p[3];
+        const uint32_t prim = e->tree.triangles[i].prim;
+        rtt_scene_triangle(scene, prim, p);
+        e->corners[i] = (kd_corners){{p[0].x, p[0].y, p[0].z}, {p[1].x, p[1].y, p[1].z},
+                                     {p[2].x, p[2].y, p[2].z}, prim, {0, 0}};
+    }
+    e->tree.corners = e->corners;
+    return true;
+}
+
 rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine_options *opt, rtt_error *err)
 {
     rtt_engine_options defaults;
@@ -147,6 +179,7 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
     e->kernel = kd_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
+    const rtt_isect isect = opt->isect == RTT_ISECT_DEFAULT ? RTT_OPTIMIZED_DEFAULT_ISECT : opt->isect;
     snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
@@ -155,14 +188,18 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
             free(e);
             return NULL;
         }
-        return &e->base;
+    } else {
+        kd_build_options build = {.max_depth = opt->max_tree_depth, .threads = opt->threads};
+        if (!kd_build_sah(scene, &build, &e->tree, err)) {
+            free(e);
+            return NULL;
+        }
+        e->owns_tree = true;
     }
-    kd_build_options build = {.max_depth = opt->max_tree_depth, .threads = opt->threads};
-    if (!kd_build_sah(scene, &build, &e->tree, err)) {
-        free(e);
+    if (isect == RTT_ISECT_WATERTIGHT && !attach_corners(e, scene, err)) {
+        optimized_destroy(&e->base);
         return NULL;
     }
-    e->owns_tree = true;
     return &e->base;
 }
 
@@ -170,6 +207,8 @@ static void optimized_destroy(rtt_engine *base)
 {
     optimized_engine *e = as_optimized(base);
     if (!e) return;
+    free(e->corners);
+    e->tree.corners = NULL;
     if (e->owns_tree) kd_tree_free(&e->tree);
     free(e);
 }

@@ -38,6 +38,12 @@ static bool reference_tree_info(rtt_engine *engine, rtt_tree_info *info)
     return true;
 }
 
+static const char *reference_isect_name(rtt_engine *engine)
+{
+    (void)engine;
+    return "watertight"; /* isect_watertight.c */
+}
+
 static const rtt_engine_vtable reference_vtable = {
     .name = "reference",
     .intersect = reference_intersect,
@@ -45,6 +51,7 @@ static const rtt_engine_vtable reference_vtable = {
     .render = rtt_reference_render_engine,
     .destroy = reference_destroy,
     .tree_info = reference_tree_info,
+    .isect_name = reference_isect_name,
 };
 
 const rtt_engine_class rtt_reference_engine_class = {

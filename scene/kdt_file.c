@@ -94,6 +94,8 @@ static kdt_scene_settings settings_of(const rtt_scene *s)
     memcpy(k.background, &s->background, sizeof k.background);
     k.ambient = s->ambient;
     k.has_normals = s->normals != NULL;
+    k.collapsed_count = s->collapsed_count;
+    memcpy(k.origin, s->origin, sizeof k.origin);
     return k;
 }
 
@@ -342,6 +344,10 @@ static bool check_settings(const kdt_file *f, const kdt_scene_settings *k, rtt_e
     if (k->degenerate_count > f->header.triangle_count || k->has_normals > 1u)
         return rtt_error_set(err, "%s: degenerate count %u or normals flag %u out of range (settings section)",
                              f->path, k->degenerate_count, k->has_normals);
+    if (!isfinite(k->origin[0]) || !isfinite(k->origin[1]) || !isfinite(k->origin[2]) ||
+        k->collapsed_count > k->degenerate_count)
+        return rtt_error_set(err, "%s: origin not finite or collapsed count %u over the degenerate count "
+                                  "(settings section)", f->path, k->collapsed_count);
     if ((k->has_normals != 0) != (f->table[KDT_SECTION_NORMALS].size != 0 || f->header.vertex_count == 0))
         return rtt_error_set(err, "%s: normals flag disagrees with the normals section (settings section)", f->path);
     return true;
@@ -446,6 +452,8 @@ static void apply_settings(rtt_scene *s, const kdt_scene_settings *k)
     s->camera.fov_deg = k->fov_deg;
     s->width = k->width, s->height = k->height, s->max_bounces = k->max_bounces;
     s->degenerate_count = k->degenerate_count;
+    s->collapsed_count = k->collapsed_count;
+    memcpy(s->origin, k->origin, sizeof s->origin);
     s->background = rtt_v3(k->background[0], k->background[1], k->background[2]);
     s->ambient = k->ambient;
     s->bounds = rtt_bounds_empty();

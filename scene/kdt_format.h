@@ -26,7 +26,7 @@
 #endif
 
 #define KDT_MAGIC "RTTKDT\0\0"
-#define KDT_VERSION 1u
+#define KDT_VERSION 2u
 #define KDT_DEPTH_LIMIT 64u          /* deeper trees are refused: kernels' stacks rely on it */
 #define KDT_ALIGN 16u
 #define KDT_CHECKSUM_START 32u
@@ -81,9 +81,10 @@ typedef struct kdt_scene_settings {
     float eye[3], look_at[3], up[3], fov_deg;
     uint32_t width, height, max_bounces, degenerate_count;
     float background[3], ambient;
-    uint32_t has_normals, reserved;
+    uint32_t has_normals, collapsed_count;
+    double origin[3];                /* the scene's coordinates = stored + origin (rtt_scene.origin) */
 } kdt_scene_settings;
-_Static_assert(sizeof(kdt_scene_settings) == 80, "kdt_scene_settings is 80 bytes");
+_Static_assert(sizeof(kdt_scene_settings) == 104, "kdt_scene_settings is 104 bytes");
 
 /* 80 bytes. */
 typedef struct kdt_mesh {
@@ -128,7 +129,7 @@ typedef struct kdt_leaf {
 _Static_assert(sizeof(kdt_leaf) == 32, "kdt_leaf is 32 bytes");
 
 typedef struct kdt_triangle {
-    float n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv;
+    float n_u, n_v, a_k, a_u, a_v, b_nu, b_nv, c_nu, c_nv;
     uint32_t k, prim, pad;
 } kdt_triangle;
 _Static_assert(sizeof(kdt_triangle) == 48, "kdt_triangle is 48 bytes");

@@ -7,6 +7,8 @@
  * vertex is validated (finite after the transform) and every index checked
  * before it is stored, so engines never see a bad index or a NaN. */
 #include <errno.h>
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,9 +43,20 @@ rtt_material rtt_material_default(void)
     return m;
 }
 
+/* A scene under construction: the public scene and its vertices in double
+ * (the file's coordinates after each mesh's transform), kept until
+ * rtt_scene_finish stores them in float relative to the scene's centre. */
+typedef struct scene_builder {
+    rtt_scene scene;
+    double *exact;      /* 3 per vertex; NULL once finished (or for a .kdt) */
+} scene_builder;
+
+static scene_builder *builder_of(rtt_scene *scene) { return (scene_builder *)scene; }
+
 rtt_scene *rtt_scene_new(const char *path, rtt_error *err)
 {
-    rtt_scene *scene = calloc(1, sizeof *scene);
+    scene_builder *builder = calloc(1, sizeof *builder);
+    rtt_scene *scene = builder ? &builder->scene : NULL;
     if (!scene) {
         rtt_error_set(err, "%s: out of memory", path);
         return NULL;
@@ -69,7 +82,8 @@ void rtt_scene_free(rtt_scene *scene)
     free(scene->materials);
     free(scene->lights);
     rtt_scene_textures_free(scene);
-    free(scene);
+    free(builder_of(scene)->exact);
+    free(builder_of(scene));
 }
 
 /* Grows *array (of `size`-byte elements) to hold `needed`; *capacity tracks it. */
@@ -160,11 +174,20 @@ bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, 
         ((normals || had_normals) && !resize((void **)&scene->normals, vertices, sizeof *scene->normals)))
         return rtt_error_set(err, "%s: out of memory for %u triangles", source, triangle_count);
 
+    scene_builder *builder = builder_of(scene);
+    if (!resize((void **)&builder->exact, 3 * vertices, sizeof *builder->exact))
+        return rtt_error_set(err, "%s: out of memory for %u triangles", source, triangle_count);
     for (uint32_t i = 0; i < vertex_count; i++) {
-        rtt_vec3 p = transform ? rtt_transform_point(transform, positions[i]) : positions[i];
-        if (!rtt_v3_is_finite(p))
+        double *p = &builder->exact[3 * ((size_t)v0 + i)];
+        if (transform) {
+            rtt_transform_point_exact(transform, positions[i], p);
+        } else {
+            p[0] = positions[i].x, p[1] = positions[i].y, p[2] = positions[i].z;
+        }
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]) || fabs(p[0]) > FLT_MAX || fabs(p[1]) > FLT_MAX ||
+            fabs(p[2]) > FLT_MAX)
             return rtt_error_set(err, "%s: vertex %u is not finite after the transform", source, i);
-        scene->vertices[v0 + i] = p;
+        scene->vertices[v0 + i] = rtt_v3((float)p[0], (float)p[1], (float)p[2]); /* until finish centres them */
     }
     if (normals && !had_normals) /* earlier meshes get their geometric normals at finish */
         for (uint32_t i = 0; i < v0; i++) scene->normals[i] = rtt_v3(0.0f, 0.0f, 0.0f);
@@ -304,6 +327,8 @@ static bool classify_meshes(rtt_scene *scene, rtt_error *err)
 
 /* ---- defaults ---- */
 
+static bool has_camera(const rtt_scene *scene) { return scene->camera.fov_deg > 0.0f; }
+
 static void default_camera(rtt_scene *scene)
 {
     rtt_bounds b = scene->bounds;
@@ -321,7 +346,6 @@ static void default_camera(rtt_scene *scene)
     scene->camera.fov_deg = RTT_DEFAULT_FOV_DEG;
 }
 
-static bool has_camera(const rtt_scene *scene) { return scene->camera.fov_deg > 0.0f; }
 
 static void fill_vertex_normals(rtt_scene *scene)
 {
@@ -334,9 +358,82 @@ static void fill_vertex_normals(rtt_scene *scene)
         }
 }
 
+rtt_vec3 rtt_scene_point_to_stored(const rtt_scene *scene, const double p[3])
+{
+    return rtt_v3((float)(p[0] - scene->origin[0]), (float)(p[1] - scene->origin[1]), (float)(p[2] - scene->origin[2]));
+}
+
+void rtt_scene_point_from_stored(const rtt_scene *scene, rtt_vec3 p, double out[3])
+{
+    out[0] = (double)p.x + scene->origin[0];
+    out[1] = (double)p.y + scene->origin[1];
+    out[2] = (double)p.z + scene->origin[2];
+}
+
+static bool exact_triangle_is_degenerate(const double *exact, const rtt_triangle *t)
+{
+    const double *a = &exact[3 * (size_t)t->v[0]], *b = &exact[3 * (size_t)t->v[1]], *c = &exact[3 * (size_t)t->v[2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    return e1[1] * e2[2] - e1[2] * e2[1] == 0.0 && e1[2] * e2[0] - e1[0] * e2[2] == 0.0 &&
+           e1[0] * e2[1] - e1[1] * e2[0] == 0.0;
+}
+
+static rtt_vec3 moved(const rtt_scene *scene, rtt_vec3 p)
+{
+    const double d[3] = {p.x, p.y, p.z};
+    return rtt_scene_point_to_stored(scene, d);
+}
+
+/* Stores the vertices in float relative to the centre of their bounds
+ * (computed in double) and moves the camera and the lights the files gave
+ * along; counts the triangles that collapse on the way. */
+static void centre_scene(rtt_scene *scene)
+{
+    scene_builder *builder = builder_of(scene);
+    if (!builder->exact) return; /* a .kdt: stored coordinates and origin come from the file */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t t = 0; t < scene->triangle_count; t++)
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++) {
+                const double x = builder->exact[3 * (size_t)scene->triangles[t].v[k] + a];
+                lo[a] = x < lo[a] ? x : lo[a];
+                hi[a] = x > hi[a] ? x : hi[a];
+            }
+    /* Centred only when the centre lies farther from the origin than the
+     * scene is large: nearer, centring would gain less than a bit of
+     * precision, and the stored coordinates stay the file's own (most
+     * scenes).  The origin is rounded to float, so it is a point the
+     * stored coordinates can name exactly. */
+    double extent = 0.0, offset = 0.0;
+    for (int a = 0; a < 3; a++) {
+        if (!(lo[a] <= hi[a])) continue;
+        extent = fmax(extent, hi[a] - lo[a]);
+        offset = fmax(offset, fabs(0.5 * lo[a] + 0.5 * hi[a]));
+    }
+    for (int a = 0; a < 3; a++)
+        scene->origin[a] = offset > extent && lo[a] <= hi[a] ? (double)(float)(0.5 * lo[a] + 0.5 * hi[a]) : 0.0;
+    for (uint32_t i = 0; i < scene->vertex_count; i++)
+        scene->vertices[i] = rtt_scene_point_to_stored(scene, &builder->exact[3 * (size_t)i]);
+    scene->collapsed_count = 0;
+    for (uint32_t t = 0; t < scene->triangle_count; t++) {
+        rtt_vec3 tri[3];
+        rtt_scene_triangle(scene, t, tri);
+        scene->collapsed_count += rtt_triangle_is_degenerate(tri) &&
+                                  !exact_triangle_is_degenerate(builder->exact, &scene->triangles[t]);
+    }
+    if (has_camera(scene)) {
+        scene->camera.eye = moved(scene, scene->camera.eye);
+        scene->camera.look_at = moved(scene, scene->camera.look_at);
+    }
+    for (uint32_t l = 0; l < scene->light_count; l++) scene->lights[l].position = moved(scene, scene->lights[l].position);
+    free(builder->exact);
+    builder->exact = NULL;
+}
+
 bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
 {
     if (scene->triangle_count == 0) return rtt_error_set(err, "%s: the scene has no triangles", scene->path);
+    centre_scene(scene);
     if (scene->material_count == 0) {
         rtt_material m = rtt_material_default();
         if (rtt_scene_add_material(scene, &m) == UINT32_MAX)

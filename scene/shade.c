@@ -251,9 +251,20 @@ rtt_vec3 rtt_refract(rtt_vec3 d, rtt_vec3 n, float eta_from, float eta_to)
 
 rtt_vec3 rtt_scene_geometric_normal(const rtt_scene *scene, uint32_t prim)
 {
+    /* In double: the cross product of the edges grows as the square of the
+     * scene's scale, so in float it overflows beyond 1e19 and loses its
+     * digits (subnormal, then zero) below 1e-19; the normal must not. */
     rtt_vec3 tri[3];
     rtt_scene_triangle(scene, prim, tri);
-    return rtt_v3_normalize(rtt_v3_cross(rtt_v3_sub(tri[1], tri[0]), rtt_v3_sub(tri[2], tri[0])));
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)rtt_v3_get(tri[1], a) - rtt_v3_get(tri[0], a);
+        e2[a] = (double)rtt_v3_get(tri[2], a) - rtt_v3_get(tri[0], a);
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.0) || !isfinite(len)) return rtt_v3(0.0f, 0.0f, 0.0f);
+    return rtt_v3((float)(n[0] / len), (float)(n[1] / len), (float)(n[2] / len));
 }
 
 rtt_vec3 rtt_scene_shading_normal(const rtt_scene *scene, uint32_t prim, float u, float v)

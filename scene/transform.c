@@ -46,6 +46,12 @@ rtt_vec3 rtt_transform_point(const float m[16], rtt_vec3 p)
                   m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
 }
 
+void rtt_transform_point_exact(const float m[16], rtt_vec3 p, double out[3])
+{
+    for (int r = 0; r < 3; r++)
+        out[r] = (double)m[4 * r] * p.x + (double)m[4 * r + 1] * p.y + (double)m[4 * r + 2] * p.z + (double)m[4 * r + 3];
+}
+
 /* The cofactor matrix is the inverse transpose up to a scale, which
  * normalizing removes; it needs no division, so it exists for every matrix. */
 rtt_vec3 rtt_transform_normal(const float m[16], rtt_vec3 n)

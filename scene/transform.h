@@ -16,6 +16,9 @@ void rtt_transform_multiply(const float a[16], const float b[16], float out[16])
 void rtt_transform_compose(rtt_vec3 scale, rtt_vec3 rotate_deg, rtt_vec3 translate, float out[16]);
 
 rtt_vec3 rtt_transform_point(const float m[16], rtt_vec3 p);
+/* The same in double (out: x, y, z), so that a small mesh moved far from the
+ * origin keeps its shape until the scene is centred (rtt_scene_finish). */
+void rtt_transform_point_exact(const float m[16], rtt_vec3 p, double out[3]);
 
 /* A normal moves by the inverse transpose of the upper 3x3; the result is
  * normalized (and zero stays zero). */

@@ -145,7 +145,13 @@ bool rtt_camera_check(const rtt_camera *c, rtt_error *err)
 
 void rtt_scene_set_camera(rtt_scene *scene, const rtt_camera *camera)
 {
+    /* given in the scene's own coordinates: stored relative to its origin */
+    const double eye[3] = {camera->eye.x, camera->eye.y, camera->eye.z};
+    const double at[3] = {camera->look_at.x, camera->look_at.y, camera->look_at.z};
     scene->camera = *camera;
+    scene->camera.eye = rtt_scene_point_to_stored(scene, eye);
+    scene->camera.look_at = rtt_scene_point_to_stored(scene, at);
+    camera = &scene->camera;
     scene->camera_source = RTT_CAMERA_FROM_OPTIONS;
     if (scene->light_source == RTT_LIGHTS_AT_CAMERA && scene->light_count == 1)
         scene->lights[0].position = camera->eye;

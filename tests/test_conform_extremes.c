@@ -106,7 +106,9 @@ static void test_reference_never_leaks_from_inside_a_sphere(void **state)
         rtt_engine *reference = rtt_engine_create("reference", scene, NULL, &err);
         if (!reference) fail_msg("reference: %s", err.message);
         size_t n = 0;
-        rtt_ray *rays = rtt_extremes_watertight_rays(scene, centres[s], 1u << 20, &n);
+        const double centre[3] = {centres[s][0], centres[s][1], centres[s][2]};
+        const rtt_vec3 stored = rtt_scene_point_to_stored(scene, centre);
+        rtt_ray *rays = rtt_extremes_watertight_rays(scene, (const float[3]){stored.x, stored.y, stored.z}, 1u << 20, &n);
         rtt_hit *hits = malloc(n * sizeof *hits);
         assert_non_null(rays);
         assert_non_null(hits);
@@ -193,11 +195,12 @@ static void test_invalid_rays_miss_in_every_pattern(void **state)
 
 /* Runs the suite on `engines` (benchmark meshes off) and fails on every
  * asserted check that did not pass, naming it. */
-static rtt_extremes_report run_suite(const char *engines)
+static rtt_extremes_report run_suite_with(const char *engines, rtt_isect isect)
 {
     rtt_extremes_config config;
     rtt_extremes_config_default(&config);
     config.engines = engines;
+    config.isect = isect;
     config.mesh_dir = "";
     config.max_rays = TEST_RAYS;
     rtt_extremes_report report;
@@ -205,6 +208,8 @@ static rtt_extremes_report run_suite(const char *engines)
     if (!rtt_extremes_run(&config, &report, &err)) fail_msg("rtt_extremes_run: %s", err.message);
     return report;
 }
+
+static rtt_extremes_report run_suite(const char *engines) { return run_suite_with(engines, RTT_ISECT_DEFAULT); }
 
 static void expect_asserted_checks_pass(const rtt_extremes_report *report)
 {
@@ -241,24 +246,37 @@ static void test_reference_and_oracle_hold_every_asserted_check(void **state)
     rtt_extremes_report_free(&report);
 }
 
-static void test_optimized_holds_every_asserted_check_and_reports_its_leaks(void **state)
+/* The optimized engine's watertight rows (the watertight spheres, every
+ * traversal mode), asserted when `asserted`; returns how many. */
+static size_t watertight_rows(const rtt_extremes_report *report, bool asserted)
 {
-    (void)state;
-    rtt_extremes_report report = run_suite("optimized");
-    expect_asserted_checks_pass(&report);
-    size_t leak_rows = 0;
-    for (size_t i = 0; i < report.count; i++) {
-        const rtt_extreme_result *r = &report.items[i];
+    size_t rows = 0;
+    for (size_t i = 0; i < report->count; i++) {
+        const rtt_extreme_result *r = &report->items[i];
         if (strncmp(r->engine, "optimized/", 10) == 0 && strncmp(r->check, "watertight", 10) == 0) {
-            leak_rows++;
-            assert_false(r->asserted);
+            rows++;
+            assert_int_equal(r->asserted, asserted);
             assert_true(r->rays > 0);
             assert_non_null(strstr(r->note, "escape"));
+            if (asserted) assert_int_equal(r->failures, 0);
         }
     }
+    return rows;
+}
+
+static uint32_t optimized_kernel_count(void)
+{
     uint32_t kernels = 0;
     while (rtt_engine_find("optimized")->kernel(RTT_ACCEL_KD, kernels)) kernels++;
-    assert_int_equal(leak_rows, 4 * kernels); /* four spheres, every traversal mode */
+    return kernels;
+}
+
+static void test_optimized_with_the_projected_test_holds_every_asserted_check_and_reports_its_leaks(void **state)
+{
+    (void)state;
+    rtt_extremes_report report = run_suite_with("optimized", RTT_ISECT_PROJECTED);
+    expect_asserted_checks_pass(&report);
+    assert_int_equal(watertight_rows(&report, false), 4 * optimized_kernel_count()); /* four spheres, every mode */
     char *table = rtt_extremes_report_table(&report), *json = rtt_extremes_report_json(&report);
     assert_non_null(table);
     assert_non_null(json);
@@ -267,6 +285,17 @@ static void test_optimized_holds_every_asserted_check_and_reports_its_leaks(void
     assert_non_null(strstr(json, "\"asserted\":\tfalse"));
     free(table);
     free(json);
+    rtt_extremes_report_free(&report);
+}
+
+/* The default, watertight test: no escape from any sphere in any mode, and
+ * that is asserted, as for the reference. */
+static void test_optimized_with_the_watertight_test_lets_no_ray_out_in_any_mode(void **state)
+{
+    (void)state;
+    rtt_extremes_report report = run_suite("optimized");
+    expect_asserted_checks_pass(&report);
+    assert_int_equal(watertight_rows(&report, true), 4 * optimized_kernel_count());
     rtt_extremes_report_free(&report);
 }
 
@@ -281,7 +310,8 @@ int main(void)
         cmocka_unit_test(test_nan_and_inf_coordinates_are_refused_with_a_message),
         cmocka_unit_test(test_invalid_rays_miss_in_every_pattern),
         cmocka_unit_test(test_reference_and_oracle_hold_every_asserted_check),
-        cmocka_unit_test(test_optimized_holds_every_asserted_check_and_reports_its_leaks),
+        cmocka_unit_test(test_optimized_with_the_projected_test_holds_every_asserted_check_and_reports_its_leaks),
+        cmocka_unit_test(test_optimized_with_the_watertight_test_lets_no_ray_out_in_any_mode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

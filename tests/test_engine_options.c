@@ -108,6 +108,31 @@ static void test_option_given_to_an_engine_that_does_not_use_it_is_refused(void 
     assert_true(rtt_engine_options_check("stub", &opt, &err));
 }
 
+static void test_triangle_tests_parse_by_name_and_an_engine_that_has_no_choice_refuses_one(void **state)
+{
+    (void)state;
+    rtt_isect isect = RTT_ISECT_DEFAULT;
+    assert_true(rtt_isect_parse("watertight", &isect));
+    assert_int_equal(isect, RTT_ISECT_WATERTIGHT);
+    assert_true(rtt_isect_parse("projected", &isect));
+    assert_int_equal(isect, RTT_ISECT_PROJECTED);
+    assert_false(rtt_isect_parse("default", &isect));
+    assert_false(rtt_isect_parse("moller", &isect));
+    assert_false(rtt_isect_parse(NULL, &isect));
+    assert_string_equal(rtt_isect_name(RTT_ISECT_WATERTIGHT), "watertight");
+    rtt_error err = {{0}};
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.isect = RTT_ISECT_PROJECTED;
+    opt.given = RTT_OPTION_ISECT;
+    assert_false(rtt_engine_options_check("stub", &opt, &err));
+    assert_string_equal(err.message, "engine \"stub\" does not use a triangle-test choice");
+    opt.given = 0;
+    opt.isect = RTT_ISECT_COUNT;
+    assert_false(rtt_engine_options_check("stub", &opt, &err));
+    assert_non_null(strstr(err.message, "unknown triangle test"));
+}
+
 static void test_generic_option_values_are_checked_for_every_engine(void **state)
 {
     (void)state;
@@ -244,6 +269,7 @@ int main(void)
         cmocka_unit_test(test_rtt_isa_environment_picks_the_set_and_bad_values_are_errors),
         cmocka_unit_test(test_render_options_refuse_a_shadow_method_the_engine_does_not_draw),
         cmocka_unit_test(test_shadow_method_messages_name_no_command_line_flag),
+        cmocka_unit_test(test_triangle_tests_parse_by_name_and_an_engine_that_has_no_choice_refuses_one),
     };
     return cmocka_run_group_tests(tests, register_classes, NULL);
 }

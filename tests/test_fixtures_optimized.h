@@ -39,8 +39,9 @@ typedef struct fixture {
     const kd_tree *tree;
 } fixture;
 
-/* Both engines on `scene`, which the fixture then owns. */
-static inline int setup_engines(void **state, rtt_scene *scene)
+/* Both engines on `scene`, which the fixture then owns, the optimized one
+ * with triangle test `isect` (RTT_ISECT_DEFAULT: its own choice). */
+static inline int setup_engines_with(void **state, rtt_scene *scene, rtt_isect isect)
 {
     rtt_error err = {{0}};
     fixture *f = calloc(1, sizeof *f);
@@ -48,8 +49,10 @@ static inline int setup_engines(void **state, rtt_scene *scene)
     f->scene = scene;
     rtt_engine_options opt;
     rtt_engine_options_default(&opt);
+    opt.isect = isect;
     f->optimized = rtt_optimized_engine_create(f->scene, &opt, &err);
     if (!f->optimized) fail_msg("optimized engine: %s", err.message);
+    opt.isect = RTT_ISECT_DEFAULT;
     f->reference = rtt_reference_engine_create(f->scene, &opt, &err);
     if (!f->reference) fail_msg("reference engine: %s", err.message);
     f->tree = kd_engine_tree(f->optimized);
@@ -58,18 +61,29 @@ static inline int setup_engines(void **state, rtt_scene *scene)
     return 0;
 }
 
-static inline int setup_triangles(void **state, const float *xyz, uint32_t count)
+static inline int setup_engines(void **state, rtt_scene *scene)
+{
+    return setup_engines_with(state, scene, RTT_ISECT_DEFAULT);
+}
+
+/* Both engines on the triangles, the optimized one with triangle test `isect`. */
+static inline int setup_triangles_with(void **state, const float *xyz, uint32_t count, rtt_isect isect)
 {
     rtt_error err = {{0}};
     rtt_scene *scene = rtt_scene_from_triangles(xyz, count, &err);
     if (!scene) fail_msg("scene: %s", err.message);
-    return setup_engines(state, scene);
+    return setup_engines_with(state, scene, isect);
+}
+
+static inline int setup_triangles(void **state, const float *xyz, uint32_t count)
+{
+    return setup_triangles_with(state, xyz, count, RTT_ISECT_DEFAULT);
 }
 
 /* `count` random triangles of size ~`size` in the cube [-1, 1]^3, plus a
  * large floor (two triangles at y = -1.2, the box's bottom face) so that
- * many rays hit. */
-static inline int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
+ * many rays hit; the optimized engine with triangle test `isect`. */
+static inline int setup_soup_with(void **state, uint32_t count, float size, uint64_t seed, rtt_isect isect)
 {
     rng r = {seed};
     float *xyz = malloc((size_t)(count + 2) * 9 * sizeof *xyz);
@@ -81,12 +95,22 @@ static inline int setup_soup(void **state, uint32_t count, float size, uint64_t 
     }
     const float floor_tris[18] = {-2, -1.2f, -2, 2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, -2, 2, -1.2f, 2, -2, -1.2f, 2};
     memcpy(&xyz[9 * count], floor_tris, sizeof floor_tris);
-    int rc = setup_triangles(state, xyz, count + 2);
+    int rc = setup_triangles_with(state, xyz, count + 2, isect);
     free(xyz);
     return rc;
 }
 
+static inline int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
+{
+    return setup_soup_with(state, count, size, seed, RTT_ISECT_DEFAULT);
+}
+
 static inline int setup_small_soup(void **state) { return setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull); }
+/* The same soup traced with Wald's projected test instead of the default. */
+static inline int setup_small_soup_projected(void **state)
+{
+    return setup_soup_with(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull, RTT_ISECT_PROJECTED);
+}
 
 static inline int teardown(void **state)
 {

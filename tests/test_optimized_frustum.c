@@ -211,6 +211,11 @@ int main(void)
                                         teardown),
         cmocka_unit_test_setup_teardown(test_nan_rays_miss_and_are_not_occluded, setup_small_soup, teardown),
         cmocka_unit_test_setup_teardown(test_counters_give_steps_and_tests_per_packet, setup_small_soup, teardown),
+        /* the projected test */
+        cmocka_unit_test_setup_teardown(test_frustum_kernels_match_reference_on_camera_tiles_of_every_size,
+                                        setup_small_soup_projected, teardown),
+        cmocka_unit_test_setup_teardown(test_random_rays_with_nan_and_zero_directions_match_reference,
+                                        setup_small_soup_projected, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -284,6 +284,11 @@ int main(void)
                                         teardown),
         cmocka_unit_test_setup_teardown(test_every_copy_of_the_shadow_kernels_returns_the_sse4_results_bit_for_bit,
                                         setup_small_soup, teardown),
+        /* the same with the projected test */
+        cmocka_unit_test_setup_teardown(test_every_copy_returns_the_sse4_hits_bit_for_bit, setup_small_soup_projected,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_every_copy_of_the_shadow_kernels_returns_the_sse4_results_bit_for_bit,
+                                        setup_small_soup_projected, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

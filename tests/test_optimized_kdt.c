@@ -260,9 +260,9 @@ static void test_bad_magic_version_checksum_refused(void **state)
     bytes[0] = 'X';
     expect_refused(bytes, size, "not a .kdt file (bad magic)");
     bytes[0] = 'R';
-    uint32_t version = 2;
+    uint32_t version = 1; /* records held n_d, the plane's constant, instead of vertex 0 */
     memcpy(bytes + offsetof(kdt_header, version), &version, 4);
-    expect_refused(bytes, size, "unsupported .kdt version 2 (this build reads version 1)");
+    expect_refused(bytes, size, "unsupported .kdt version 1 (this build reads version 2)");
     version = KDT_VERSION;
     memcpy(bytes + offsetof(kdt_header, version), &version, 4);
     bytes[size - 5] ^= 0x40;
@@ -490,7 +490,7 @@ static void test_forged_tree_refused_by_engine(void **state)
     FORGE();
     uint32_t leaf = leaf_with(forged, 1);
     kdt_triangle *record = &RECORDS[LEAVES[leaf].first];
-    record->n_d += 1.0f;
+    record->a_k += 1.0f;
     fix_checksum(forged, size);
     snprintf(want, sizeof want, "leaf %u: the record of triangle %u is not that triangle's", leaf, record->prim);
     expect_engine_refuses(forged, size, want, true);

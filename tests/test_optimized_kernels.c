@@ -47,6 +47,24 @@ static int setup_degenerate_only(void **state)
     return setup_triangles(state, tris, 3);
 }
 
+/* A closed octahedron of radius 1 around (0.3, -0.2, 0.1), far enough from
+ * the origin that its corners are not round numbers: 8 faces, every edge
+ * shared by two. */
+static int setup_octahedron(void **state)
+{
+    const float c[3] = {0.3f, -0.2f, 0.1f};
+    float v[6][3];
+    for (int i = 0; i < 6; i++)
+        for (int a = 0; a < 3; a++) v[i][a] = c[a] + (a == i / 2 ? (i % 2 ? -1.0f : 1.0f) : 0.0f);
+    float tris[8 * 9];
+    for (int f = 0; f < 8; f++) {
+        const int corner[3] = {f & 1, 2 + (f >> 1 & 1), 4 + (f >> 2 & 1)};
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++) tris[9 * f + 3 * k + a] = v[corner[k]][a];
+    }
+    return setup_triangles(state, tris, 8);
+}
+
 /* ---- ray sets (camera, random, shadow: test_fixtures_optimized.h) ---- */
 
 /* Rays lying in the tree's split planes: for each of the first inner nodes,
@@ -215,7 +233,84 @@ static void check_all_kernels(const fixture *f, const rtt_ray *rays, uint32_t co
     for (size_t k = 0; k < kernel_count; k++) assert_int_equal(disagreements(f, &kernels[k], rays, count, NULL), 0);
 }
 
+/* Rays that differ from the reference's answer in any bit of t, u, v, prim
+ * or occlusion. */
+static uint32_t bit_differences(const fixture *f, const kernel_case *k, const rtt_ray *rays, uint32_t count)
+{
+    rtt_hit *want = malloc((size_t)count * sizeof *want), *got = malloc((size_t)count * sizeof *got);
+    uint8_t *want_occ = malloc(count), *got_occ = malloc(count);
+    assert_true(want && got && want_occ && got_occ);
+    rtt_engine_intersect(f->reference, rays, want, count);
+    rtt_engine_occluded(f->reference, rays, want_occ, count);
+    trace_with(f, k, rays, count, got, got_occ, NULL);
+    uint32_t bad = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        if (memcmp(&got[i], &want[i], sizeof got[i]) == 0 && got_occ[i] == want_occ[i]) continue;
+        if (bad++ < 5)
+            print_message("%s/%s: ray %u got prim %u t %a u %a v %a occ %d, reference prim %u t %a u %a v %a occ %d\n",
+                          k->name, rtt_isa_name(k->isa), i, got[i].prim, (double)got[i].t, (double)got[i].u,
+                          (double)got[i].v, got_occ[i], want[i].prim, (double)want[i].t, (double)want[i].u,
+                          (double)want[i].v, want_occ[i]);
+    }
+    free(want), free(got), free(want_occ), free(got_occ);
+    return bad;
+}
+
 /* ---- tests ---- */
+
+/* The watertight test is the reference's arithmetic in the same order, and
+ * every kernel keeps the closest hit with ties to the smaller prim: so
+ * every answer is the reference's, to the bit, at every instruction set. */
+static void test_watertight_kernels_answer_every_ray_bit_for_bit_as_the_reference(void **state)
+{
+    const fixture *f = *state;
+    assert_string_equal(rtt_engine_isect_name(f->optimized), "watertight");
+    uint32_t camera_count, plane_count;
+    rtt_ray *camera = primary_rays(64, 64, rtt_v3(0.3f, 0.8f, 3.5f), 0.7f, &camera_count);
+    rtt_ray *random = random_rays(8192, 4242, ALL_SPECIALS);
+    rtt_ray *shadow = shadow_rays(8192, rtt_v3(0.2f, 2.5f, 0.4f), 31);
+    rtt_ray *plane = plane_rays(f->tree, &plane_count, 7);
+    for (size_t k = 0; k < kernel_count; k++) {
+        assert_int_equal(bit_differences(f, &kernels[k], camera, camera_count), 0);
+        assert_int_equal(bit_differences(f, &kernels[k], random, 8192), 0);
+        assert_int_equal(bit_differences(f, &kernels[k], shadow, 8192), 0);
+        assert_int_equal(bit_differences(f, &kernels[k], plane, plane_count), 0);
+    }
+    free(camera), free(random), free(shadow), free(plane);
+}
+
+/* From inside a closed mesh, rays aimed exactly at its corners and at points
+ * of its edges must hit it: none slips between two faces. */
+static void test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh(void **state)
+{
+    const fixture *f = *state;
+    enum { RAYS = 2048 };
+    rtt_ray *rays = malloc(RAYS * sizeof *rays);
+    assert_non_null(rays);
+    rng r = {0xC0FFEEull};
+    for (uint32_t i = 0; i < RAYS; i++) {
+        rtt_vec3 p[3], target;
+        rtt_scene_triangle(f->scene, i % 8, p);
+        const float w = i % 3 == 0 ? 0.0f : rng_range(&r, 0.0f, 1.0f); /* a corner, else a point of edge 0-1 */
+        target = rtt_v3_add(rtt_v3_scale(p[0], 1.0f - w), rtt_v3_scale(p[1], w));
+        const rtt_vec3 org = rtt_v3(0.3f + rng_range(&r, -0.3f, 0.3f), -0.2f + rng_range(&r, -0.3f, 0.3f),
+                                    0.1f + rng_range(&r, -0.3f, 0.3f));
+        const rtt_vec3 dir = rtt_v3_sub(target, org);
+        rays[i] = (rtt_ray){{org.x, org.y, org.z}, {dir.x, dir.y, dir.z}, 0.0f, INFINITY};
+    }
+    rtt_hit *hits = malloc(RAYS * sizeof *hits);
+    uint8_t *occluded = malloc(RAYS);
+    assert_true(hits && occluded);
+    for (size_t k = 0; k < kernel_count; k++) {
+        trace_with(f, &kernels[k], rays, RAYS, hits, occluded, NULL);
+        uint32_t escapes = 0;
+        for (uint32_t i = 0; i < RAYS; i++) escapes += hits[i].prim == RTT_MISS || !occluded[i];
+        if (escapes) print_message("%s/%s: %u of %u rays escaped\n", kernels[k].name, rtt_isa_name(kernels[k].isa),
+                                   escapes, (unsigned)RAYS);
+        assert_int_equal(escapes, 0);
+    }
+    free(rays), free(hits), free(occluded);
+}
 
 static void test_camera_rays_match_reference(void **state)
 {
@@ -514,6 +609,23 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_mono_packet_and_omni_return_identical_hits, setup_large_triangles,
                                         teardown),
         cmocka_unit_test_setup_teardown(test_counters_count_and_never_change_results, setup_small_soup, teardown),
+        cmocka_unit_test_setup_teardown(test_watertight_kernels_answer_every_ray_bit_for_bit_as_the_reference,
+                                        setup_small_soup, teardown),
+        cmocka_unit_test_setup_teardown(test_watertight_kernels_answer_every_ray_bit_for_bit_as_the_reference,
+                                        setup_large_triangles, teardown),
+        cmocka_unit_test_setup_teardown(
+            test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh, setup_octahedron,
+            teardown),
+        /* the projected test, against the reference within tolerance */
+        cmocka_unit_test_setup_teardown(test_camera_rays_match_reference, setup_small_soup_projected, teardown),
+        cmocka_unit_test_setup_teardown(test_random_rays_with_nan_inf_zero_and_empty_intervals_match_reference,
+                                        setup_small_soup_projected, teardown),
+        cmocka_unit_test_setup_teardown(test_shadow_rays_toward_one_point_match_reference, setup_small_soup_projected,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_rays_lying_in_split_planes_match_reference, setup_small_soup_projected,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_mono_packet_and_omni_return_identical_hits, setup_small_soup_projected,
+                                        teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

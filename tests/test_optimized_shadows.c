@@ -175,7 +175,7 @@ static void test_sse_pairs_entry_and_exit_across_leaves(void **state)
     nodes[1].leaf = 0, nodes[1].bits = KD_AXIS_LEAF;
     nodes[2].leaf = 1, nodes[2].bits = KD_AXIS_LEAF;
     kd_leaf leaves[2] = {{0, below, {-1, -1, -1}, {1, 0, 1}}, {below, above, {-1, 0, -1}, {1, 1, 1}}};
-    kd_tree tree = {nodes, leaves, records, 3, 2, below + above, {rtt_v3(-1, -1, -1), rtt_v3(1, 1, 1)}, {0}};
+    kd_tree tree = {nodes, leaves, records, 3, 2, below + above, {rtt_v3(-1, -1, -1), rtt_v3(1, 1, 1)}, {0}, NULL};
     assert_true(below < 12 && above < 12);
 
     rtt_edge_width_model m = rtt_edge_width_model_make(scene, 1.0f, false);

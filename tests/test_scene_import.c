@@ -160,6 +160,13 @@ static void test_gltf_applies_node_transforms(void **state)
     (void)state;
     rtt_scene *s = load_ok(DATA_DIR "square.gltf"); /* parent translates by 10 in x, child scales by 2 */
     assert_int_equal(s->triangle_count, 2);
+    /* 11 from the origin, 2 wide: stored relative to its centre (11, 1, 0); compared in file coordinates */
+    assert_true(s->origin[0] == 11.0 && s->origin[1] == 1.0 && s->origin[2] == 0.0);
+    for (uint32_t i = 0; i < s->vertex_count; i++) {
+        double p[3];
+        rtt_scene_point_from_stored(s, s->vertices[i], p);
+        s->vertices[i] = rtt_v3((float)p[0], (float)p[1], (float)p[2]);
+    }
     assert_triangle(s, 0, (float[]){10, 0, 0, 12, 0, 0, 12, 2, 0});
     assert_triangle(s, 1, (float[]){10, 0, 0, 12, 2, 0, 10, 2, 0});
     rtt_scene_free(s);

@@ -76,6 +76,14 @@ static void assert_vec3(rtt_vec3 v, float x, float y, float z)
         fail_msg("(%g, %g, %g) is not (%g, %g, %g)", v.x, v.y, v.z, x, y, z);
 }
 
+/* Vertex i in the scene's own coordinates (stored + origin). */
+static rtt_vec3 scene_vertex(const rtt_scene *s, uint32_t i)
+{
+    double p[3];
+    rtt_scene_point_from_stored(s, s->vertices[i], p);
+    return rtt_v3((float)p[0], (float)p[1], (float)p[2]);
+}
+
 static void test_scene_json_geometry_alone_takes_every_default(void **state)
 {
     (void)state;
@@ -224,9 +232,12 @@ static void test_scene_json_transform_scales_then_rotates_then_translates(void *
     rtt_scene *s = parse_text("{\"meshes\": [{\"vertices\": [[1,0,0],[0,1,0],[0,0,1]], \"triangles\": [[0,1,2]],"
                               " \"transform\": {\"translate\": [10, 20, 30], \"rotate_deg\": [0, 90, 0], \"scale\": 2}}]}");
     /* Ry(90): x -> -z, z -> x */
-    assert_vec3(s->vertices[0], 10, 20, 28);
-    assert_vec3(s->vertices[1], 10, 22, 30);
-    assert_vec3(s->vertices[2], 12, 20, 30);
+    assert_vec3(scene_vertex(s, 0), 10, 20, 28);
+    assert_vec3(scene_vertex(s, 1), 10, 22, 30);
+    assert_vec3(scene_vertex(s, 2), 12, 20, 30);
+    /* far from the origin for its size: stored relative to its centre */
+    assert_true(s->origin[0] == 11.0 && s->origin[1] == 21.0 && s->origin[2] == 29.0);
+    assert_vec3(s->vertices[0], -1, -1, -1);
     rtt_scene_free(s);
     s = parse_text("{\"meshes\": [{\"vertices\": [[1,0,0],[0,1,0],[0,0,1]], \"triangles\": [[0,1,2]],"
                    " \"transform\": {\"rotate_deg\": [90, 0, 90], \"scale\": [1, 2, 3]}}]}");

@@ -171,8 +171,10 @@ static void test_transform_moves_points_and_turns_normals(void **state)
     rtt_scene_add_material(scene, &m);
     assert_true(rtt_scene_add_mesh(scene, "t", "t", p, n, 3, idx, 1, NULL, 0, scale_x2_move_z, &err));
     assert_true(rtt_scene_finish(scene, &err));
-    assert_near(scene->vertices[1].x, 2, 0);
-    assert_near(scene->vertices[1].z, 5, 0);
+    double moved[3];
+    rtt_scene_point_from_stored(scene, scene->vertices[1], moved);
+    assert_near((float)moved[0], 2, 0);
+    assert_near((float)moved[2], 5, 0);
     /* a normal (1,0,1)/sqrt2 under x scaled by 2 becomes (1,0,2)/sqrt5 */
     assert_near(scene->normals[1].x, 1 / sqrtf(5), 1e-6f);
     assert_near(scene->normals[1].z, 2 / sqrtf(5), 1e-6f);
@@ -273,9 +275,48 @@ static void test_ray_epsilon_scales_with_the_scene(void **state)
     rtt_error err = {{0}};
     rtt_scene *a = rtt_scene_from_triangles(small, 1, &err), *b = rtt_scene_from_triangles(far, 1, &err);
     assert_true(rtt_scene_ray_epsilon(a) < 1e-14f);
-    assert_true(rtt_scene_ray_epsilon(b) >= 1.0f - 1e-3f); /* 1e-6 of 1e6 */
+    /* the far triangle is stored relative to its centre: its epsilon
+     * follows its size (1), not its distance from the origin (1e6) */
+    assert_true(b->origin[0] == 1e6 + 0.5);
+    assert_true(rtt_scene_ray_epsilon(b) < 1e-3f);
     rtt_scene_free(a);
     rtt_scene_free(b);
+}
+
+/* A 1e-3 triangle 1e5 from the origin: at 1e5 a float's spacing is 8e-3, so
+ * stored in absolute float it would collapse; read in double and stored
+ * relative to its centre it keeps its shape.  A scene that is large as
+ * well as far away is not centred, and its tiny triangle still collapses:
+ * counted apart. */
+static void test_a_small_mesh_far_from_the_origin_keeps_its_shape_and_collapses_are_counted(void **state)
+{
+    (void)state;
+    const rtt_vec3 tiny[3] = {{0, 0, 0}, {1e-3f, 0, 0}, {0, 1e-3f, 0}};
+    const uint32_t idx[3] = {0, 1, 2};
+    const float move_1e5[16] = {1, 0, 0, 1e5f, 0, 1, 0, 1e5f, 0, 0, 1, 1e5f, 0, 0, 0, 1};
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_new("far", &err);
+    rtt_material m = rtt_material_default();
+    rtt_scene_add_material(scene, &m);
+    assert_true(rtt_scene_add_mesh(scene, "far", "tiny", tiny, NULL, 3, idx, 1, NULL, 0, move_1e5, &err));
+    assert_true(rtt_scene_finish(scene, &err));
+    assert_int_equal(scene->degenerate_count, 0);
+    assert_int_equal(scene->collapsed_count, 0);
+    assert_near(scene->vertices[1].x - scene->vertices[0].x, 1e-3f, 1e-9f);
+    double p[3];
+    rtt_scene_point_from_stored(scene, scene->vertices[1], p);
+    assert_true(fabs(p[0] - (1e5 + 1e-3)) < 1e-9);
+    rtt_scene_free(scene);
+
+    const rtt_vec3 big[3] = {{-1e5f, -1e5f, 0}, {1e5f, -1e5f, 0}, {0, 1e5f, 0}};
+    scene = rtt_scene_new("far and large", &err);
+    rtt_scene_add_material(scene, &m);
+    assert_true(rtt_scene_add_mesh(scene, "far", "big", big, NULL, 3, idx, 1, NULL, 0, NULL, &err));
+    assert_true(rtt_scene_add_mesh(scene, "far", "tiny", tiny, NULL, 3, idx, 1, NULL, 0, move_1e5, &err));
+    assert_true(rtt_scene_finish(scene, &err));
+    assert_int_equal(scene->collapsed_count, 1);
+    assert_int_equal(scene->degenerate_count, 1);
+    rtt_scene_free(scene);
 }
 
 /* The builders' default depth bound: round(2 + log2 N), never below 8 nor
@@ -305,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_out_of_range_index_is_refused_with_the_face),
         cmocka_unit_test(test_empty_scene_is_refused),
         cmocka_unit_test(test_transform_moves_points_and_turns_normals),
+        cmocka_unit_test(test_a_small_mesh_far_from_the_origin_keeps_its_shape_and_collapses_are_counted),
         cmocka_unit_test(test_missing_file_is_one_line),
         cmocka_unit_test(test_camera_rays_go_through_pixel_centres),
         cmocka_unit_test(test_light_samples_lie_on_the_disk_facing_the_point),

@@ -176,13 +176,17 @@ static int hold_of(SDL_Keycode key)
     }
 }
 
+/* The camera as a views.json entry, in the scene's own coordinates (the
+ * scene stores them relative to its origin: rtt/scene.h). */
 static void print_camera(viewer *v, const char *name)
 {
     rtt_camera c = fly_camera_to(&v->camera);
+    double eye[3], at[3];
+    rtt_scene_point_from_stored(v->scene, c.eye, eye);
+    rtt_scene_point_from_stored(v->scene, c.look_at, at);
     printf("\"%s\": {\"camera\": {\"eye\": [%.9g, %.9g, %.9g], \"look_at\": [%.9g, %.9g, %.9g], "
            "\"up\": [%.9g, %.9g, %.9g], \"fov\": %.9g}}\n",
-           name, c.eye.x, c.eye.y, c.eye.z, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z,
-           c.fov_deg);
+           name, eye[0], eye[1], eye[2], at[0], at[1], at[2], c.up.x, c.up.y, c.up.z, c.fov_deg);
     fflush(stdout);
 }
 

@@ -52,6 +52,15 @@ typedef enum rtt_isa {
     RTT_ISA_COUNT
 } rtt_isa;
 
+/* Ray/triangle tests of the production path.  DEFAULT is the engine's
+ * choice (the optimized engine's: watertight, bench/results/accuracy.md). */
+typedef enum rtt_isect {
+    RTT_ISECT_DEFAULT = 0,
+    RTT_ISECT_WATERTIGHT,    /* Woop, Benthin & Wald 2013: no ray slips through a shared edge */
+    RTT_ISECT_PROJECTED,     /* Wald's projected barycentric test: not watertight */
+    RTT_ISECT_COUNT
+} rtt_isect;
+
 /* Bits of rtt_engine_options.given and of an engine's `uses`: which options
  * a caller set on purpose, and which an engine reads.  An option given to an
  * engine that does not read it is an error (rtt_engine_options_check), so a
@@ -63,6 +72,7 @@ enum {
     RTT_OPTION_LEAF_CULLING = 1u << 3,
     RTT_OPTION_MAX_DEPTH = 1u << 4,
     RTT_OPTION_ISA = 1u << 5,
+    RTT_OPTION_ISECT = 1u << 6,
 };
 
 #define RTT_TRAVERSAL_NAME_MAX 32u
@@ -74,6 +84,7 @@ typedef struct rtt_engine_options {
     int leaf_culling;          /* packet/leaf culling on (1, default) or off (0) */
     uint32_t max_tree_depth;   /* 1..64; 0 → rtt_kd_default_max_depth */
     rtt_isa isa;
+    rtt_isect isect;           /* the triangle test */
     uint32_t threads;          /* build threads; 0 → one per core */
     uint32_t given;            /* RTT_OPTION_* bits the caller set on purpose */
 } rtt_engine_options;
@@ -121,6 +132,9 @@ typedef struct rtt_engine_vtable {
     /* the kernel and instruction set the engine traces with, for reports
      * (NULL: the engine has none to name) */
     const char *(*kernel_name)(rtt_engine *);
+    /* the ray/triangle test it traces with, "watertight" or "projected"
+     * (rtt_isect_name); NULL: neither (e.g. Embree's own) */
+    const char *(*isect_name)(rtt_engine *);
 } rtt_engine_vtable;
 
 struct rtt_engine {
@@ -160,6 +174,14 @@ bool rtt_engine_options_check(const char *name, const rtt_engine_options *opt, r
 /* The same for a class in hand (engine constructors called directly use it). */
 bool rtt_engine_class_check(const rtt_engine_class *cls, const rtt_engine_options *opt, rtt_error *err);
 
+/* Rays given in the scene's own coordinates (rays.bin, a user's rays) moved
+ * into its stored ones (origin minus rtt_scene.origin, in double): what an
+ * engine traces.  t, u, v and prim are the same in both. */
+void rtt_rays_to_stored(const rtt_scene *scene, rtt_ray *rays, size_t n);
+/* The reverse, for rays an engine's caller generated from the scene (the
+ * conformance sets) and writes out for `rtt trace --rays`. */
+void rtt_rays_from_stored(const rtt_scene *scene, rtt_ray *rays, size_t n);
+
 /* name: a registered engine.  opt may be NULL (defaults).  Checks the
  * options (rtt_engine_options_check) before building anything. */
 rtt_engine *rtt_engine_create(const char *name, const rtt_scene *scene, const rtt_engine_options *opt,
@@ -171,6 +193,10 @@ void rtt_engine_destroy(rtt_engine *engine);
 bool rtt_engine_tree_info(rtt_engine *engine, rtt_tree_info *info);
 /* "mft/avx512" style: the kernel and instruction set in use; "" when none. */
 const char *rtt_engine_kernel_name(rtt_engine *engine);
+
+/* "watertight" or "projected": the triangle test in use; "" when the engine
+ * names none (Embree). */
+const char *rtt_engine_isect_name(rtt_engine *engine);
 
 /* Fills defaults: the engine's default accel and traversal, tile 8, leaf
  * culling on, ISA auto, nothing given. */
@@ -184,6 +210,9 @@ bool rtt_isa_supported(rtt_isa isa);
 /* The instruction set AUTO stands for here: $RTT_ISA when set and valid,
  * else the widest supported.  A concrete request is returned as is. */
 rtt_isa rtt_isa_resolve(rtt_isa requested);
+/* Triangle tests by name ("watertight", "projected"). */
+const char *rtt_isect_name(rtt_isect isect);
+bool rtt_isect_parse(const char *name, rtt_isect *out);
 /* Accels by name ("kd"). */
 const char *rtt_accel_name(rtt_accel accel);
 bool rtt_accel_parse(const char *name, rtt_accel *out);

@@ -141,7 +141,18 @@ typedef struct rtt_scene {
     uint32_t *triangle_mesh;          /* mesh index per triangle */
     rtt_mesh *meshes;
     uint32_t degenerate_count;        /* zero-area triangles (kept, never hit) */
-    rtt_bounds bounds;                /* of all vertices used by triangles */
+    /* triangles with an area in the file's coordinates (read in double)
+     * that collapse to zero area once stored in float: counted in
+     * degenerate_count too; the command line warns about them */
+    uint32_t collapsed_count;
+    rtt_bounds bounds;                /* of all vertices used by triangles (stored coordinates) */
+    /* Stored coordinates are the scene's own minus `origin`, the centre of
+     * its bounds: vertices are read in double and stored in float relative
+     * to it, so precision follows the scene's size, not where it is.
+     * Camera, lights and vertices are stored relative to it; rays handed to
+     * an engine are in stored coordinates (rtt_scene_ray_to_stored), and
+     * t, u, v, prim do not depend on the shift. */
+    double origin[3];
     float *texcoords;                 /* (u, v) per vertex, v up; NULL unless a material has a texture */
     uint32_t texcoord_count;          /* vertices texcoords covers (all of them after loading) */
 
@@ -188,6 +199,11 @@ typedef enum rtt_file_kind {
 } rtt_file_kind;
 
 rtt_file_kind rtt_file_kind_of(const char *path);
+
+/* A point of the scene's own coordinates in stored coordinates (minus
+ * origin, in double, then rounded), and back. */
+rtt_vec3 rtt_scene_point_to_stored(const rtt_scene *scene, const double p[3]);
+void rtt_scene_point_from_stored(const rtt_scene *scene, rtt_vec3 p, double out[3]);
 
 /* Loads a scene file (.json), a bare mesh (anything Assimp reads; a file of
  * unknown kind is offered to Assimp too), a Quake III map (.bsp) or a baked

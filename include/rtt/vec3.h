@@ -25,12 +25,24 @@ static inline rtt_vec3 rtt_v3_cross(rtt_vec3 a, rtt_vec3 b)
 {
     return rtt_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-static inline float rtt_v3_length(rtt_vec3 a) { return sqrtf(rtt_v3_dot(a, a)); }
+/* Scale-free: the squares of a vector's parts leave float's range for
+ * lengths beyond about 1e19 (inf) or below 1e-19 (subnormal, then 0), where
+ * scenes scaled by 1e+-20 live; there the length is taken in double.  In
+ * between, the float arithmetic as it always was (the same bits). */
+static inline float rtt_v3_length(rtt_vec3 a)
+{
+    const float len = sqrtf(rtt_v3_dot(a, a));
+    if (len > 1e-18f && len < 1e18f) return len;
+    return (float)sqrt((double)a.x * a.x + (double)a.y * a.y + (double)a.z * a.z);
+}
 /* Returns a unchanged when its length is zero (no NaN from 0/0). */
 static inline rtt_vec3 rtt_v3_normalize(rtt_vec3 a)
 {
-    float len = rtt_v3_length(a);
-    return len > 0.0f ? rtt_v3_scale(a, 1.0f / len) : a;
+    const float len = sqrtf(rtt_v3_dot(a, a));
+    if (len > 1e-18f && len < 1e18f) return rtt_v3_scale(a, 1.0f / len);
+    const double exact = sqrt((double)a.x * a.x + (double)a.y * a.y + (double)a.z * a.z);
+    return exact > 0.0 && isfinite(exact) ? rtt_v3((float)(a.x / exact), (float)(a.y / exact), (float)(a.z / exact))
+                                          : a;
 }
 static inline rtt_vec3 rtt_v3_min(rtt_vec3 a, rtt_vec3 b)
 {

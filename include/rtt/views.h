@@ -55,7 +55,8 @@ void rtt_views_names(const rtt_view_list *list, char *out, size_t size);
  * names the field ("eye and look_at are the same point"). */
 bool rtt_camera_check(const rtt_camera *camera, rtt_error *err);
 
-/* Puts `camera` into the scene (after rtt_camera_check).  When the scene's
+/* Puts `camera` (in the scene's own coordinates: moved to the stored ones,
+ * rtt_scene.origin) into the scene (after rtt_camera_check).  When the scene's
  * light is the default one at the camera (light_source RTT_LIGHTS_AT_CAMERA),
  * it moves with the camera. */
 void rtt_scene_set_camera(rtt_scene *scene, const rtt_camera *camera);

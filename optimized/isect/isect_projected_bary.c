@@ -25,7 +25,7 @@ bool kd_triangle_record(kd_triangle *rec, const rtt_vec3 p[3], uint32_t prim)
     double nk = n[k];
     rec->n_u = (float)(n[u] / nk);
     rec->n_v = (float)(n[v] / nk);
-    rec->n_d = (float)(a[k] + (n[u] / nk) * a[u] + (n[v] / nk) * a[v]);
+    rec->a_k = (float)a[k];
     rec->a_u = (float)a[u];
     rec->a_v = (float)a[v];
     /* (h_u, h_v) = beta (c_u, c_v) + gamma (b_u, b_v); det = n_k. */
@@ -36,7 +36,7 @@ bool kd_triangle_record(kd_triangle *rec, const rtt_vec3 p[3], uint32_t prim)
     rec->k = k;
     rec->prim = prim;
     rec->pad = 0;
-    const float check[9] = {rec->n_u, rec->n_v, rec->n_d, rec->a_u, rec->a_v,
+    const float check[9] = {rec->n_u, rec->n_v, rec->a_k, rec->a_u, rec->a_v,
                             rec->b_nu, rec->b_nv, rec->c_nu, rec->c_nv};
     if (!all_finite(check, 9)) return false;
     /* A needle whose edge coefficients all round to zero would accept the

@@ -3,12 +3,18 @@
  * its packet intersection), four rays at once in SSE4.1 and one ray in
  * scalar code, on the 48-byte records of kd_tree.h.
  *
- * The record is projected onto the plane of the dominant normal axis k:
- *   t     = (n_d - o_k - n_u o_u - n_v o_v) / (d_k + n_u d_u + n_v d_v)
- *   h     = (o + t d)_{u,v} - a_{u,v}
+ * The record is projected onto the plane of the dominant normal axis k, and
+ * everything is computed relative to vertex 0, r = a - o:
+ *   t     = (r_k + n_u r_u + n_v r_v) / (d_k + n_u d_u + n_v d_v)
+ *   h     = t d_{u,v} - r_{u,v}        (the hit point minus vertex 0)
  *   beta  = b_nu h_u + b_nv h_v      (weight of vertex 1)
  *   gamma = c_nu h_u + c_nv h_v      (weight of vertex 2)
  *   hit   iff tnear < t < tfar, beta >= 0, gamma >= 0, beta + gamma <= 1.
+ * Working relative to the vertex makes the rounding of t and of h follow
+ * the distance between the ray's origin and the triangle, not the size of
+ * the coordinates: a ray leaving a surface 1000 units from the scene's
+ * origin is decided as finely as one leaving it at 1 (the absolute form,
+ * n_d - o_k - ..., lost 3e-5 of barycentric there).
  *
  * What it trades: one division and a dozen multiply-adds per ray, no cross
  * products; but it is NOT watertight: t is computed first and the edge tests
@@ -27,6 +33,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "isect_hit.h"
 #include "kd_tree.h"
 #include "packet.h"
 
@@ -48,11 +55,14 @@ static inline __m128 isect4_projected_bary_mask(const kd_triangle *tri, const ra
                                                 __m128 *t_out, __m128 *beta_out, __m128 *gamma_out)
 {
     const uint32_t k = tri->k, ku = kd_axis_u[k], kv = kd_axis_v[k];
-    const __m128 row0 = _mm_loadu_ps((const float *)tri); /* n_u n_v n_d a_u */
+    const __m128 row0 = _mm_loadu_ps((const float *)tri); /* n_u n_v a_k a_u */
     const __m128 nu = KD_SPLAT(row0, 0), nv = KD_SPLAT(row0, 1);
+    const __m128 row1 = _mm_loadu_ps((const float *)tri + 4); /* a_v b_nu b_nv c_nu */
+    const __m128 rk = _mm_sub_ps(KD_SPLAT(row0, 2), rays->org[k]);
+    const __m128 ru = _mm_sub_ps(KD_SPLAT(row0, 3), rays->org[ku]);
+    const __m128 rv = _mm_sub_ps(KD_SPLAT(row1, 0), rays->org[kv]);
     __m128 den = _mm_add_ps(rays->dir[k], _mm_add_ps(_mm_mul_ps(nu, rays->dir[ku]), _mm_mul_ps(nv, rays->dir[kv])));
-    __m128 num = _mm_sub_ps(_mm_sub_ps(KD_SPLAT(row0, 2), rays->org[k]),
-                            _mm_add_ps(_mm_mul_ps(nu, rays->org[ku]), _mm_mul_ps(nv, rays->org[kv])));
+    __m128 num = _mm_add_ps(rk, _mm_add_ps(_mm_mul_ps(nu, ru), _mm_mul_ps(nv, rv)));
     __m128 t = _mm_div_ps(num, den);
     __m128 valid = _mm_and_ps(_mm_cmpgt_ps(t, rays->tnear), _mm_cmplt_ps(t, rays->tfar));
     valid = _mm_and_ps(valid, _mm_cmple_ps(t, tbest));
@@ -60,10 +70,9 @@ static inline __m128 isect4_projected_bary_mask(const kd_triangle *tri, const ra
         *t_out = t, *beta_out = *gamma_out = _mm_setzero_ps(); /* written on every path: no lane is valid */
         return valid;
     }
-    const __m128 row1 = _mm_loadu_ps((const float *)tri + 4); /* a_v b_nu b_nv c_nu */
     const __m128 c_nv = _mm_set1_ps(tri->c_nv);
-    __m128 hu = _mm_sub_ps(_mm_add_ps(rays->org[ku], _mm_mul_ps(t, rays->dir[ku])), KD_SPLAT(row0, 3));
-    __m128 hv = _mm_sub_ps(_mm_add_ps(rays->org[kv], _mm_mul_ps(t, rays->dir[kv])), KD_SPLAT(row1, 0));
+    __m128 hu = _mm_sub_ps(_mm_mul_ps(t, rays->dir[ku]), ru);
+    __m128 hv = _mm_sub_ps(_mm_mul_ps(t, rays->dir[kv]), rv);
     __m128 beta = _mm_add_ps(_mm_mul_ps(KD_SPLAT(row1, 1), hu), _mm_mul_ps(KD_SPLAT(row1, 2), hv));
     __m128 gamma = _mm_add_ps(_mm_mul_ps(KD_SPLAT(row1, 3), hu), _mm_mul_ps(c_nv, hv));
     const __m128 zero = _mm_setzero_ps();
@@ -83,17 +92,7 @@ static inline void isect4_projected_bary(const kd_triangle *tri, const ray_packe
     __m128 t, beta, gamma;
     /* t <= hits->t admits the tie; the prim comparison below settles it. */
     __m128 valid = _mm_and_ps(active, isect4_projected_bary_mask(tri, rays, hits->t, &t, &beta, &gamma));
-    if (_mm_movemask_ps(valid) == 0) return;
-    const __m128i prim = _mm_set1_epi32((int32_t)tri->prim);
-    /* prims compare unsigned: RTT_MISS (all ones) is the largest. */
-    __m128i smaller = _mm_cmpeq_epi32(_mm_min_epu32(prim, hits->prim), prim);
-    __m128 closer = _mm_or_ps(_mm_cmplt_ps(t, hits->t), _mm_and_ps(_mm_cmpeq_ps(t, hits->t),
-                                                                     _mm_castsi128_ps(smaller)));
-    valid = _mm_and_ps(valid, closer);
-    hits->t = _mm_blendv_ps(hits->t, t, valid);
-    hits->u = _mm_blendv_ps(hits->u, beta, valid);
-    hits->v = _mm_blendv_ps(hits->v, gamma, valid);
-    hits->prim = _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(hits->prim), _mm_castsi128_ps(prim), valid));
+    if (_mm_movemask_ps(valid)) hit_packet4_take_closer(hits, valid, t, beta, gamma, tri->prim);
 }
 
 /* Occlusion: the lanes under `active` whose ray hits `tri` in (tnear, tfar). */
@@ -105,25 +104,18 @@ static inline __m128 occluded4_projected_bary(const kd_triangle *tri, const ray_
 }
 
 /* One ray: a scalar twin of the above, same arithmetic in the same order. */
-typedef struct kd_ray1 {
-    float org[3], dir[3], tnear, tfar;
-} kd_ray1;
-
-typedef struct kd_hit1 {
-    float t, u, v;
-    uint32_t prim;
-} kd_hit1;
 
 static inline bool isect1_projected_bary_test(const kd_triangle *tri, const kd_ray1 *ray, float tbest, float *t_out,
                                               float *beta_out, float *gamma_out)
 {
     const uint32_t k = tri->k, ku = k == 2 ? 0 : k + 1, kv = k == 0 ? 2 : k - 1;
+    const float rk = tri->a_k - ray->org[k], ru = tri->a_u - ray->org[ku], rv = tri->a_v - ray->org[kv];
     float den = ray->dir[k] + (tri->n_u * ray->dir[ku] + tri->n_v * ray->dir[kv]);
-    float num = (tri->n_d - ray->org[k]) - (tri->n_u * ray->org[ku] + tri->n_v * ray->org[kv]);
+    float num = rk + (tri->n_u * ru + tri->n_v * rv);
     float t = num / den;
     if (!(t > ray->tnear && t < ray->tfar && t <= tbest)) return false;
-    float hu = (ray->org[ku] + t * ray->dir[ku]) - tri->a_u;
-    float hv = (ray->org[kv] + t * ray->dir[kv]) - tri->a_v;
+    float hu = t * ray->dir[ku] - ru;
+    float hv = t * ray->dir[kv] - rv;
     float beta = tri->b_nu * hu + tri->b_nv * hv;
     float gamma = tri->c_nu * hu + tri->c_nv * hv;
     if (!(beta >= 0.0f && gamma >= 0.0f && beta + gamma <= 1.0f)) return false;
@@ -145,33 +137,6 @@ static inline bool occluded1_projected_bary(const kd_triangle *tri, const kd_ray
 {
     float t, beta, gamma;
     return isect1_projected_bary_test(tri, ray, INFINITY, &t, &beta, &gamma);
-}
-
-/* A leaf's records against a packet.  Counts one intersection test (I) per
- * record per packet. */
-static inline void isect4_leaf(const kd_tree *tree, const kd_leaf *leaf, const ray_packet4 *rays, hit_packet4 *hits,
-                               __m128 active, kd_counters *counters)
-{
-    const kd_triangle *tri = tree->triangles + leaf->first;
-    for (uint32_t i = 0; i < leaf->count; i++) isect4_projected_bary(&tri[i], rays, hits, active);
-    if (counters) counters->isects += leaf->count;
-}
-
-/* The lanes under `active` occluded by a record of the leaf; stops as soon as
- * every active lane is.  Counts the records actually tested. */
-static inline __m128 occluded4_leaf(const kd_tree *tree, const kd_leaf *leaf, const ray_packet4 *rays,
-                                    __m128 active, kd_counters *counters)
-{
-    const kd_triangle *tri = tree->triangles + leaf->first;
-    const int want = _mm_movemask_ps(active);
-    __m128 hit = _mm_setzero_ps();
-    uint32_t i = 0;
-    while (i < leaf->count && _mm_movemask_ps(hit) != want) {
-        hit = _mm_or_ps(hit, occluded4_projected_bary(&tri[i], rays, _mm_andnot_ps(hit, active)));
-        i++;
-    }
-    if (counters) counters->isects += i;
-    return hit;
 }
 
 #endif

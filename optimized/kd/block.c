@@ -11,7 +11,7 @@
 #include "block.h"
 #include "engine/clock.h"
 #include "frustum.h"
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 
 /* Slab test of a packet against box [lo - margin, hi + margin]: per-lane
  * entry and exit clipped to [tnear, tfar], widened relatively (which also

@@ -54,11 +54,13 @@ static inline int kd_node_is_leaf(const kd_node *n) { return (n->bits & 3u) == K
 /* Wald's projected barycentric triangle record (Wald 2004, thesis 4.2),
  * 48 bytes so that records stay 16-byte aligned in leaves.  Projection axis
  * k is the dominant normal axis, u, v the other two (u = (k+1)%3, v = (k+2)%3):
- *   plane:        n_u * p_u + n_v * p_v + p_k = n_d   (normal scaled so n_k = 1)
+ *   plane:        n_u * (p_u - a_u) + n_v * (p_v - a_v) + (p_k - a_k) = 0   (normal scaled so n_k = 1)
  *   barycentric:  beta  = b_nu * (h_u) + b_nv * (h_v),  gamma = c_nu * h_u + c_nv * h_v
- *   with h = hit - vertex0 projected; beta, gamma weight vertices 1, 2. */
+ *   with h = hit - vertex0 projected; beta, gamma weight vertices 1, 2.
+ * The plane is stored through vertex 0 (a_k), not as a constant n_d, so the
+ * test works relative to that vertex (isect_projected_bary.h). */
 typedef struct kd_triangle {
-    float n_u, n_v, n_d;
+    float n_u, n_v, a_k;        /* normal (n_k = 1) and vertex 0 on axis k */
     float a_u, a_v;             /* vertex 0 projected */
     float b_nu, b_nv;           /* beta edge equation */
     float c_nu, c_nv;           /* gamma edge equation */
@@ -67,6 +69,18 @@ typedef struct kd_triangle {
     uint32_t pad;
 } kd_triangle;
 _Static_assert(sizeof(kd_triangle) == 48, "kd_triangle is 48 bytes, 16-byte aligned in leaves");
+
+/* 48 bytes: a triangle's three corners as the scene stores them, for the
+ * watertight test (isect_woop_watertight.h), parallel to kd_tree.triangles
+ * (entry i belongs to record i: read in the same sequence).  Not in the .kdt:
+ * the engine derives them from the scene's triangles when it traces with the
+ * watertight test.  The padding keeps entries 16-byte aligned. */
+typedef struct kd_corners {
+    float a[3], b[3], c[3];
+    uint32_t prim;
+    uint32_t pad[2];
+} kd_corners;
+_Static_assert(sizeof(kd_corners) == 48, "kd_corners is 48 bytes, 16-byte aligned like the records");
 
 /* 32 bytes: the leaf's triangle records and its box (for leaf culling). */
 typedef struct kd_leaf {
@@ -82,6 +96,10 @@ typedef struct kd_tree {
     uint32_t node_count, leaf_count, triangle_count;
     rtt_bounds bounds;          /* the root's box */
     rtt_tree_info info;
+    /* The triangle test every kernel runs (isect_leaf.h): NULL → Wald's
+     * projected test on `triangles`; else Woop's watertight test on these
+     * corners, one per record.  Owned by whoever sets it (the engine). */
+    const kd_corners *corners;
 } kd_tree;
 
 /* The margin (world units) the kernels grow the root and leaf boxes by, so

@@ -24,7 +24,7 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 
 /* 12 bytes: a subtree and the ray's interval in it. */
 typedef struct mono_task {
@@ -70,17 +70,9 @@ static inline int trace_ray(const kd_tree *tree, const kd_ray1 *ray, const float
         }
         counts->steps++;
         const kd_leaf *leaf = &tree->leaves[n->leaf];
-        const kd_triangle *tri = tree->triangles + leaf->first;
-        if (occlusion) {
-            for (uint32_t i = 0; i < leaf->count; i++)
-                if (occluded1_projected_bary(&tri[i], ray)) {
-                    counts->isects += i + 1;
-                    return 1;
-                }
-        } else {
-            for (uint32_t i = 0; i < leaf->count; i++) isect1_projected_bary(&tri[i], ray, hit);
-        }
-        counts->isects += leaf->count;
+        bool occluded;
+        counts->isects += isect1_leaf(tree, leaf, ray, hit, occlusion, &occluded);
+        if (occluded) return 1;
         const float limit = occlusion ? INFINITY : hit->t;
         for (;;) {
             if (sp == 0) return 0;

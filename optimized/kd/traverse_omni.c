@@ -30,7 +30,7 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 
 /* One inner node for a packet of any directions: per-lane intervals of
  * both children (blends on the sign of 1/dir); right_first[axis] = 1 when

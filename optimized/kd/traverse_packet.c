@@ -25,7 +25,7 @@
 
 #include "kernels.h"
 #include "traverse_ray.h"
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 
 /* One inner node for a packet whose live lanes share direction signs:
  * neg[axis] = 1 when they point negative on `axis` (the near child is then

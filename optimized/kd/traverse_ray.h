@@ -5,7 +5,7 @@
  * Exactness, for arbitrary rays (the same argument as block.h).  A leaf's
  * records are tested against the ray's own (tnear, tfar), not against the
  * cell's interval, and a hit is kept wherever along the ray it lies (closest
- * wins, ties to the smaller prim in isect_projected_bary.h).  A subtree is
+ * wins, ties to the smaller prim in isect_leaf.h).  A subtree is
  * dropped only when its interval starts past the lane's current best hit.
  * So the traversal order never changes the result; the cell intervals only
  * have to contain every parameter at which the ray is inside the cell.
@@ -32,7 +32,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 #include "kd_tree.h"
 #include "packet.h"
 #include "simd4.h"

@@ -9,8 +9,8 @@
  * (distance +inf), a child is visited when any live lane's interval
  * reaches it.  Leaves come front to back for every lane.
  *
- * At a leaf every triangle is tested against the packet (both faces; Wald's
- * projected test, isect_projected_bary.h, like every optimized kernel).  Per
+ * At a leaf every triangle is tested against the packet (both faces; the
+ * tree's triangle test, isect_leaf.h, like every optimized kernel).  Per
  * lane, a hit goes into a small sorted "pending" list unless its triangle
  * was seen before (triangles are duplicated across leaves); then every
  * pending hit up to the lane's far end in this leaf is fed, in order, to the
@@ -32,7 +32,7 @@
 
 #include "kernel_isa.h"
 
-#include "isect_projected_bary.h"
+#include "isect_leaf.h"
 #include "shadow_kernels.h"
 
 #define EW_PENDING_MAX 64u
@@ -104,22 +104,24 @@ static void release(const rtt_edge_width_model *m, ew_lane *lane, float limit)
     if (lane->head == lane->count) lane->head = lane->count = 0;
 }
 
+/* A triangle's crossings into the pending lists of the lanes that cross it. */
+static void queue_crossings(uint32_t prim, int hit, __m128 t, void *context)
+{
+    ew_lane *lanes = context;
+    float tl[4];
+    _mm_storeu_ps(tl, t);
+    for (int l = 0; l < 4; l++)
+        if (hit >> l & 1) add_pending(&lanes[l], tl[l], prim);
+}
+
 /* Intersects the leaf with the lanes in `mask`, queues their hits and
  * feeds each lane up to its far end; returns the lanes decided. */
 static int visit_leaf(const kd_tree *tree, const rtt_edge_width_model *m, const kd_leaf *leaf, const ray_packet4 *r,
                       ew_lane lanes[4], int mask, __m128 far, kd_counters *counters)
 {
-    const kd_triangle *tri = tree->triangles + leaf->first;
-    const __m128 inf = _mm_set1_ps(INFINITY);
-    for (uint32_t i = 0; i < leaf->count; i++) {
-        __m128 t, beta, gamma;
-        int hit = _mm_movemask_ps(isect4_projected_bary_mask(&tri[i], r, inf, &t, &beta, &gamma)) & mask;
-        if (!hit) continue;
-        float tl[4];
-        _mm_storeu_ps(tl, t);
-        for (int l = 0; l < 4; l++)
-            if (hit >> l & 1) add_pending(&lanes[l], tl[l], tri[i].prim);
-    }
+    const __m128i bits = _mm_set_epi32(8, 4, 2, 1);
+    const __m128 live = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(mask), bits), bits));
+    crossings4_leaf(tree, leaf, r, live, queue_crossings, lanes);
     if (counters) counters->isects += leaf->count;
     float limit[4];
     _mm_storeu_ps(limit, _mm_mul_ps(far, _mm_set1_ps(1.0f + EW_WIDEN)));
