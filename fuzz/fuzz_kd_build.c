@@ -1,4 +1,5 @@
-/* Fuzz target: the kd-tree builders and every traversal kernel.
+/* Fuzz target: the kd-tree builders, the BVH builder and every traversal
+ * kernel of both.
  *
  * Bytes become triangles and rays at the numerical extremes (docs/ARCHITECTURE.md
  * "Extremes"): NaN, inf, denormals, huge, tiny, degenerate and duplicate
@@ -7,9 +8,11 @@
  *
  *  1. rtt_scene_from_triangles must refuse non-finite input with one line
  *     and accept finite input;
- *  2. the reference and the optimized engine are built; their tree info must
- *     hold its bounds (depth <= max_depth, references <= reference_cap);
+ *  2. the reference and the optimized engine (kd-tree and BVH) are built;
+ *     their tree info must hold its bounds (depth <= max_depth, references
+ *     <= reference_cap);
  *  3. the rays go through the reference and every optimized traversal mode
+ *     of both structures
  *     and each answer is checked against brute force (fuzz_oracle.h: strict
  *     for the reference, lenient near edges for the optimized kernels).
  *
@@ -197,17 +200,21 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     rtt_engine_destroy(reference);
 
     const char *kernel;
-    for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(RTT_ACCEL_KD, mode)); mode++) {
-        snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
-        rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
-        if (!optimized)
-            fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
-        char label[64];
-        snprintf(label, sizeof label, "optimized/%s", kernel);
-        if (mode == 0)
-            fuzz_check_tree_info(optimized, label, scene, true);
-        fuzz_oracle_check(oracle, optimized, label, true);
-        rtt_engine_destroy(optimized);
+    static const rtt_accel accels[] = { RTT_ACCEL_KD, RTT_ACCEL_BVH };
+    for (size_t a = 0; a < sizeof accels / sizeof accels[0]; a++) {
+        opt.accel = accels[a];
+        for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(accels[a], mode)); mode++) {
+            snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
+            rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
+            if (!optimized)
+                fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
+            char label[64];
+            snprintf(label, sizeof label, "optimized/%s", kernel);
+            if (mode == 0)
+                fuzz_check_tree_info(optimized, label, scene, true);
+            fuzz_oracle_check(oracle, optimized, label, true);
+            rtt_engine_destroy(optimized);
+        }
     }
     fuzz_oracle_free(oracle);
 }
