@@ -11,8 +11,9 @@
  * dearer and N fits in a leaf (options.leaf_size).  A node with more than
  * leaf_size triangles is always split (at the median of its order when
  * every centroid coincides); at options.max_depth a node is a leaf whatever
- * it holds.  Areas and bin positions are computed in double, so scenes at
- * 1e-20 or 1e20 bin as well as at 1.
+ * it holds.  Binning runs in SSE lanes, all three axes in one pass over the
+ * node's boxes; surface areas are summed in double, so scenes at 1e20 do
+ * not overflow them.
  *
  * Threads (engine/threads.h): the top of the tree is split breadth-first on
  * the calling thread until there are BVH_TASKS_PER_THREAD subtrees per
@@ -31,6 +32,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <smmintrin.h>
+
 #include "bvh_build.h"
 #include "engine/clock.h"
 #include "engine/threads.h"
@@ -45,19 +48,6 @@ typedef struct box3 {
     float lo[3], hi[3];
 } box3;
 
-static void box_empty(box3 *b)
-{
-    for (int k = 0; k < 3; k++) b->lo[k] = INFINITY, b->hi[k] = -INFINITY;
-}
-
-static void box_grow(box3 *b, const box3 *o)
-{
-    for (int k = 0; k < 3; k++) {
-        b->lo[k] = o->lo[k] < b->lo[k] ? o->lo[k] : b->lo[k];
-        b->hi[k] = o->hi[k] > b->hi[k] ? o->hi[k] : b->hi[k];
-    }
-}
-
 static double box_half_area(const box3 *b)
 {
     double d[3];
@@ -65,11 +55,50 @@ static double box_half_area(const box3 *b)
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
-static double centroid(const box3 *b, int k) { return 0.5 * ((double)b->lo[k] + (double)b->hi[k]); }
+/* 32 bytes: a triangle's box in SSE lanes, its record index in the fourth
+ * lane of `lo` (bits).  The builder partitions these themselves, so every
+ * pass reads them in sequence. */
+typedef struct prim_ref {
+    __m128 lo, hi;
+} prim_ref;
+
+static inline uint32_t ref_record(const prim_ref *r) { return (uint32_t)_mm_extract_ps(r->lo, 3); }
+/* the box's centre, halved before the sum so that no coordinate overflows */
+static inline __m128 ref_centroid(const prim_ref *r)
+{
+    const __m128 half = _mm_set1_ps(0.5f);
+    return _mm_add_ps(_mm_mul_ps(r->lo, half), _mm_mul_ps(r->hi, half));
+}
+
+/* An SSE box: min xyz and max xyz (the fourth lanes unused). */
+typedef struct box4 {
+    __m128 lo, hi;
+} box4;
+
+static inline void box4_empty(box4 *b) { b->lo = _mm_set1_ps(INFINITY), b->hi = _mm_set1_ps(-INFINITY); }
+static inline void box4_grow(box4 *b, __m128 lo, __m128 hi)
+{
+    b->lo = _mm_min_ps(b->lo, lo);
+    b->hi = _mm_max_ps(b->hi, hi);
+}
+/* Half the surface area of the box scaled by `unit` (0 for an empty box). */
+static inline float box4_half_area(const box4 *b, __m128 unit)
+{
+    const __m128 d = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(b->hi, b->lo), _mm_setzero_ps()), unit);
+    const __m128 e = _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)); /* y z x */
+    const __m128 p = _mm_mul_ps(d, e);                               /* xy yz zx */
+    return _mm_cvtss_f32(p) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1)) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 2));
+}
+
+static inline box3 box4_unpack(const box4 *b)
+{
+    _Alignas(16) float lo[4], hi[4];
+    _mm_store_ps(lo, b->lo), _mm_store_ps(hi, b->hi);
+    return (box3){{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+}
 
 typedef struct builder {
-    const box3 *boxes;         /* per record */
-    uint32_t *ids;             /* record indices, partitioned node by node */
+    prim_ref *refs;            /* partitioned node by node */
     bvh_node *slots;           /* inner nodes before the compaction */
     uint32_t leaf_size, max_depth;
 } builder;
@@ -80,90 +109,125 @@ typedef struct split_choice {
     uint32_t mid;
 } split_choice;
 
-static void range_bounds(const builder *b, uint32_t begin, uint32_t end, box3 *bounds, double clo[3], double chi[3])
+/* The bin of each axis for centroid c: (c - lo) * scale, clamped. */
+static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
 {
-    box_empty(bounds);
-    for (int k = 0; k < 3; k++) clo[k] = INFINITY, chi[k] = -INFINITY;
+    __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo), scale);
+    f = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), bin_max);
+    return _mm_cvttps_epi32(f);
+}
+
+/* A range's box and the box of its centroids. */
+typedef struct node_bounds {
+    box4 box, cbox;
+} node_bounds;
+
+static void range_bounds(const builder *b, uint32_t begin, uint32_t end, node_bounds *out)
+{
+    box4_empty(&out->box), box4_empty(&out->cbox);
     for (uint32_t i = begin; i < end; i++) {
-        const box3 *p = &b->boxes[b->ids[i]];
-        box_grow(bounds, p);
-        for (int k = 0; k < 3; k++) {
-            double c = centroid(p, k);
-            clo[k] = c < clo[k] ? c : clo[k];
-            chi[k] = c > chi[k] ? c : chi[k];
-        }
+        const prim_ref *r = &b->refs[i];
+        box4_grow(&out->box, r->lo, r->hi);
+        const __m128 c = ref_centroid(r);
+        box4_grow(&out->cbox, c, c);
     }
 }
 
-static uint32_t bin_of(double c, double lo, double scale)
-{
-    double f = (c - lo) * scale;
-    if (!(f > 0.0)) return 0;
-    return f >= (double)(BVH_BINS - 1) ? BVH_BINS - 1 : (uint32_t)f;
-}
-
-/* Partitions [begin, end) by the node's choice and says where it split. */
-static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, box3 *bounds)
+/* Partitions [begin, end) (bounds `nb`) by the node's choice and says where
+ * it split; the children's bounds into `child`, gathered by the partition. */
+static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth,
+                                 const node_bounds *nb, node_bounds child[2])
 {
     const uint32_t n = end - begin;
-    double clo[3], chi[3];
-    range_bounds(b, begin, end, bounds, clo, chi);
+    const box4 box = nb->box, cbox = nb->cbox;
+    const box3 unpacked = box4_unpack(&box), *bounds = &unpacked;
     if (n <= 1 || depth >= b->max_depth) return (split_choice){true, 0};
 
-    double best_cost = INFINITY;
+    /* one pass bins all three axes; an axis whose centroids coincide (or
+     * whose extent is not finite) gets scale 0 and offers no plane.  Small
+     * nodes get fewer bins (the sweep's fixed cost would dominate them). */
+    const uint32_t bins_used = n <= 16 ? 8u : n <= 64 ? 16u : BVH_BINS;
+    _Alignas(16) float clo[4], chi[4], scale[4];
+    _mm_store_ps(clo, cbox.lo), _mm_store_ps(chi, cbox.hi);
+    bool any_axis = false;
+    for (int k = 0; k < 3; k++) {
+        const float extent = chi[k] - clo[k];
+        scale[k] = extent > 0.0f && isfinite(extent) ? (float)bins_used * (1.0f - 0x1p-20f) / extent : 0.0f;
+        if (!(scale[k] > 0.0f) || !isfinite(scale[k])) scale[k] = 0.0f;
+        any_axis |= scale[k] > 0.0f;
+    }
+    scale[3] = 0.0f;
+    const __m128 lo4 = cbox.lo, scale4 = _mm_load_ps(scale), bin_max = _mm_set1_ps((float)(bins_used - 1));
+    /* areas relative to the node's largest extent: the SAH compares ratios,
+     * and relative extents (<= 1) neither overflow nor underflow in float */
+    float largest = fmaxf(bounds->hi[0] - bounds->lo[0], fmaxf(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
+    const __m128 unit = _mm_set1_ps(largest > 0.0f && isfinite(largest) && isfinite(1.0f / largest) ? 1.0f / largest : 1.0f);
+    float best_cost = INFINITY;
     int best_axis = -1;
     uint32_t best_bin = 0;
-    double best_scale = 0.0;
-    for (int k = 0; k < 3; k++) {
-        const double extent = chi[k] - clo[k];
-        if (!(extent > 0.0) || !isfinite(extent)) continue;
-        const double scale = (double)BVH_BINS / extent;
-        uint32_t counts[BVH_BINS] = {0};
-        box3 bins[BVH_BINS];
-        for (uint32_t j = 0; j < BVH_BINS; j++) box_empty(&bins[j]);
+    if (any_axis) {
+        uint32_t counts[3][BVH_BINS] = {{0}};
+        box4 bins[3][BVH_BINS];
+        for (int k = 0; k < 3; k++)
+            for (uint32_t j = 0; j < bins_used; j++) box4_empty(&bins[k][j]);
         for (uint32_t i = begin; i < end; i++) {
-            const box3 *p = &b->boxes[b->ids[i]];
-            uint32_t j = bin_of(centroid(p, k), clo[k], scale);
-            counts[j]++;
-            box_grow(&bins[j], p);
+            const prim_ref *r = &b->refs[i];
+            _Alignas(16) int32_t j[4];
+            _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
+            for (int k = 0; k < 3; k++) {
+                counts[k][j[k]]++;
+                box4_grow(&bins[k][j[k]], r->lo, r->hi);
+            }
         }
-        /* right-to-left sweep of the area-weighted counts, then left to right */
-        double right_cost[BVH_BINS];
-        box3 acc;
-        box_empty(&acc);
-        uint32_t count = 0;
-        for (uint32_t j = BVH_BINS - 1; j > 0; j--) {
-            box_grow(&acc, &bins[j]);
-            count += counts[j];
-            right_cost[j] = count ? (double)count * box_half_area(&acc) : 0.0;
-        }
-        box_empty(&acc);
-        count = 0;
-        for (uint32_t j = 0; j + 1 < BVH_BINS; j++) {
-            box_grow(&acc, &bins[j]);
-            count += counts[j];
-            if (count == 0 || count == n) continue;
-            double cost = (double)count * box_half_area(&acc) + right_cost[j + 1];
-            if (cost < best_cost) best_cost = cost, best_axis = k, best_bin = j, best_scale = scale;
+        for (int k = 0; k < 3; k++) {
+            if (scale[k] == 0.0f) continue;
+            /* right-to-left sweep of the area-weighted counts, then left to right */
+            float right_cost[BVH_BINS];
+            box4 acc;
+            box4_empty(&acc);
+            uint32_t count = 0;
+            for (uint32_t j = bins_used - 1; j > 0; j--) {
+                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
+                count += counts[k][j];
+                right_cost[j] = (float)count * box4_half_area(&acc, unit);
+            }
+            box4_empty(&acc);
+            count = 0;
+            for (uint32_t j = 0; j + 1 < bins_used; j++) {
+                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
+                count += counts[k][j];
+                if (count == 0 || count == n) continue;
+                const float cost = (float)count * box4_half_area(&acc, unit) + right_cost[j + 1];
+                if (cost < best_cost) best_cost = cost, best_axis = k, best_bin = j;
+            }
         }
     }
-    const double area = box_half_area(bounds);
+    const float area = box4_half_area(&box, unit);
     /* C_trav + (N_L SA_L + N_R SA_R) / SA against the leaf's N (in units of C_isect) */
-    const bool leaf_cheaper = best_axis < 0 || !(area > 0.0) || 1.0 + best_cost / area >= (double)n;
+    const bool leaf_cheaper = best_axis < 0 || !(area > 0.0f) || 1.0f + best_cost / area >= (float)n;
     if (n <= b->leaf_size && leaf_cheaper) return (split_choice){true, 0};
 
     uint32_t mid;
     if (best_axis < 0) {
         mid = begin + n / 2; /* every centroid coincides: halve the order */
+        range_bounds(b, begin, mid, &child[0]);
+        range_bounds(b, mid, end, &child[1]);
     } else {
+        for (int c = 0; c < 2; c++) box4_empty(&child[c].box), box4_empty(&child[c].cbox);
         uint32_t i = begin, j = end;
         while (i < j) {
-            if (bin_of(centroid(&b->boxes[b->ids[i]], best_axis), clo[best_axis], best_scale) <= best_bin) {
+            const prim_ref r = b->refs[i];
+            const __m128 centre = ref_centroid(&r);
+            _Alignas(16) int32_t bin[4];
+            _mm_store_si128((__m128i *)bin, bins_of(centre, lo4, scale4, bin_max));
+            const int right = (uint32_t)bin[best_axis] > best_bin;
+            box4_grow(&child[right].box, r.lo, r.hi);
+            box4_grow(&child[right].cbox, centre, centre);
+            if (!right) {
                 i++;
             } else {
-                uint32_t t = b->ids[i];
-                b->ids[i] = b->ids[--j];
-                b->ids[j] = t;
+                b->refs[i] = b->refs[--j];
+                b->refs[j] = r;
             }
         }
         mid = i;
@@ -177,12 +241,13 @@ static void set_box(bvh_child *c, const box3 *bounds)
     memcpy(c->hi, bounds->hi, sizeof c->hi);
 }
 
-/* Builds [begin, end) into `out`, inner nodes from slot *next on. */
-static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, bvh_child *out,
-                          uint32_t *next)
+/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot *next on. */
+static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, const node_bounds *nb,
+                          bvh_child *out, uint32_t *next)
 {
-    box3 bounds;
-    split_choice s = choose_split(b, begin, end, depth, &bounds);
+    node_bounds child[2];
+    split_choice s = choose_split(b, begin, end, depth, nb, child);
+    const box3 bounds = box4_unpack(&nb->box);
     set_box(out, &bounds);
     if (s.leaf) {
         out->index = begin;
@@ -192,14 +257,15 @@ static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32
     const uint32_t slot = (*next)++;
     out->index = slot;
     out->count = 0;
-    build_subtree(b, begin, s.mid, depth + 1, &b->slots[slot].child[0], next);
-    build_subtree(b, s.mid, end, depth + 1, &b->slots[slot].child[1], next);
+    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], next);
+    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], next);
 }
 
 /* A subtree left for a task: its range and where its reference goes. */
 typedef struct subtree_task {
     uint32_t begin, end, depth;
     bvh_child *out;
+    node_bounds bounds;
 } subtree_task;
 
 typedef struct task_context {
@@ -214,7 +280,7 @@ static void run_subtree_task(void *context, uint32_t thread, uint32_t task)
     const task_context *c = context;
     const subtree_task *t = &c->tasks[task];
     uint32_t next = c->slot_base + t->begin;
-    build_subtree(c->b, t->begin, t->end, t->depth, t->out, &next);
+    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &next);
 }
 
 /* The final layout: depth first, children after their parent. */
@@ -253,7 +319,7 @@ static void compact(compactor *c, const bvh_child *src, bvh_child *dst, uint32_t
     if (src->count > 0) {
         dst->index = c->next_record;
         for (uint32_t i = 0; i < src->count; i++)
-            c->tree->triangles[c->next_record++] = c->records[c->b->ids[src->index + i]];
+            c->tree->triangles[c->next_record++] = c->records[ref_record(&c->b->refs[src->index + i])];
         c->depth = depth > c->depth ? depth : c->depth;
         c->leaves++;
         c->sah += weight * (double)src->count;
@@ -286,30 +352,32 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
 
     const uint32_t n_tri = scene->triangle_count;
     kd_triangle *records = malloc((size_t)(n_tri ? n_tri : 1) * sizeof *records);
-    box3 *boxes = malloc((size_t)(n_tri ? n_tri : 1) * sizeof *boxes);
-    uint32_t *ids = malloc((size_t)(n_tri ? n_tri : 1) * sizeof *ids);
+    prim_ref *refs = aligned_alloc(16, (size_t)(n_tri ? n_tri : 1) * sizeof *refs);
     uint32_t n = 0;
-    if (records && boxes && ids)
+    if (records && refs)
         for (uint32_t i = 0; i < n_tri; i++) {
             rtt_vec3 p[3];
             rtt_scene_triangle(scene, i, p);
             if (!kd_triangle_record(&records[n], p, i)) continue;
-            box3 *bx = &boxes[n];
-            bx->lo[0] = fminf(p[0].x, fminf(p[1].x, p[2].x)), bx->hi[0] = fmaxf(p[0].x, fmaxf(p[1].x, p[2].x));
-            bx->lo[1] = fminf(p[0].y, fminf(p[1].y, p[2].y)), bx->hi[1] = fmaxf(p[0].y, fmaxf(p[1].y, p[2].y));
-            bx->lo[2] = fminf(p[0].z, fminf(p[1].z, p[2].z)), bx->hi[2] = fmaxf(p[0].z, fmaxf(p[1].z, p[2].z));
-            ids[n] = n;
+            const __m128 a = _mm_setr_ps(p[0].x, p[0].y, p[0].z, 0.0f), b1 = _mm_setr_ps(p[1].x, p[1].y, p[1].z, 0.0f),
+                         c = _mm_setr_ps(p[2].x, p[2].y, p[2].z, 0.0f);
+            refs[n].lo = _mm_insert_ps(_mm_min_ps(a, _mm_min_ps(b1, c)), _mm_castsi128_ps(_mm_cvtsi32_si128((int)n)),
+                                       0x30); /* record index into lane 3 */
+            refs[n].hi = _mm_max_ps(a, _mm_max_ps(b1, c));
             n++;
         }
     const uint32_t top_slots = 2u * BVH_TASKS_PER_THREAD * threads + 2u;
-    bvh_node *slots = records && boxes && ids ? malloc(((size_t)top_slots + n) * sizeof *slots) : NULL;
+    bvh_node *slots = records && refs ? malloc(((size_t)top_slots + n) * sizeof *slots) : NULL;
     subtree_task *tasks = slots ? malloc((size_t)(BVH_TASKS_PER_THREAD * threads + 2u) * sizeof *tasks) : NULL;
     if (!tasks) goto out_of_memory;
-    b.boxes = boxes, b.ids = ids, b.slots = slots;
+    b.refs = refs, b.slots = slots;
 
     /* the top, breadth first on this thread, until there are enough subtrees */
     uint32_t task_count = 0, next_top = 0;
-    if (n > 0) tasks[task_count++] = (subtree_task){0, n, 0, &tree->root};
+    if (n > 0) {
+        tasks[task_count] = (subtree_task){.begin = 0, .end = n, .depth = 0, .out = &tree->root};
+        range_bounds(&b, 0, n, &tasks[task_count++].bounds);
+    }
     const uint32_t want = threads > 1 ? BVH_TASKS_PER_THREAD * threads : 1;
     while (task_count > 0 && task_count < want) {
         uint32_t largest = 0;
@@ -317,15 +385,16 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
             if (tasks[i].end - tasks[i].begin > tasks[largest].end - tasks[largest].begin) largest = i;
         subtree_task t = tasks[largest];
         if (t.end - t.begin < BVH_TASK_MIN_TRIANGLES) break;
-        box3 bounds;
-        split_choice s = choose_split(&b, t.begin, t.end, t.depth, &bounds);
+        node_bounds child[2];
+        split_choice s = choose_split(&b, t.begin, t.end, t.depth, &t.bounds, child);
         if (s.leaf) break; /* the largest is a leaf (depth bound): the rest are smaller */
+        const box3 bounds = box4_unpack(&t.bounds.box);
         set_box(t.out, &bounds);
         const uint32_t slot = next_top++;
         t.out->index = slot;
         t.out->count = 0;
-        tasks[largest] = (subtree_task){t.begin, s.mid, t.depth + 1, &slots[slot].child[0]};
-        tasks[task_count++] = (subtree_task){s.mid, t.end, t.depth + 1, &slots[slot].child[1]};
+        tasks[largest] = (subtree_task){t.begin, s.mid, t.depth + 1, &slots[slot].child[0], child[0]};
+        tasks[task_count++] = (subtree_task){s.mid, t.end, t.depth + 1, &slots[slot].child[1], child[1]};
     }
     task_context context = {&b, tasks, top_slots};
     rtt_parallel_run(task_count, threads, run_subtree_task, &context);
@@ -348,7 +417,7 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
         bvh_node *shrunk = realloc(tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
         if (shrunk) tree->nodes = shrunk;
     }
-    free(records), free(boxes), free(ids), free(slots), free(tasks);
+    free(records), free(refs), free(slots), free(tasks);
 
     rtt_tree_info *info = &tree->info;
     info->depth = c.depth;
@@ -364,7 +433,7 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     return true;
 
 out_of_memory:
-    free(records), free(boxes), free(ids), free(slots), free(tasks);
+    free(records), free(refs), free(slots), free(tasks);
     bvh_tree_free(tree);
     return rtt_error_set(err, "%s: out of memory building the BVH (%u triangles)", scene->path, n_tri);
 }
