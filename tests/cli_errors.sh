@@ -80,7 +80,7 @@ expect 2 "--isa bogus: expected auto or one of sse4" -- render "$scene" --isa bo
 expect 2 "--isa bogus: expected" -- render "$scene" --isa=bogus
 expect 2 "--accel grid: expected one of kd, bvh" -- render "$scene" --accel grid
 expect 2 "cone shadows need the kd-tree" -- render "$scene" --accel bvh --shadows cone:8
-expect 2 "unknown bvh traversal \"mft\": expected bvh-mono, bvh-packet" -- render "$scene" --accel bvh --traversal mft
+expect 2 "unknown bvh traversal \"mft\": expected bvh-mono, bvh-packet, bvh-mft" -- render "$scene" --accel bvh --traversal mft
 expect 2 "--max-bounces 65: expected a whole number from 0 to 64" -- render "$scene" --max-bounces 65
 expect 2 "--max-bounces -1: expected" -- render "$scene" --max-bounces=-1
 expect 2 "--max-depth 65: expected a whole number from 1 to 64" -- render "$scene" --max-depth 65

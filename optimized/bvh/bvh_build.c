@@ -287,6 +287,7 @@ static void run_subtree_task(void *context, uint32_t thread, uint32_t task)
 typedef struct compactor {
     const builder *b;
     const kd_triangle *records;
+    const rtt_scene *scene;
     bvh_tree *tree;
     uint32_t next_node, next_record;
     uint32_t depth, leaves, empty;
@@ -318,8 +319,15 @@ static void compact(compactor *c, const bvh_child *src, bvh_child *dst, uint32_t
     const double weight = root_area > 0.0 ? box_half_area(&box) / root_area : 1.0;
     if (src->count > 0) {
         dst->index = c->next_record;
-        for (uint32_t i = 0; i < src->count; i++)
-            c->tree->triangles[c->next_record++] = c->records[ref_record(&c->b->refs[src->index + i])];
+        for (uint32_t i = 0; i < src->count; i++) {
+            const kd_triangle *rec = &c->records[ref_record(&c->b->refs[src->index + i])];
+            rtt_vec3 p[3];
+            rtt_scene_triangle(c->scene, rec->prim, p);
+            bvh_corners *corners = &c->tree->corners[c->next_record];
+            for (int v = 0; v < 3; v++)
+                corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
+            c->tree->triangles[c->next_record++] = *rec;
+        }
         c->depth = depth > c->depth ? depth : c->depth;
         c->leaves++;
         c->sah += weight * (double)src->count;
@@ -337,6 +345,7 @@ void bvh_tree_free(bvh_tree *tree)
 {
     free(tree->nodes);
     free(tree->triangles);
+    free(tree->corners);
     memset(tree, 0, sizeof *tree);
 }
 
@@ -401,9 +410,10 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
 
     /* count the inner nodes reached from the root, then lay them out */
     tree->triangles = malloc((size_t)(n ? n : 1) * sizeof *tree->triangles);
+    tree->corners = malloc((size_t)(n ? n : 1) * sizeof *tree->corners);
     tree->nodes = malloc(((size_t)(n ? n : 1)) * sizeof *tree->nodes);
-    if (!tree->triangles || !tree->nodes) goto out_of_memory;
-    compactor c = {.b = &b, .records = records, .tree = tree};
+    if (!tree->triangles || !tree->corners || !tree->nodes) goto out_of_memory;
+    compactor c = {.b = &b, .records = records, .tree = tree, .scene = scene};
     if (n > 0) {
         box3 root_box;
         memcpy(root_box.lo, tree->root.lo, sizeof root_box.lo);
@@ -428,7 +438,7 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     info->reference_cap = tree->triangle_count;
     info->sah_cost = c.sah;
     info->memory_bytes = (uint64_t)tree->node_count * sizeof(bvh_node) +
-                         (uint64_t)tree->triangle_count * sizeof(kd_triangle);
+                         (uint64_t)tree->triangle_count * (sizeof(kd_triangle) + sizeof(bvh_corners));
     info->build_seconds = rtt_clock_seconds() - start;
     return true;
 

@@ -16,5 +16,7 @@
 
 #define bvh_kernel_mono BVH_ISA(bvh_kernel_mono)
 #define bvh_kernel_packet BVH_ISA(bvh_kernel_packet)
+#define bvh_kernel_mft BVH_ISA(bvh_kernel_mft)
+#define bvh_trace_packet BVH_ISA(bvh_trace_packet)
 
 #endif

@@ -50,7 +50,8 @@ const bvh_kernel *bvh_kernel_row_at(uint32_t i);
 
 #define BVH_KERNEL_PROTOTYPES(isa)                                              \
     void bvh_kernel_mono_##isa(const bvh_tree *tree, const bvh_query *q);      \
-    void bvh_kernel_packet_##isa(const bvh_tree *tree, const bvh_query *q);
+    void bvh_kernel_packet_##isa(const bvh_tree *tree, const bvh_query *q);     \
+    void bvh_kernel_mft_##isa(const bvh_tree *tree, const bvh_query *q);
 BVH_KERNEL_PROTOTYPES(sse4)
 BVH_KERNEL_PROTOTYPES(avx2)
 BVH_KERNEL_PROTOTYPES(avx512)

@@ -44,9 +44,16 @@ _Static_assert(sizeof(bvh_node) == 64, "a BVH node is one 64-byte cache line");
 #define BVH_DEPTH_LIMIT RTT_KD_DEPTH_LIMIT
 #define BVH_TRAVERSAL_STACK (BVH_DEPTH_LIMIT + 1u)
 
+/* 36 bytes: a record's corners, for the frusta kernel's common-origin
+ * (Pluecker) culling, which needs the vertices rather than the projection. */
+typedef struct bvh_corners {
+    float v[3][3];
+} bvh_corners;
+
 typedef struct bvh_tree {
     bvh_node *nodes;
     kd_triangle *triangles;   /* records in leaf order */
+    bvh_corners *corners;     /* per record, the same order */
     uint32_t node_count, triangle_count;
     bvh_child root;           /* the root's box and reference (count 0 and node 0, or a leaf) */
     rtt_tree_info info;

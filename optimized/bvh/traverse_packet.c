@@ -16,6 +16,7 @@
 #include "bvh_isa.h"
 #include "bvh_isect_wide.h"
 #include "bvh_kernels.h"
+#include "bvh_traverse.h"
 
 /* The lanes of `active` whose interval [tnear, tfar] enters the box, and
  * their entry distances. */
@@ -37,8 +38,8 @@ typedef struct packet_entry {
     uint32_t lanes;
 } packet_entry;
 
-static void trace_packet(const bvh_tree *tree, const bvh_packet *p, uint32_t live, bvh_hits *hits, uint32_t *occluded,
-                         bvh_counters *counters)
+void bvh_trace_packet(const bvh_tree *tree, const bvh_packet *p, uint32_t live, bvh_hits *hits, uint32_t *occluded,
+                      bvh_counters *counters)
 {
     packet_entry stack[BVH_TRAVERSAL_STACK];
     uint32_t top = 0, occ = 0;
@@ -96,7 +97,7 @@ void bvh_kernel_packet(const bvh_tree *tree, const bvh_query *q)
         bvh_hits hits;
         bvh_hits_clear(&hits);
         uint32_t occ = 0;
-        if (live && tree->triangle_count > 0) trace_packet(tree, &p, live, q->hits ? &hits : NULL, &occ, q->counters);
+        if (live && tree->triangle_count > 0) bvh_trace_packet(tree, &p, live, q->hits ? &hits : NULL, &occ, q->counters);
         if (q->hits)
             bvh_hits_store(&hits, &q->hits[first], n);
         else
