@@ -15,9 +15,10 @@
  *  - at a leaf, per triangle and for all active frusta at once, the
  *    common-origin Pluecker test: the three edge planes through the origin
  *    (cross products of the origin-relative corners, computed once per
- *    triangle for every frustum) bound n.d over the direction box; a
- *    frustum all of whose directions fall outside one edge (for both
- *    orientations: triangles are two-sided) is culled.  Then, only for the
+ *    triangle for every frustum) bound n.d over the direction box, and the
+ *    triangle's orientation as the origin sees it (the back-face test's
+ *    determinant) says which sign they need; a frustum all of whose
+ *    directions fall outside one edge is culled.  Then, only for the
  *    survivors (bitscan), the 16-ray projected barycentric test
  *    (bvh_isect_wide.h) on that frustum's rays;
  *  - frusta are terminated one by one: an occlusion frustum leaves when all
@@ -30,7 +31,8 @@
  * the direction box (exact for any rays sharing an origin) rather than four
  * corner rays (exact only for pinhole grids).  A group of 16 whose rays do
  * not share one origin is traced by the packet walk instead (bvh_traverse.h).
- * No back-face culling: rtt's triangles are two-sided.  Bounds get a
+ * No back-face CULLING (rtt's triangles are two-sided): the orientation only
+ * picks the sign the edge tests need.  Bounds get a
  * relative slack of 2^-20 so that rounding never culls a ray's hit. */
 #include <math.h>
 #include <string.h>
@@ -85,19 +87,32 @@ static inline vm frusta_box(const bvh_child *c, const mft_group *g, vf dist, vm 
     return vm_and(active, vf_le(t0, t1));
 }
 
-/* The frusta of `active` some of whose directions may cross the triangle:
- * not culled by the common-origin edge-plane bounds. */
+/* The frusta of `active` some of whose directions may cross the triangle
+ * ahead of the origin.  With A, B, C the corners relative to the origin and
+ * D = A . (B x C), a direction d = aA + bB + cC hits ahead iff a, b, c >= 0,
+ * that is iff (B x C).d, (C x A).d and (A x B).d all have the sign of D (the
+ * triangle's orientation as the origin sees it: Benthin & Wald's back-face
+ * test decides which sign the edge tests must have).  A frustum is culled
+ * when over its whole direction box one edge's n.d has the wrong sign; an
+ * origin (nearly) in the triangle's plane culls nothing. */
 static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_group *g, vm active)
 {
     vf rel[3][3];
     for (int v = 0; v < 3; v++)
         for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
-    vm below = vm_of_bits(0), above = vm_of_bits(0); /* some edge excludes every d: n.d < 0, n.d > 0 */
+    vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
+    vf det = zero, det_mag = zero;
     for (int e = 0; e < 3; e++) {
-        const vf *a = rel[e], *b = rel[(e + 1) % 3];
+        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
         const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
                          vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
+        if (e == 0)
+            for (int k = 0; k < 3; k++) {
+                const vf x = vf_mul(rel[0][k], n[k]);
+                det = vf_add(det, x);
+                det_mag = vf_add(det_mag, vf_abs(x));
+            }
         vf hi = zero, lo = zero, mag = zero;
         for (int k = 0; k < 3; k++) {
             const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
@@ -109,8 +124,9 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_group *
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
-    /* culled when neither orientation can hold on all three edges */
-    return vm_bits(active) & ~(vm_bits(below) & vm_bits(above));
+    const vf det_margin = vf_mul(det_mag, eps);
+    const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 
 static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
