@@ -36,7 +36,7 @@ static void expect_box_holds(const bvh_child *c, const rtt_vec3 p[3])
 static void walk_child(walk *w, const bvh_child *c, uint32_t depth, const bvh_child *const *up, uint32_t up_count)
 {
     const bvh_child *chain[BVH_TRAVERSAL_STACK + 1];
-    memcpy(chain, up, up_count * sizeof *up);
+    if (up_count) memcpy(chain, up, up_count * sizeof *up);
     chain[up_count] = c;
     if (c->count > 0) {
         assert_true(c->count <= w->leaf_size || depth == w->max_depth);

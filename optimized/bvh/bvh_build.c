@@ -376,7 +376,7 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
             n++;
         }
     const uint32_t top_slots = 2u * BVH_TASKS_PER_THREAD * threads + 2u;
-    bvh_node *slots = records && refs ? malloc(((size_t)top_slots + n) * sizeof *slots) : NULL;
+    bvh_node *slots = records && refs ? aligned_alloc(64, ((size_t)top_slots + n) * sizeof *slots) : NULL;
     subtree_task *tasks = slots ? malloc((size_t)(BVH_TASKS_PER_THREAD * threads + 2u) * sizeof *tasks) : NULL;
     if (!tasks) goto out_of_memory;
     b.refs = refs, b.slots = slots;
@@ -411,7 +411,7 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     /* count the inner nodes reached from the root, then lay them out */
     tree->triangles = malloc((size_t)(n ? n : 1) * sizeof *tree->triangles);
     tree->corners = malloc((size_t)(n ? n : 1) * sizeof *tree->corners);
-    tree->nodes = malloc(((size_t)(n ? n : 1)) * sizeof *tree->nodes);
+    tree->nodes = aligned_alloc(64, (size_t)(n ? n : 1) * sizeof *tree->nodes); /* bvh_node is a cache line */
     if (!tree->triangles || !tree->corners || !tree->nodes) goto out_of_memory;
     compactor c = {.b = &b, .records = records, .tree = tree, .scene = scene};
     if (n > 0) {
@@ -424,8 +424,12 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     tree->node_count = c.next_node;
     tree->triangle_count = c.next_record;
     if (tree->node_count > 0) {
-        bvh_node *shrunk = realloc(tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
-        if (shrunk) tree->nodes = shrunk;
+        bvh_node *shrunk = aligned_alloc(64, (size_t)tree->node_count * sizeof *tree->nodes);
+        if (shrunk) {
+            memcpy(shrunk, tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
+            free(tree->nodes);
+            tree->nodes = shrunk;
+        }
     }
     free(records), free(refs), free(slots), free(tasks);
 
