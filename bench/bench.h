@@ -17,8 +17,10 @@
  *            our occlusion kernels and rtcOccluded1/rtcOccluded16.
  *   render   full frames of the optimized renderer (rtt_optimized_render):
  *            every traversal, and every shadow method the renderer has.
- *   build    kd-tree build time and memory (one thread) against Embree's
- *            BVH build (high quality, one thread) per Embree variant.
+ *   build    kd-tree and BVH build time and memory (one thread) against
+ *            Embree's BVH build (high quality, one thread) per Embree variant.
+ *   The BVH kernels (bvh-mono, bvh-packet) race on the same primary and
+ *   shadow rays, 16x16 tiles of 4x4 pixel blocks (bench_bvh.c).
  *
  * N and I (traversal steps and intersection tests per 2x2 packet) come from
  * one extra counting frame, never from a timed one. */

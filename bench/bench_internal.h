@@ -8,6 +8,7 @@
 
 #include "bench.h"
 #include "engine/clock.h"
+#include "bvh_tree.h"
 #include "kd_tree.h"
 #include "packet.h"
 
@@ -66,6 +67,12 @@ typedef struct bench_trace_spec {
 bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t width, uint32_t height,
                       const char *kernel_name, int leaf_culling, const bench_trace_spec *spec, rtt_bench_row *row,
                       uint32_t *result);
+
+/* Times one of our BVH kernels (bench_bvh.c) on the rays in 16x16 tiles of
+ * 4x4 pixel blocks; result as bench_kernel_row's.  N and I: AABB tests and
+ * packet-wide triangle tests per 2x2 rays. */
+bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *kernel_name,
+                   const bench_trace_spec *spec, rtt_bench_row *row, uint32_t *result);
 
 /* The Embree peer: one device and scene per variant. */
 typedef struct bench_embree bench_embree;

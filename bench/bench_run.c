@@ -29,6 +29,8 @@ typedef struct bench_state {
     kd_tree projected_view;
     const kd_tree *isect_trees[2];
     uint32_t isect_tree_count;
+    rtt_engine *bvh_engine;     /* the optimized engine with --accel bvh (one-thread build) */
+    const bvh_tree *bvh;
     bench_embree *peers[EMBREE_VARIANTS];
     uint32_t width, height;
     uint32_t warmup, frames;
@@ -214,6 +216,29 @@ static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays 
     return true;
 }
 
+/* The BVH kernels on the same rays (bench_bvh.c): one row per kernel and
+ * thread count, checked against Embree's answers on the first. */
+static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *rays)
+{
+    const char *name;
+    for (uint32_t k = 0; (name = bvh_kernel_name_at(k)); k++)
+        for (uint32_t t = 0; t < s->config->thread_count; t++) {
+            rtt_bench_row row = row_start(s, kind, "rtt", s->config->threads[t]);
+            snprintf(row.method, sizeof row.method, "%s", name);
+            snprintf(row.family, sizeof row.family, "%s", name);
+            snprintf(row.variant, sizeof row.variant, "bvh");
+            row.rays = rays->active;
+            progress(s, &row);
+            bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0,
+                                     s->config->isa};
+            bool check = t == 0 && s->have_oracle;
+            if (!bench_bvh_row(s->bvh, rays, name, &spec, &row, check ? s->result : NULL)) return false;
+            if (check && !row.error[0]) row.agree = agreement(s, rays);
+            if (!bench_report_push(s->report, &row)) return false;
+        }
+    return true;
+}
+
 static bool run_primary(bench_state *s, const bench_rays *rays)
 {
     static const uint32_t lanes[] = {1, 4, 8, 16}, quick_lanes[] = {1, 16};
@@ -234,7 +259,7 @@ static bool run_primary(bench_state *s, const bench_rays *rays)
         methods[n++] = (kernel_method){"cone", tile, 1};
         methods[n++] = (kernel_method){"mft-cone", tile, 1};
     }
-    return run_kernel_rows(s, RTT_BENCH_PRIMARY, rays, methods, n);
+    return run_kernel_rows(s, RTT_BENCH_PRIMARY, rays, methods, n) && run_bvh_rows(s, RTT_BENCH_PRIMARY, rays);
 }
 
 static bool run_shadow(bench_state *s, const bench_rays *primary)
@@ -260,6 +285,7 @@ static bool run_shadow(bench_state *s, const bench_rays *primary)
         {"cone", 8, 1},
     };
     ok = ok && run_kernel_rows(s, RTT_BENCH_SHADOW, &shadow, methods, sizeof methods / sizeof methods[0]);
+    ok = ok && run_bvh_rows(s, RTT_BENCH_SHADOW, &shadow);
     bench_rays_free(&shadow);
     return ok;
 }
@@ -386,6 +412,17 @@ static bool run_builds(bench_state *s)
     row.frames = 1;
     row.rays = s->scene->triangle_count;
     if (!bench_report_push(s->report, &row)) return false;
+    rtt_bench_row bvh_row = row_start(s, RTT_BENCH_BUILD, "rtt", 1);
+    snprintf(bvh_row.method, sizeof bvh_row.method, "BVH binned SAH");
+    snprintf(bvh_row.family, sizeof bvh_row.family, "build");
+    rtt_tree_info bvh_info;
+    if (rtt_engine_tree_info(s->bvh_engine, &bvh_info)) {
+        bvh_row.seconds = bvh_row.seconds_min = bvh_info.build_seconds;
+        bvh_row.memory_bytes = bvh_info.memory_bytes;
+    }
+    bvh_row.frames = 1;
+    bvh_row.rays = s->scene->triangle_count;
+    if (!bench_report_push(s->report, &bvh_row)) return false;
     static const bool natives[EMBREE_VARIANTS] = {true, true, false, false};
     static const bool robusts[EMBREE_VARIANTS] = {true, false, true, false};
     if (!s->config->embree) {
@@ -464,6 +501,14 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
         s.isect_trees[s.isect_tree_count++] = &s.projected_view;
     }
     report->have_tree = rtt_engine_tree_info(s.engine, &report->tree);
+    options.accel = RTT_ACCEL_BVH;
+    options.max_tree_depth = 0; /* the kd-tree's bound is not the BVH's */
+    s.bvh_engine = rtt_optimized_engine_create(scene, &options, err);
+    if (!s.bvh_engine) {
+        rtt_engine_destroy(s.engine);
+        return false;
+    }
+    s.bvh = bvh_engine_tree(s.bvh_engine);
 
     size_t pixels = (size_t)s.width * s.height;
     s.result = malloc(pixels * sizeof *s.result);
@@ -485,6 +530,7 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     bench_rays_free(&primary);
     free(s.result), free(s.oracle);
     rtt_engine_destroy(s.engine);
+    rtt_engine_destroy(s.bvh_engine);
     if (!ok) {
         rtt_bench_report_free(report);
         if (failure.message[0]) {

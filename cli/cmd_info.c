@@ -68,7 +68,9 @@ static bool print_tree(const char *engine_name, const rtt_scene *scene, const rt
     if (rtt_engine_tree_info(engine, &t)) {
         double triangles = scene->triangle_count ? scene->triangle_count : 1;
         const rtt_engine_class *cls = rtt_engine_find(engine_name);
-        printf("%s kd-tree%s\n", engine_name, scene->baked && cls && cls->adopts_baked_tree ? " (baked)" : "");
+        const bool bvh = opt && opt->accel == RTT_ACCEL_BVH;
+        printf("%s %s%s\n", engine_name, bvh ? "BVH" : "kd-tree",
+               !bvh && scene->baked && cls && cls->adopts_baked_tree ? " (baked)" : "");
         printf("  build       %.3f s\n", t.build_seconds);
         printf("  depth       %u (maximum %u)\n", t.depth, t.max_depth);
         printf("  nodes       %u, leaves %u (%u empty)\n", t.node_count, t.leaf_count, t.empty_leaf_count);

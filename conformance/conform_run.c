@@ -24,11 +24,24 @@ const char *rtt_conform_default_engines(void)
 #endif
 }
 
+/* The acceleration structure whose kernel table names `kernel` (the
+ * default's first: kernel names are unique across an engine's tables). */
+static rtt_accel kernel_accel(const rtt_engine_class *cls, const char *kernel)
+{
+    const char *name;
+    for (int a = RTT_ACCEL_DEFAULT; cls->kernel && kernel && a < RTT_ACCEL_COUNT; a++)
+        for (uint32_t k = 0; (name = cls->kernel((rtt_accel)a, k)); k++)
+            if (strcmp(name, kernel) == 0) return (rtt_accel)a;
+    return RTT_ACCEL_DEFAULT;
+}
+
 /* One spec: engine `cls`, kernel `kernel` (NULL: the engine's default). */
 static void spec_make(rtt_conform_engine_spec *spec, const rtt_engine_class *cls, const char *kernel)
 {
     spec->name = cls->name;
     rtt_engine_options_default(&spec->opt);
+    spec->opt.accel = kernel_accel(cls, kernel);
+    if (spec->opt.accel != RTT_ACCEL_DEFAULT) spec->opt.given |= RTT_OPTION_ACCEL;
     if (kernel) {
         snprintf(spec->opt.traversal, sizeof spec->opt.traversal, "%s", kernel);
         spec->opt.given |= RTT_OPTION_TRAVERSAL;
@@ -53,11 +66,14 @@ int rtt_conform_expand_engines(const char *list, rtt_conform_engine_spec *specs,
             rtt_engine_options_check(item, &(rtt_engine_options){0}, err);
             return -1;
         }
-        if (!kernel && cls->kernel) { /* an engine with kernels: every one of them */
+        if (!kernel && cls->kernel) { /* an engine with kernels: every one of every structure */
             const char *name;
-            for (uint32_t k = 0; (name = cls->kernel(RTT_ACCEL_DEFAULT, k)); k++, n++) {
-                if (n >= cap) return rtt_error_set(err, "engine list: more than %d engines", cap), -1;
-                spec_make(&specs[n], cls, name);
+            for (int a = RTT_ACCEL_DEFAULT; a < RTT_ACCEL_COUNT; a++) {
+                if (a == RTT_ACCEL_KD) continue; /* the default's table */
+                for (uint32_t k = 0; (name = cls->kernel((rtt_accel)a, k)); k++, n++) {
+                    if (n >= cap) return rtt_error_set(err, "engine list: more than %d engines", cap), -1;
+                    spec_make(&specs[n], cls, name);
+                }
             }
             continue;
         }

@@ -152,6 +152,12 @@ bool rtt_render_options_check(const char *name, const rtt_render_options *opt, r
     if (!(cls->shadow_methods & (1u << opt->shadows)))
         return rtt_error_set(err, "engine \"%s\" does not render %s shadows", name,
                              rtt_shadow_method_name(opt->shadows));
+    /* the group and edge-width kernels walk the kd-tree; a BVH has none */
+    if (opt->engine.accel == RTT_ACCEL_BVH && (opt->shadows == RTT_SHADOWS_CONE ||
+                                                opt->shadows == RTT_SHADOWS_PYRAMID ||
+                                                opt->shadows == RTT_SHADOWS_EDGEWIDTH))
+        return rtt_error_set(err, "%s shadows need the kd-tree (--accel kd), not the bvh",
+                             rtt_shadow_method_name(opt->shadows));
     if (opt->max_bounces != RTT_BOUNCES_OF_SCENE && opt->max_bounces > RTT_MAX_BOUNCES)
         return rtt_error_set(err, "max bounces %u: at most %u", opt->max_bounces, RTT_MAX_BOUNCES);
     if (opt->spp > RTT_MAX_SPP)

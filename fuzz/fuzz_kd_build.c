@@ -1,4 +1,5 @@
-/* Fuzz target: the kd-tree builders and every traversal kernel.
+/* Fuzz target: the kd-tree builders, the BVH builder and every traversal
+ * kernel of both.
  *
  * Bytes become triangles and rays at the numerical extremes (docs/ARCHITECTURE.md
  * "Extremes"): NaN, inf, denormals, huge, tiny, degenerate and duplicate
@@ -7,13 +8,16 @@
  *
  *  1. rtt_scene_from_triangles must refuse non-finite input with one line
  *     and accept finite input;
- *  2. the reference and the optimized engine are built; their tree info must
- *     hold its bounds (depth <= max_depth, references <= reference_cap);
+ *  2. the reference and the optimized engine (kd-tree and BVH) are built;
+ *     their tree info must hold its bounds (depth <= max_depth, references
+ *     <= reference_cap);
  *  3. the rays go through the reference and every optimized traversal mode
- *     (with the watertight test, or the projected one when flag bit 3 is
- *     set) and each answer is checked against brute force (fuzz_oracle.h:
- *     strict for the reference and the watertight test, which is the
- *     reference's arithmetic; lenient near edges for the projected test).
+ *     of both structures (the kd kernels with the watertight test, or the
+ *     projected one when flag bit 3 is set; the BVH kernels have the
+ *     projected test only) and each answer is checked against brute force
+ *     (fuzz_oracle.h: strict for the reference and the watertight test,
+ *     which is the reference's arithmetic; lenient near edges for the
+ *     projected test).
  *
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
@@ -201,18 +205,25 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     rtt_engine_destroy(reference);
 
     const char *kernel;
-    for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(RTT_ACCEL_KD, mode)); mode++) {
-        snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
-        opt.isect = projected ? RTT_ISECT_PROJECTED : RTT_ISECT_WATERTIGHT;
-        rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
-        if (!optimized)
-            fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
-        char label[64];
-        snprintf(label, sizeof label, "optimized/%s/%s", kernel, projected ? "projected" : "watertight");
-        if (mode == 0)
-            fuzz_check_tree_info(optimized, label, scene, true);
-        fuzz_oracle_check(oracle, optimized, label, projected);
-        rtt_engine_destroy(optimized);
+    static const rtt_accel accels[] = {RTT_ACCEL_KD, RTT_ACCEL_BVH};
+    for (size_t a = 0; a < sizeof accels / sizeof accels[0]; a++) {
+        opt.accel = accels[a];
+        const bool lenient = projected || accels[a] == RTT_ACCEL_BVH;
+        for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(accels[a], mode)); mode++) {
+            snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
+            opt.isect = accels[a] == RTT_ACCEL_BVH ? RTT_ISECT_PROJECTED
+                        : projected                 ? RTT_ISECT_PROJECTED
+                                                    : RTT_ISECT_WATERTIGHT;
+            rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
+            if (!optimized)
+                fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);
+            char label[64];
+            snprintf(label, sizeof label, "optimized/%s/%s", kernel, lenient ? "projected" : "watertight");
+            if (mode == 0)
+                fuzz_check_tree_info(optimized, label, scene, true);
+            fuzz_oracle_check(oracle, optimized, label, lenient);
+            rtt_engine_destroy(optimized);
+        }
     }
     fuzz_oracle_free(oracle);
 }

@@ -22,6 +22,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bvh_build.h"
+#include "bvh_kernels.h"
 #include "engine_optimized.h"
 #include "kd_build.h"
 #include "kdt_format.h"
@@ -55,7 +57,9 @@ typedef struct optimized_engine {
     bool owns_tree;           /* false when the arrays belong to scene->baked */
     kd_corners *corners;      /* the watertight test's corners (tree.corners), NULL for the projected test */
     rtt_engine_options opt;
-    const kd_kernel *kernel;  /* the descriptor-table row the options name */
+    const kd_kernel *kernel;  /* the descriptor-table row the options name (kd) */
+    bvh_tree bvh;             /* --accel bvh: the BVH and its kernel row instead */
+    const bvh_kernel *bvh_kernel;
     char kernel_label[48];    /* "mft/avx512" */
 } optimized_engine;
 
@@ -77,26 +81,39 @@ static const rtt_engine_vtable optimized_vtable = {
     .isect_name = optimized_isect_name,
 };
 
-static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
+/* "unknown <accel> traversal "x": expected a, b, ..." from a table's names */
+static bool unknown_traversal(const rtt_engine_options *opt, const char *(*name_at)(uint32_t), rtt_error *err)
 {
-    if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD)
-        return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
-    if (kd_kernel_find(opt->traversal, RTT_ISA_AVX512)) return true;
     char names[160] = "";
     const char *name;
-    for (uint32_t i = 0; (name = kd_kernel_name_at(i)); i++)
+    for (uint32_t i = 0; (name = name_at(i)); i++)
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "", name);
-    return rtt_error_set(err, "unknown kd traversal \"%s\": expected %s", opt->traversal, names);
+    return rtt_error_set(err, "unknown %s traversal \"%s\": expected %s",
+                         rtt_accel_name(opt->accel == RTT_ACCEL_DEFAULT ? RTT_ACCEL_KD : opt->accel), opt->traversal,
+                         names);
+}
+
+static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
+{
+    if (opt->accel == RTT_ACCEL_BVH && opt->isect == RTT_ISECT_WATERTIGHT)
+        return rtt_error_set(err, "the BVH kernels have the projected triangle test only: the watertight test is the "
+                                  "kd-tree's (use --accel kd, or --isect projected)");
+    if (opt->accel == RTT_ACCEL_BVH)
+        return bvh_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, bvh_kernel_name_at, err);
+    if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD)
+        return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
+    return kd_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, kd_kernel_name_at, err);
 }
 
 static const char *optimized_kernel_at(rtt_accel accel, uint32_t i)
 {
+    if (accel == RTT_ACCEL_BVH) return bvh_kernel_name_at(i);
     return accel == RTT_ACCEL_DEFAULT || accel == RTT_ACCEL_KD ? kd_kernel_name_at(i) : NULL;
 }
 
 const rtt_engine_class rtt_optimized_engine_class = {
     .name = "optimized",
-    .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method",
+    .summary = "production path: SAH kd-tree (packet/frustum/MFT/cone kernels, every shadow method) or BVH",
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
             RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA | RTT_OPTION_ISECT,
     .shadow_methods = RTT_SHADOWS_ALL,
@@ -124,13 +141,25 @@ static optimized_engine *as_optimized(rtt_engine *engine)
 const kd_tree *kd_engine_tree(rtt_engine *engine)
 {
     optimized_engine *e = as_optimized(engine);
-    return e ? &e->tree : NULL;
+    return e && !e->bvh_kernel ? &e->tree : NULL;
 }
 
 const kd_kernel *kd_engine_kernel(rtt_engine *engine)
 {
     optimized_engine *e = as_optimized(engine);
-    return e ? e->kernel : NULL;
+    return e && !e->bvh_kernel ? e->kernel : NULL;
+}
+
+const bvh_tree *bvh_engine_tree(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e && e->bvh_kernel ? &e->bvh : NULL;
+}
+
+const bvh_kernel *bvh_engine_kernel(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->bvh_kernel : NULL;
 }
 
 static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
@@ -178,6 +207,18 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     e->base.scene = scene;
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
+    if (opt->accel == RTT_ACCEL_BVH) {
+        /* a baked .kdt holds a kd-tree: the BVH is built whatever the scene carries */
+        e->bvh_kernel = bvh_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
+        snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->bvh_kernel->name,
+                 rtt_isa_name(e->bvh_kernel->isa));
+        bvh_build_options build = {.leaf_size = 0, .max_depth = opt->max_tree_depth, .threads = opt->threads};
+        if (!bvh_build_sah(scene, &build, &e->bvh, err)) {
+            free(e);
+            return NULL;
+        }
+        return &e->base;
+    }
     e->kernel = kd_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
     const rtt_isect isect = opt->isect == RTT_ISECT_DEFAULT ? RTT_OPTIMIZED_DEFAULT_ISECT : opt->isect;
     snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
@@ -210,6 +251,7 @@ static void optimized_destroy(rtt_engine *base)
     free(e->corners);
     e->tree.corners = NULL;
     if (e->owns_tree) kd_tree_free(&e->tree);
+    if (e->bvh_kernel) bvh_tree_free(&e->bvh);
     free(e);
 }
 
@@ -243,7 +285,9 @@ static void trace_stream(const optimized_engine *e, const rtt_ray *rays, size_t 
 static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n)
 {
     const optimized_engine *e = (const optimized_engine *)base;
-    if (e->tree.triangle_count == 0)
+    if (e->bvh_kernel)
+        e->bvh_kernel->trace(&e->bvh, &(bvh_query){.rays = rays, .count = n, .hits = hits});
+    else if (e->tree.triangle_count == 0)
         for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
     else
         trace_stream(e, rays, n, hits, NULL);
@@ -252,7 +296,9 @@ static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *
 static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n)
 {
     const optimized_engine *e = (const optimized_engine *)base;
-    if (e->tree.triangle_count == 0)
+    if (e->bvh_kernel)
+        e->bvh_kernel->trace(&e->bvh, &(bvh_query){.rays = rays, .count = n, .occluded = occluded});
+    else if (e->tree.triangle_count == 0)
         memset(occluded, 0, n);
     else
         trace_stream(e, rays, n, NULL, occluded);
@@ -261,6 +307,6 @@ static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *o
 static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info)
 {
     optimized_engine *e = (optimized_engine *)base;
-    *info = e->tree.info;
+    *info = e->bvh_kernel ? e->bvh.info : e->tree.info;
     return true;
 }

@@ -4,6 +4,7 @@
 #ifndef RTT_OPTIMIZED_ENGINE_OPTIMIZED_H
 #define RTT_OPTIMIZED_ENGINE_OPTIMIZED_H
 
+#include "bvh_kernels.h"
 #include "kd_tree.h"
 #include "kernels.h"
 #include "rtt/engine.h"
@@ -11,5 +12,9 @@
 /* NULL when `engine` is not an optimized engine. */
 const kd_tree *kd_engine_tree(rtt_engine *engine);
 const kd_kernel *kd_engine_kernel(rtt_engine *engine);
+/* With --accel bvh: the BVH and its kernel row (NULL otherwise; the kd
+ * accessors above are NULL for such an engine). */
+const bvh_tree *bvh_engine_tree(rtt_engine *engine);
+const bvh_kernel *bvh_engine_kernel(rtt_engine *engine);
 
 #endif

@@ -87,7 +87,9 @@ expect 2 "-o x\.jpg: unknown image format" -- render "$scene" -o=x.jpg
 expect 2 "--output x\.jpg: unknown image format" -- render "$scene" --output=x.jpg
 expect 2 "--isa bogus: expected auto or one of sse4" -- render "$scene" --isa bogus
 expect 2 "--isa bogus: expected" -- render "$scene" --isa=bogus
-expect 2 "--accel bvh: expected one of kd" -- render "$scene" --accel bvh
+expect 2 "--accel grid: expected one of kd, bvh" -- render "$scene" --accel grid
+expect 2 "cone shadows need the kd-tree" -- render "$scene" --accel bvh --shadows cone:8
+expect 2 "unknown bvh traversal \"mft\": expected bvh-mono, bvh-packet, bvh-mft" -- render "$scene" --accel bvh --traversal mft
 expect 2 "--max-bounces 65: expected a whole number from 0 to 64" -- render "$scene" --max-bounces 65
 expect 2 "--max-bounces -1: expected" -- render "$scene" --max-bounces=-1
 expect 2 "--max-depth 65: expected a whole number from 1 to 64" -- render "$scene" --max-depth 65

@@ -203,7 +203,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     if (!engine || !out) return rtt_error_set(err, "optimized renderer: no engine or image given");
     const rtt_scene *scene = engine->scene;
     const kd_tree *tree = kd_engine_tree(engine);
-    if (!scene || !tree) return rtt_error_set(err, "optimized renderer: the engine is not an optimized engine");
+    const bvh_tree *bvh = bvh_engine_tree(engine);
+    if (!scene || (!tree && !bvh)) return rtt_error_set(err, "optimized renderer: the engine is not an optimized engine");
     const uint32_t width = opt->width ? opt->width : scene->width;
     const uint32_t height = opt->height ? opt->height : scene->height;
     /* the kernel, tile and culling are the render's: one tree serves every traversal */
@@ -212,6 +213,12 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     if (!rtt_engine_class_check(&rtt_optimized_engine_class, engine_opt, err)) return false;
     if (!rtt_render_check(scene, opt, out, width, height, err)) return false;
     const rtt_isa isa = rtt_isa_resolve(engine_opt->isa);
+    /* the BVH traces packets of any rays; the group and edge kernels are the
+     * kd-tree's (rtt_render_options_check refused them) */
+    if (bvh && (opt->shadows == RTT_SHADOWS_CONE || opt->shadows == RTT_SHADOWS_PYRAMID ||
+                opt->shadows == RTT_SHADOWS_EDGEWIDTH))
+        return rtt_error_set(err, "%s: %s shadows need the kd-tree (--accel kd)", scene->path,
+                             rtt_shadow_method_name(opt->shadows));
 
     render_job job = {
         .scene = scene,
@@ -235,8 +242,12 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                    .pyramid = kd_kernel_for_pyramid_groups(isa),
                    .shadows = kd_shadow_kernels_find(isa),
                    .block_packets = (tile / 2u) * (tile / 2u),
-                   .leaf_culling = engine_opt->leaf_culling},
+                   .leaf_culling = engine_opt->leaf_culling,
+                   .bvh = bvh,
+                   .bvh_kernel = bvh ? bvh_kernel_find(engine_opt->traversal, isa) : NULL},
     };
+    if (bvh && !job.tracer.bvh_kernel)
+        return rtt_error_set(err, "%s: traversal \"%s\" is not a BVH kernel", scene->path, engine_opt->traversal);
     rtt_shadow_planes planes;
     if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
         if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;

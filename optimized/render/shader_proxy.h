@@ -18,6 +18,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "bvh_kernels.h"
 #include "kd_tree.h"
 #include "kernels.h"
 #include "packet.h"
@@ -37,6 +38,10 @@ typedef struct sp_tracer {
     const kd_shadow_kernels *shadows; /* cone:N / pyramid:N groups, edge width */
     uint32_t block_packets;         /* tile*tile/4 */
     int leaf_culling;
+    /* --accel bvh: every packet (primary, shadow, secondary) through this
+     * BVH kernel instead of the kd rows above (tree NULL then) */
+    const bvh_tree *bvh;
+    const bvh_kernel *bvh_kernel;
 } sp_tracer;
 
 typedef struct sp_shading {

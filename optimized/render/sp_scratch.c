@@ -83,9 +83,60 @@ bool sp_ensure_packets(sp_scratch *s, uint32_t packets)
            SP_RESERVE(s, occluded, packets, uint8_t);
 }
 
+/* With --accel bvh: the packets' rays, 64 at a time, through the BVH kernel
+ * (it takes any rays, so one row serves primary, shadow and secondary
+ * rays); answers back into the packets' hit and mask layout. */
+#define SP_BVH_CHUNK_PACKETS 16u
+static void trace_bvh(const sp_tracer *tr, const kd_query *q)
+{
+    rtt_ray rays[4 * SP_BVH_CHUNK_PACKETS];
+    rtt_hit hits[4 * SP_BVH_CHUNK_PACKETS];
+    uint8_t occluded[4 * SP_BVH_CHUNK_PACKETS];
+    for (uint32_t first = 0; first < q->packet_count; first += SP_BVH_CHUNK_PACKETS) {
+        const uint32_t packets = q->packet_count - first < SP_BVH_CHUNK_PACKETS ? q->packet_count - first
+                                                                                 : SP_BVH_CHUNK_PACKETS;
+        for (uint32_t p = 0; p < packets; p++) {
+            const ray_packet4 *r = &q->packets[first + p];
+            _Alignas(16) float org[3][4], dir[3][4], tnear[4], tfar[4];
+            for (int a = 0; a < 3; a++) _mm_store_ps(org[a], r->org[a]), _mm_store_ps(dir[a], r->dir[a]);
+            _mm_store_ps(tnear, r->tnear), _mm_store_ps(tfar, r->tfar);
+            for (uint32_t l = 0; l < 4; l++)
+                rays[4 * p + l] = (rtt_ray){{org[0][l], org[1][l], org[2][l]}, {dir[0][l], dir[1][l], dir[2][l]},
+                                            tnear[l], tfar[l]};
+        }
+        bvh_counters counters = {0};
+        tr->bvh_kernel->trace(tr->bvh, &(bvh_query){.rays = rays, .count = 4u * packets,
+                                                    .hits = q->hits ? hits : NULL,
+                                                    .occluded = q->hits ? NULL : occluded,
+                                                    .counters = q->counters ? &counters : NULL});
+        if (q->counters) {
+            q->counters->packets += packets;
+            q->counters->steps += counters.aabb_tests;
+            q->counters->isects += counters.isect_tests;
+        }
+        for (uint32_t p = 0; p < packets; p++) {
+            if (q->hits) {
+                const rtt_hit *h = &hits[4 * p];
+                hit_packet4 *out = &q->hits[first + p];
+                out->t = _mm_setr_ps(h[0].t, h[1].t, h[2].t, h[3].t);
+                out->u = _mm_setr_ps(h[0].u, h[1].u, h[2].u, h[3].u);
+                out->v = _mm_setr_ps(h[0].v, h[1].v, h[2].v, h[3].v);
+                out->prim = _mm_setr_epi32((int)h[0].prim, (int)h[1].prim, (int)h[2].prim, (int)h[3].prim);
+            } else {
+                const uint8_t *o = &occluded[4 * p];
+                q->occluded[first + p] = (uint8_t)(o[0] | o[1] << 1 | o[2] << 2 | o[3] << 3);
+            }
+        }
+    }
+}
+
 /* A kernel over packet_count packets, cut into the blocks it reads. */
 static void trace_blocks(const sp_tracer *tr, const kd_kernel *kernel, kd_query q)
 {
+    if (tr->bvh) {
+        trace_bvh(tr, &q);
+        return;
+    }
     const uint32_t total = q.packet_count, block = kernel->block == KD_BLOCK_TILE ? tr->block_packets : total;
     const ray_packet4 *packets = q.packets;
     hit_packet4 *hits = q.hits;

@@ -1,0 +1,115 @@
+/* Our BVH kernels alone on the bench's rays (the primary and hard-shadow
+ * races against Embree, Benthin & Wald 2009 Table 1's P-Packet column): the
+ * frame is cut into 16x16-pixel tiles, each tile's rays reordered into 4x4
+ * pixel blocks (row-major blocks, row-major pixels inside a block) so that
+ * a 16-wide packet is one 4x4 block, as Embree's rtcIntersect16 row gets
+ * it (an 8-wide packet is a 4x2 half, a 4-wide one a row of four); the
+ * tiles go to threads through rtt_tiles_run, one kernel call per tile.
+ * Counters per thread on the extra counting frame only. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_internal.h"
+#include "bvh_kernels.h"
+#include "engine/threads.h"
+
+#define BVH_BENCH_TILE 16u
+
+typedef struct {
+    bvh_counters counters;
+    char pad[64 - sizeof(bvh_counters) % 64];
+} bvh_thread_counters;
+
+typedef struct bvh_job {
+    const bvh_tree *tree;
+    const bvh_kernel *kernel;
+    const rtt_ray *rays;      /* tile order, BVH_BENCH_TILE^2 per tile */
+    uint32_t *pixel;          /* the pixel of each, UINT32_MAX off the image */
+    rtt_hit *hits;
+    uint8_t *occluded;
+    bvh_thread_counters *counters;
+    uint32_t tiles_x, threads;
+} bvh_job;
+
+static void bvh_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    (void)x1, (void)y1;
+    bvh_job *job = context;
+    const size_t first = ((size_t)(y0 / BVH_BENCH_TILE) * job->tiles_x + x0 / BVH_BENCH_TILE) *
+                         BVH_BENCH_TILE * BVH_BENCH_TILE;
+    bvh_query q = {.rays = &job->rays[first], .count = BVH_BENCH_TILE * BVH_BENCH_TILE,
+                   .counters = job->counters ? &job->counters[thread].counters : NULL};
+    if (job->occluded) q.occluded = &job->occluded[first];
+    else q.hits = &job->hits[first];
+    job->kernel->trace(job->tree, &q);
+}
+
+typedef struct bvh_frame {
+    bvh_job *job;
+    uint32_t width, height;
+} bvh_frame;
+
+static void bvh_frame_run(void *context)
+{
+    bvh_frame *f = context;
+    rtt_tiles_run(f->width, f->height, BVH_BENCH_TILE, f->job->threads, bvh_tile, f->job, NULL, NULL);
+}
+
+bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *kernel_name,
+                   const bench_trace_spec *spec, rtt_bench_row *row, uint32_t *result)
+{
+    const uint32_t w = rays->width, h = rays->height;
+    const uint32_t tiles_x = (w + BVH_BENCH_TILE - 1) / BVH_BENCH_TILE, tiles_y = (h + BVH_BENCH_TILE - 1) / BVH_BENCH_TILE;
+    const size_t slots = (size_t)tiles_x * tiles_y * BVH_BENCH_TILE * BVH_BENCH_TILE;
+    bvh_job job = {.tree = tree, .kernel = bvh_kernel_find(kernel_name, rtt_isa_resolve(spec->isa)),
+                   .tiles_x = tiles_x, .threads = spec->threads};
+    if (!job.kernel) {
+        snprintf(row->error, sizeof row->error, "no bvh kernel named %s", kernel_name);
+        return true;
+    }
+    rtt_ray *ordered = malloc(slots * sizeof *ordered);
+    job.pixel = malloc(slots * sizeof *job.pixel);
+    job.hits = spec->occlusion ? NULL : malloc(slots * sizeof *job.hits);
+    job.occluded = spec->occlusion ? malloc(slots) : NULL;
+    bvh_thread_counters *counters = spec->count ? calloc(spec->threads, sizeof *counters) : NULL;
+    if (!ordered || !job.pixel || (!job.hits && !job.occluded) || (spec->count && !counters)) {
+        free(ordered), free(job.pixel), free(job.hits), free(job.occluded), free(counters);
+        return false;
+    }
+    const rtt_ray off_image = {{0, 0, 0}, {1, 0, 0}, INFINITY, -INFINITY};
+    for (size_t i = 0; i < slots; i++) {
+        const uint32_t tile = (uint32_t)(i / (BVH_BENCH_TILE * BVH_BENCH_TILE)), in = (uint32_t)(i % 256u);
+        const uint32_t block = in / 16u, lane = in % 16u;
+        const uint32_t x = (tile % tiles_x) * BVH_BENCH_TILE + (block % 4u) * 4u + lane % 4u;
+        const uint32_t y = (tile / tiles_x) * BVH_BENCH_TILE + (block / 4u) * 4u + lane / 4u;
+        const bool on = x < w && y < h;
+        job.pixel[i] = on ? y * w + x : UINT32_MAX;
+        ordered[i] = on ? rays->rays[(size_t)y * w + x] : off_image;
+    }
+    job.rays = ordered;
+    bvh_frame frame = {&job, w, h};
+    bench_time_frames(bvh_frame_run, &frame, spec->warmup, spec->frames, row);
+    row->n = row->i = -1.0;
+    if (counters) {
+        job.counters = counters;
+        bvh_frame_run(&frame);
+        bvh_counters sum = {0};
+        for (uint32_t t = 0; t < spec->threads; t++) {
+            sum.packets += counters[t].counters.packets;
+            sum.aabb_tests += counters[t].counters.aabb_tests;
+            sum.isect_tests += counters[t].counters.isect_tests;
+        }
+        /* per 2x2 packet of rays, as the kd rows count N and I */
+        const double quads = (double)slots / 4.0;
+        row->n = (double)sum.aabb_tests / quads;
+        row->i = (double)sum.isect_tests / quads;
+    }
+    if (result)
+        for (size_t i = 0; i < slots; i++) {
+            if (job.pixel[i] == UINT32_MAX) continue;
+            result[job.pixel[i]] = spec->occlusion ? job.occluded[i] : job.hits[i].prim;
+        }
+    free(ordered), free(job.pixel), free(job.hits), free(job.occluded), free(counters);
+    return true;
+}

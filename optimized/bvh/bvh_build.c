@@ -1,0 +1,453 @@
+/* Binned SAH BVH construction (Wald 2007, "On fast construction of SAH-based
+ * bounding volume hierarchies", section 3: centroid binning, one sweep over
+ * the bins per axis), the structure Benthin & Wald 2009 trace with multiple
+ * frusta.
+ *
+ * Per node: the triangles' box centroids are put into BVH_BINS bins along
+ * each axis of the centroid bounds; a sweep over the bins' counts and boxes
+ * gives every plane's cost
+ *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA   (C_trav = C_isect = 1),
+ * and the cheapest plane splits the node unless a leaf, C_isect * N, is no
+ * dearer and N fits in a leaf (options.leaf_size).  A node with more than
+ * leaf_size triangles is always split (at the median of its order when
+ * every centroid coincides); at options.max_depth a node is a leaf whatever
+ * it holds.  Binning runs in SSE lanes, all three axes in one pass over the
+ * node's boxes; surface areas are summed in double, so scenes at 1e20 do
+ * not overflow them.
+ *
+ * Threads (engine/threads.h): the top of the tree is split breadth-first on
+ * the calling thread until there are BVH_TASKS_PER_THREAD subtrees per
+ * thread; the subtrees are then built as independent tasks of
+ * rtt_parallel_run.  Subtree i owns the node slots of its triangle range
+ * (a subtree of n triangles has at most n - 1 inner nodes), so no slot is
+ * shared and the build is the same for any thread count.  A last
+ * depth-first pass copies the nodes into their final array (children after
+ * their parent, the left subtree first) and the records into leaf order.
+ *
+ * What it trades: binning rather than a full sweep over sorted centroids
+ * (Wald 2007: within a few percent of the full SAH at a fraction of the
+ * time); the top levels' binning is serial. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <smmintrin.h>
+
+#include "bvh_build.h"
+#include "engine/clock.h"
+#include "engine/threads.h"
+#include "isect_projected_bary.h"
+
+#define BVH_BINS 32u
+#define BVH_TASKS_PER_THREAD 8u
+/* Nodes smaller than this are not worth a task of their own. */
+#define BVH_TASK_MIN_TRIANGLES 4096u
+
+typedef struct box3 {
+    float lo[3], hi[3];
+} box3;
+
+static double box_half_area(const box3 *b)
+{
+    double d[3];
+    for (int k = 0; k < 3; k++) d[k] = b->hi[k] > b->lo[k] ? (double)b->hi[k] - (double)b->lo[k] : 0.0;
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+/* 32 bytes: a triangle's box in SSE lanes, its record index in the fourth
+ * lane of `lo` (bits).  The builder partitions these themselves, so every
+ * pass reads them in sequence. */
+typedef struct prim_ref {
+    __m128 lo, hi;
+} prim_ref;
+
+static inline uint32_t ref_record(const prim_ref *r) { return (uint32_t)_mm_extract_ps(r->lo, 3); }
+/* the box's centre, halved before the sum so that no coordinate overflows */
+static inline __m128 ref_centroid(const prim_ref *r)
+{
+    const __m128 half = _mm_set1_ps(0.5f);
+    return _mm_add_ps(_mm_mul_ps(r->lo, half), _mm_mul_ps(r->hi, half));
+}
+
+/* An SSE box: min xyz and max xyz (the fourth lanes unused). */
+typedef struct box4 {
+    __m128 lo, hi;
+} box4;
+
+static inline void box4_empty(box4 *b) { b->lo = _mm_set1_ps(INFINITY), b->hi = _mm_set1_ps(-INFINITY); }
+static inline void box4_grow(box4 *b, __m128 lo, __m128 hi)
+{
+    b->lo = _mm_min_ps(b->lo, lo);
+    b->hi = _mm_max_ps(b->hi, hi);
+}
+/* Half the surface area of the box scaled by `unit` (0 for an empty box). */
+static inline float box4_half_area(const box4 *b, __m128 unit)
+{
+    const __m128 d = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(b->hi, b->lo), _mm_setzero_ps()), unit);
+    const __m128 e = _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)); /* y z x */
+    const __m128 p = _mm_mul_ps(d, e);                               /* xy yz zx */
+    return _mm_cvtss_f32(p) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 1)) + _mm_cvtss_f32(_mm_shuffle_ps(p, p, 2));
+}
+
+static inline box3 box4_unpack(const box4 *b)
+{
+    _Alignas(16) float lo[4], hi[4];
+    _mm_store_ps(lo, b->lo), _mm_store_ps(hi, b->hi);
+    return (box3){{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+}
+
+typedef struct builder {
+    prim_ref *refs;            /* partitioned node by node */
+    bvh_node *slots;           /* inner nodes before the compaction */
+    uint32_t leaf_size, max_depth;
+} builder;
+
+/* What the builder decided for a range: a leaf, or a split at `mid`. */
+typedef struct split_choice {
+    bool leaf;
+    uint32_t mid;
+} split_choice;
+
+/* The bin of each axis for centroid c: (c - lo) * scale, clamped. */
+static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
+{
+    __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo), scale);
+    f = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), bin_max);
+    return _mm_cvttps_epi32(f);
+}
+
+/* A range's box and the box of its centroids. */
+typedef struct node_bounds {
+    box4 box, cbox;
+} node_bounds;
+
+static void range_bounds(const builder *b, uint32_t begin, uint32_t end, node_bounds *out)
+{
+    box4_empty(&out->box), box4_empty(&out->cbox);
+    for (uint32_t i = begin; i < end; i++) {
+        const prim_ref *r = &b->refs[i];
+        box4_grow(&out->box, r->lo, r->hi);
+        const __m128 c = ref_centroid(r);
+        box4_grow(&out->cbox, c, c);
+    }
+}
+
+/* Partitions [begin, end) (bounds `nb`) by the node's choice and says where
+ * it split; the children's bounds into `child`, gathered by the partition. */
+static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth,
+                                 const node_bounds *nb, node_bounds child[2])
+{
+    const uint32_t n = end - begin;
+    const box4 box = nb->box, cbox = nb->cbox;
+    const box3 unpacked = box4_unpack(&box), *bounds = &unpacked;
+    if (n <= 1 || depth >= b->max_depth) return (split_choice){true, 0};
+
+    /* one pass bins all three axes; an axis whose centroids coincide (or
+     * whose extent is not finite) gets scale 0 and offers no plane.  Small
+     * nodes get fewer bins (the sweep's fixed cost would dominate them). */
+    const uint32_t bins_used = n <= 16 ? 8u : n <= 64 ? 16u : BVH_BINS;
+    _Alignas(16) float clo[4], chi[4], scale[4];
+    _mm_store_ps(clo, cbox.lo), _mm_store_ps(chi, cbox.hi);
+    bool any_axis = false;
+    for (int k = 0; k < 3; k++) {
+        const float extent = chi[k] - clo[k];
+        scale[k] = extent > 0.0f && isfinite(extent) ? (float)bins_used * (1.0f - 0x1p-20f) / extent : 0.0f;
+        if (!(scale[k] > 0.0f) || !isfinite(scale[k])) scale[k] = 0.0f;
+        any_axis |= scale[k] > 0.0f;
+    }
+    scale[3] = 0.0f;
+    const __m128 lo4 = cbox.lo, scale4 = _mm_load_ps(scale), bin_max = _mm_set1_ps((float)(bins_used - 1));
+    /* areas relative to the node's largest extent: the SAH compares ratios,
+     * and relative extents (<= 1) neither overflow nor underflow in float */
+    float largest = fmaxf(bounds->hi[0] - bounds->lo[0], fmaxf(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
+    const __m128 unit = _mm_set1_ps(largest > 0.0f && isfinite(largest) && isfinite(1.0f / largest) ? 1.0f / largest : 1.0f);
+    float best_cost = INFINITY;
+    int best_axis = -1;
+    uint32_t best_bin = 0;
+    if (any_axis) {
+        uint32_t counts[3][BVH_BINS] = {{0}};
+        box4 bins[3][BVH_BINS];
+        for (int k = 0; k < 3; k++)
+            for (uint32_t j = 0; j < bins_used; j++) box4_empty(&bins[k][j]);
+        for (uint32_t i = begin; i < end; i++) {
+            const prim_ref *r = &b->refs[i];
+            _Alignas(16) int32_t j[4];
+            _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
+            for (int k = 0; k < 3; k++) {
+                counts[k][j[k]]++;
+                box4_grow(&bins[k][j[k]], r->lo, r->hi);
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            if (scale[k] == 0.0f) continue;
+            /* right-to-left sweep of the area-weighted counts, then left to right */
+            float right_cost[BVH_BINS];
+            box4 acc;
+            box4_empty(&acc);
+            uint32_t count = 0;
+            for (uint32_t j = bins_used - 1; j > 0; j--) {
+                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
+                count += counts[k][j];
+                right_cost[j] = (float)count * box4_half_area(&acc, unit);
+            }
+            box4_empty(&acc);
+            count = 0;
+            for (uint32_t j = 0; j + 1 < bins_used; j++) {
+                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
+                count += counts[k][j];
+                if (count == 0 || count == n) continue;
+                const float cost = (float)count * box4_half_area(&acc, unit) + right_cost[j + 1];
+                if (cost < best_cost) best_cost = cost, best_axis = k, best_bin = j;
+            }
+        }
+    }
+    const float area = box4_half_area(&box, unit);
+    /* C_trav + (N_L SA_L + N_R SA_R) / SA against the leaf's N (in units of C_isect) */
+    const bool leaf_cheaper = best_axis < 0 || !(area > 0.0f) || 1.0f + best_cost / area >= (float)n;
+    if (n <= b->leaf_size && leaf_cheaper) return (split_choice){true, 0};
+
+    uint32_t mid;
+    if (best_axis < 0) {
+        mid = begin + n / 2; /* every centroid coincides: halve the order */
+        range_bounds(b, begin, mid, &child[0]);
+        range_bounds(b, mid, end, &child[1]);
+    } else {
+        for (int c = 0; c < 2; c++) box4_empty(&child[c].box), box4_empty(&child[c].cbox);
+        uint32_t i = begin, j = end;
+        while (i < j) {
+            const prim_ref r = b->refs[i];
+            const __m128 centre = ref_centroid(&r);
+            _Alignas(16) int32_t bin[4];
+            _mm_store_si128((__m128i *)bin, bins_of(centre, lo4, scale4, bin_max));
+            const int right = (uint32_t)bin[best_axis] > best_bin;
+            box4_grow(&child[right].box, r.lo, r.hi);
+            box4_grow(&child[right].cbox, centre, centre);
+            if (!right) {
+                i++;
+            } else {
+                b->refs[i] = b->refs[--j];
+                b->refs[j] = r;
+            }
+        }
+        mid = i;
+    }
+    return (split_choice){false, mid};
+}
+
+static void set_box(bvh_child *c, const box3 *bounds)
+{
+    memcpy(c->lo, bounds->lo, sizeof c->lo);
+    memcpy(c->hi, bounds->hi, sizeof c->hi);
+}
+
+/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot *next on. */
+static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, const node_bounds *nb,
+                          bvh_child *out, uint32_t *next)
+{
+    node_bounds child[2];
+    split_choice s = choose_split(b, begin, end, depth, nb, child);
+    const box3 bounds = box4_unpack(&nb->box);
+    set_box(out, &bounds);
+    if (s.leaf) {
+        out->index = begin;
+        out->count = end - begin;
+        return;
+    }
+    const uint32_t slot = (*next)++;
+    out->index = slot;
+    out->count = 0;
+    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], next);
+    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], next);
+}
+
+/* A subtree left for a task: its range and where its reference goes. */
+typedef struct subtree_task {
+    uint32_t begin, end, depth;
+    bvh_child *out;
+    node_bounds bounds;
+} subtree_task;
+
+typedef struct task_context {
+    const builder *b;
+    const subtree_task *tasks;
+    uint32_t slot_base;
+} task_context;
+
+static void run_subtree_task(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    const task_context *c = context;
+    const subtree_task *t = &c->tasks[task];
+    uint32_t next = c->slot_base + t->begin;
+    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &next);
+}
+
+/* The final layout: depth first, children after their parent. */
+typedef struct compactor {
+    const builder *b;
+    const kd_triangle *records;
+    const rtt_scene *scene;
+    bvh_tree *tree;
+    uint32_t next_node, next_record;
+    uint32_t depth, leaves, empty;
+    double sah;
+} compactor;
+
+/* A stored box is the exact box grown by 1e-4 of its extent and four
+ * ulps of its largest coordinate (and FLT_MIN): a flat box gets a thickness,
+ * so a ray running in its plane is inside rather than at 0 * inf, and the
+ * kernels' rounded slab distances never clip a hit on the box's face. */
+static void widen(bvh_child *c)
+{
+    float scale = 0.0f, extent = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        scale = fmaxf(scale, fmaxf(fabsf(c->lo[k]), fabsf(c->hi[k])));
+        extent = fmaxf(extent, c->hi[k] - c->lo[k]);
+    }
+    const float margin = extent * 1e-4f + scale * 0x1p-21f + FLT_MIN;
+    for (int k = 0; k < 3; k++) c->lo[k] -= margin, c->hi[k] += margin;
+}
+
+static void compact(compactor *c, const bvh_child *src, bvh_child *dst, uint32_t depth, double root_area)
+{
+    *dst = *src;
+    widen(dst);
+    box3 box;
+    memcpy(box.lo, src->lo, sizeof box.lo);
+    memcpy(box.hi, src->hi, sizeof box.hi);
+    const double weight = root_area > 0.0 ? box_half_area(&box) / root_area : 1.0;
+    if (src->count > 0) {
+        dst->index = c->next_record;
+        for (uint32_t i = 0; i < src->count; i++) {
+            const kd_triangle *rec = &c->records[ref_record(&c->b->refs[src->index + i])];
+            rtt_vec3 p[3];
+            rtt_scene_triangle(c->scene, rec->prim, p);
+            bvh_corners *corners = &c->tree->corners[c->next_record];
+            for (int v = 0; v < 3; v++)
+                corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
+            c->tree->triangles[c->next_record++] = *rec;
+        }
+        c->depth = depth > c->depth ? depth : c->depth;
+        c->leaves++;
+        c->sah += weight * (double)src->count;
+        return;
+    }
+    const uint32_t slot = c->next_node++;
+    dst->index = slot;
+    c->sah += weight;
+    const bvh_node *node = &c->b->slots[src->index];
+    compact(c, &node->child[0], &c->tree->nodes[slot].child[0], depth + 1, root_area);
+    compact(c, &node->child[1], &c->tree->nodes[slot].child[1], depth + 1, root_area);
+}
+
+void bvh_tree_free(bvh_tree *tree)
+{
+    free(tree->nodes);
+    free(tree->triangles);
+    free(tree->corners);
+    memset(tree, 0, sizeof *tree);
+}
+
+bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh_tree *tree, rtt_error *err)
+{
+    const double start = rtt_clock_seconds();
+    memset(tree, 0, sizeof *tree);
+    builder b = {0};
+    b.leaf_size = options->leaf_size ? options->leaf_size : BVH_DEFAULT_LEAF_SIZE;
+    if (b.leaf_size > BVH_LEAF_SIZE_MAX) b.leaf_size = BVH_LEAF_SIZE_MAX;
+    b.max_depth = options->max_depth && options->max_depth < BVH_DEPTH_LIMIT ? options->max_depth : BVH_DEPTH_LIMIT;
+    const uint32_t threads = rtt_thread_count(options->threads);
+
+    const uint32_t n_tri = scene->triangle_count;
+    kd_triangle *records = malloc((size_t)(n_tri ? n_tri : 1) * sizeof *records);
+    prim_ref *refs = aligned_alloc(16, (size_t)(n_tri ? n_tri : 1) * sizeof *refs);
+    uint32_t n = 0;
+    if (records && refs)
+        for (uint32_t i = 0; i < n_tri; i++) {
+            rtt_vec3 p[3];
+            rtt_scene_triangle(scene, i, p);
+            if (!kd_triangle_record(&records[n], p, i)) continue;
+            const __m128 a = _mm_setr_ps(p[0].x, p[0].y, p[0].z, 0.0f), b1 = _mm_setr_ps(p[1].x, p[1].y, p[1].z, 0.0f),
+                         c = _mm_setr_ps(p[2].x, p[2].y, p[2].z, 0.0f);
+            refs[n].lo = _mm_insert_ps(_mm_min_ps(a, _mm_min_ps(b1, c)), _mm_castsi128_ps(_mm_cvtsi32_si128((int)n)),
+                                       0x30); /* record index into lane 3 */
+            refs[n].hi = _mm_max_ps(a, _mm_max_ps(b1, c));
+            n++;
+        }
+    const uint32_t top_slots = 2u * BVH_TASKS_PER_THREAD * threads + 2u;
+    bvh_node *slots = records && refs ? aligned_alloc(64, ((size_t)top_slots + n) * sizeof *slots) : NULL;
+    subtree_task *tasks = slots ? malloc((size_t)(BVH_TASKS_PER_THREAD * threads + 2u) * sizeof *tasks) : NULL;
+    if (!tasks) goto out_of_memory;
+    b.refs = refs, b.slots = slots;
+
+    /* the top, breadth first on this thread, until there are enough subtrees */
+    uint32_t task_count = 0, next_top = 0;
+    if (n > 0) {
+        tasks[task_count] = (subtree_task){.begin = 0, .end = n, .depth = 0, .out = &tree->root};
+        range_bounds(&b, 0, n, &tasks[task_count++].bounds);
+    }
+    const uint32_t want = threads > 1 ? BVH_TASKS_PER_THREAD * threads : 1;
+    while (task_count > 0 && task_count < want) {
+        uint32_t largest = 0;
+        for (uint32_t i = 1; i < task_count; i++)
+            if (tasks[i].end - tasks[i].begin > tasks[largest].end - tasks[largest].begin) largest = i;
+        subtree_task t = tasks[largest];
+        if (t.end - t.begin < BVH_TASK_MIN_TRIANGLES) break;
+        node_bounds child[2];
+        split_choice s = choose_split(&b, t.begin, t.end, t.depth, &t.bounds, child);
+        if (s.leaf) break; /* the largest is a leaf (depth bound): the rest are smaller */
+        const box3 bounds = box4_unpack(&t.bounds.box);
+        set_box(t.out, &bounds);
+        const uint32_t slot = next_top++;
+        t.out->index = slot;
+        t.out->count = 0;
+        tasks[largest] = (subtree_task){t.begin, s.mid, t.depth + 1, &slots[slot].child[0], child[0]};
+        tasks[task_count++] = (subtree_task){s.mid, t.end, t.depth + 1, &slots[slot].child[1], child[1]};
+    }
+    task_context context = {&b, tasks, top_slots};
+    rtt_parallel_run(task_count, threads, run_subtree_task, &context);
+
+    /* count the inner nodes reached from the root, then lay them out */
+    tree->triangles = malloc((size_t)(n ? n : 1) * sizeof *tree->triangles);
+    tree->corners = malloc((size_t)(n ? n : 1) * sizeof *tree->corners);
+    tree->nodes = aligned_alloc(64, (size_t)(n ? n : 1) * sizeof *tree->nodes); /* bvh_node is a cache line */
+    if (!tree->triangles || !tree->corners || !tree->nodes) goto out_of_memory;
+    compactor c = {.b = &b, .records = records, .tree = tree, .scene = scene};
+    if (n > 0) {
+        box3 root_box;
+        memcpy(root_box.lo, tree->root.lo, sizeof root_box.lo);
+        memcpy(root_box.hi, tree->root.hi, sizeof root_box.hi);
+        bvh_child root = tree->root;
+        compact(&c, &root, &tree->root, 0, box_half_area(&root_box));
+    }
+    tree->node_count = c.next_node;
+    tree->triangle_count = c.next_record;
+    if (tree->node_count > 0) {
+        bvh_node *shrunk = aligned_alloc(64, (size_t)tree->node_count * sizeof *tree->nodes);
+        if (shrunk) {
+            memcpy(shrunk, tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
+            free(tree->nodes);
+            tree->nodes = shrunk;
+        }
+    }
+    free(records), free(refs), free(slots), free(tasks);
+
+    rtt_tree_info *info = &tree->info;
+    info->depth = c.depth;
+    info->max_depth = b.max_depth;
+    info->node_count = tree->node_count + c.leaves; /* inner nodes and leaves, as the kd-tree counts them */
+    info->leaf_count = c.leaves;
+    info->references = tree->triangle_count;
+    info->reference_cap = tree->triangle_count;
+    info->sah_cost = c.sah;
+    info->memory_bytes = (uint64_t)tree->node_count * sizeof(bvh_node) +
+                         (uint64_t)tree->triangle_count * (sizeof(kd_triangle) + sizeof(bvh_corners));
+    info->build_seconds = rtt_clock_seconds() - start;
+    return true;
+
+out_of_memory:
+    free(records), free(refs), free(slots), free(tasks);
+    bvh_tree_free(tree);
+    return rtt_error_set(err, "%s: out of memory building the BVH (%u triangles)", scene->path, n_tri);
+}

@@ -1,0 +1,27 @@
+/* The binned SAH BVH builder (bvh_build.c). */
+#ifndef RTT_BVH_BUILD_H
+#define RTT_BVH_BUILD_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "bvh_tree.h"
+#include "rtt/error.h"
+#include "rtt/scene.h"
+
+/* Leaf sizes the builder accepts, and the defaults per use (the figures
+ * that chose them: bench/results/bvh-build.md). */
+#define BVH_LEAF_SIZE_MAX 64u
+#define BVH_DEFAULT_LEAF_SIZE 4u
+
+typedef struct bvh_build_options {
+    uint32_t leaf_size;   /* most records a leaf holds below the depth bound, 1..BVH_LEAF_SIZE_MAX (0 → default) */
+    uint32_t max_depth;   /* 1..BVH_DEPTH_LIMIT (0 → BVH_DEPTH_LIMIT); a node there is a leaf whatever it holds */
+    uint32_t threads;     /* 0 → one per core */
+} bvh_build_options;
+
+/* Builds the BVH of the scene's non-degenerate triangles.  False (one line
+ * in err) only when memory runs out. */
+bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh_tree *tree, rtt_error *err);
+
+#endif

@@ -1,0 +1,130 @@
+/* The BVH kernels' SIMD vocabulary at the width of the instruction set
+ * they are compiled for: 16 float lanes on AVX-512 (masks in k registers),
+ * 8 on AVX2, 4 on SSE4.1 (masks as all-ones lanes).  Every operation is one
+ * IEEE operation per lane in the same order on every width, and contraction
+ * is off, so a lane computes the same bits whatever the width.
+ *
+ * min/max follow the x86 rule: when either operand is NaN the SECOND is
+ * returned, so an accumulator passed second is never replaced by a NaN. */
+#ifndef RTT_BVH_SIMD_H
+#define RTT_BVH_SIMD_H
+
+#include <immintrin.h>
+#include <stdint.h>
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#define BVH_W 16u
+typedef __m512 vf;
+typedef __m512i vi;
+typedef __mmask16 vm;
+static inline vf vf_set1(float x) { return _mm512_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm512_loadu_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm512_storeu_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm512_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm512_div_ps(a, b); }
+static inline vf vf_min(vf a, vf b) { return _mm512_min_ps(a, b); }
+static inline vf vf_max(vf a, vf b) { return _mm512_max_ps(a, b); }
+static inline vm vf_lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+static inline vm vf_le(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+static inline vm vf_gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+static inline vm vf_ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
+static inline vm vf_eq(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
+static inline vm vm_and(vm a, vm b) { return (vm)(a & b); }
+static inline vm vm_or(vm a, vm b) { return (vm)(a | b); }
+static inline uint32_t vm_bits(vm a) { return (uint32_t)a; }
+static inline vm vm_of_bits(uint32_t bits) { return (vm)bits; }
+/* lanes of m take b, the others a */
+static inline vf vf_blend(vm m, vf a, vf b) { return _mm512_mask_blend_ps(m, a, b); }
+static inline vi vi_set1(uint32_t x) { return _mm512_set1_epi32((int)x); }
+static inline vi vi_load(const uint32_t *p) { return _mm512_loadu_si512(p); }
+static inline void vi_store(uint32_t *p, vi a) { _mm512_storeu_si512(p, a); }
+static inline vi vi_blend(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, a, b); }
+static inline vm vi_lt_u(vi a, vi b) { return _mm512_cmplt_epu32_mask(a, b); }
+#elif defined(__AVX2__)
+#define BVH_W 8u
+typedef __m256 vf;
+typedef __m256i vi;
+typedef __m256 vm;
+static inline vf vf_set1(float x) { return _mm256_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm256_loadu_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm256_storeu_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm256_div_ps(a, b); }
+static inline vf vf_min(vf a, vf b) { return _mm256_min_ps(a, b); }
+static inline vf vf_max(vf a, vf b) { return _mm256_max_ps(a, b); }
+static inline vm vf_lt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+static inline vm vf_le(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+static inline vm vf_gt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+static inline vm vf_ge(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+static inline vm vf_eq(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+static inline vm vm_and(vm a, vm b) { return _mm256_and_ps(a, b); }
+static inline vm vm_or(vm a, vm b) { return _mm256_or_ps(a, b); }
+static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm256_movemask_ps(a); }
+static inline vm vm_of_bits(uint32_t bits)
+{
+    const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i b = _mm256_and_si256(_mm256_set1_epi32((int)bits), lane);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(b, lane));
+}
+static inline vf vf_blend(vm m, vf a, vf b) { return _mm256_blendv_ps(a, b, m); }
+static inline vi vi_set1(uint32_t x) { return _mm256_set1_epi32((int)x); }
+static inline vi vi_load(const uint32_t *p) { return _mm256_loadu_si256((const __m256i *)p); }
+static inline void vi_store(uint32_t *p, vi a) { _mm256_storeu_si256((__m256i *)p, a); }
+static inline vi vi_blend(vm m, vi a, vi b)
+{
+    return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), m));
+}
+static inline vm vi_lt_u(vi a, vi b)
+{
+    const __m256i lt = _mm256_andnot_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(_mm256_min_epu32(a, b), a));
+    return _mm256_castsi256_ps(lt);
+}
+#else
+#define BVH_W 4u
+typedef __m128 vf;
+typedef __m128i vi;
+typedef __m128 vm;
+static inline vf vf_set1(float x) { return _mm_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm_loadu_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm_storeu_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm_div_ps(a, b); }
+static inline vf vf_min(vf a, vf b) { return _mm_min_ps(a, b); }
+static inline vf vf_max(vf a, vf b) { return _mm_max_ps(a, b); }
+static inline vm vf_lt(vf a, vf b) { return _mm_cmplt_ps(a, b); }
+static inline vm vf_le(vf a, vf b) { return _mm_cmple_ps(a, b); }
+static inline vm vf_gt(vf a, vf b) { return _mm_cmpgt_ps(a, b); }
+static inline vm vf_ge(vf a, vf b) { return _mm_cmpge_ps(a, b); }
+static inline vm vf_eq(vf a, vf b) { return _mm_cmpeq_ps(a, b); }
+static inline vm vm_and(vm a, vm b) { return _mm_and_ps(a, b); }
+static inline vm vm_or(vm a, vm b) { return _mm_or_ps(a, b); }
+static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm_movemask_ps(a); }
+static inline vm vm_of_bits(uint32_t bits)
+{
+    const __m128i lane = _mm_setr_epi32(1, 2, 4, 8);
+    const __m128i b = _mm_and_si128(_mm_set1_epi32((int)bits), lane);
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(b, lane));
+}
+static inline vf vf_blend(vm m, vf a, vf b) { return _mm_blendv_ps(a, b, m); }
+static inline vi vi_set1(uint32_t x) { return _mm_set1_epi32((int)x); }
+static inline vi vi_load(const uint32_t *p) { return _mm_loadu_si128((const __m128i *)p); }
+static inline void vi_store(uint32_t *p, vi a) { _mm_storeu_si128((__m128i *)p, a); }
+static inline vi vi_blend(vm m, vi a, vi b)
+{
+    return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b), m));
+}
+static inline vm vi_lt_u(vi a, vi b)
+{
+    return _mm_castsi128_ps(_mm_andnot_si128(_mm_cmpeq_epi32(a, b), _mm_cmpeq_epi32(_mm_min_epu32(a, b), a)));
+}
+#endif
+
+#define BVH_LANES_ALL ((uint32_t)((1ull << BVH_W) - 1u))
+
+#endif

@@ -1,0 +1,335 @@
+/* The BVH of the optimized engine (optimized/bvh/): the binned SAH
+ * builder's invariants for a sweep of leaf sizes and depth bounds, the same
+ * tree for one thread and two, and every BVH kernel at every instruction
+ * set this CPU runs against two oracles: a brute force over every triangle
+ * record with the same scalar projected test (the traversal must lose no
+ * hit: equal t, u, v and prim, bit for bit), and the reference engine
+ * within the conformance tolerance (a hit/miss at an edge of the hit
+ * triangle counted apart, as the projected test is not watertight). */
+#include <float.h>
+#include <stdio.h>
+
+#include "bvh_build.h"
+#include "isect_projected_bary.h"
+#include "test_fixtures_optimized.h"
+
+/* ---- the builder ------------------------------------------------------- */
+
+typedef struct walk {
+    const rtt_scene *scene;
+    const bvh_tree *tree;
+    uint32_t leaf_size, max_depth;
+    uint8_t *seen;      /* per prim */
+    uint32_t depth, leaves, records, nodes;
+} walk;
+
+static void expect_box_holds(const bvh_child *c, const rtt_vec3 p[3])
+{
+    for (int v = 0; v < 3; v++)
+        for (int a = 0; a < 3; a++) {
+            assert_true(c->lo[a] <= rtt_v3_get(p[v], a));
+            assert_true(c->hi[a] >= rtt_v3_get(p[v], a));
+        }
+}
+
+/* Every record below `c` lies in c's box; returns nothing, counts into w. */
+static void walk_child(walk *w, const bvh_child *c, uint32_t depth, const bvh_child *const *up, uint32_t up_count)
+{
+    const bvh_child *chain[BVH_TRAVERSAL_STACK + 1];
+    if (up_count) memcpy(chain, up, up_count * sizeof *up);
+    chain[up_count] = c;
+    if (c->count > 0) {
+        assert_true(c->count <= w->leaf_size || depth == w->max_depth);
+        assert_true(depth <= w->max_depth);
+        assert_true(c->index + c->count <= w->tree->triangle_count);
+        for (uint32_t i = 0; i < c->count; i++) {
+            const kd_triangle *rec = &w->tree->triangles[c->index + i];
+            assert_true(rec->prim < w->scene->triangle_count);
+            assert_int_equal(w->seen[rec->prim], 0);
+            w->seen[rec->prim] = 1;
+            rtt_vec3 p[3];
+            rtt_scene_triangle(w->scene, rec->prim, p);
+            for (uint32_t k = 0; k <= up_count; k++) expect_box_holds(chain[k], p);
+        }
+        w->depth = depth > w->depth ? depth : w->depth;
+        w->leaves++;
+        w->records += c->count;
+        return;
+    }
+    assert_true(c->index < w->tree->node_count);
+    w->nodes++;
+    for (int k = 0; k < 2; k++) walk_child(w, &w->tree->nodes[c->index].child[k], depth + 1, chain, up_count + 1);
+}
+
+static rtt_scene *soup_with_specials(uint32_t count, float size, uint64_t seed)
+{
+    rng r = {seed};
+    float *xyz = malloc((size_t)count * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t i = 0; i < count; i++) {
+        float c[3] = {rng_range(&r, -1, 1), rng_range(&r, -1, 1), rng_range(&r, -1, 1)};
+        for (int v = 0; v < 3; v++)
+            for (int a = 0; a < 3; a++) xyz[9 * i + 3 * v + a] = c[a] + rng_range(&r, -size, size);
+        if (i % 7 == 3) /* flat on an axis: boxes of zero thickness */
+            for (int v = 0; v < 3; v++) xyz[9 * i + 3 * v + i % 3] = 0.25f;
+        if (i % 11 == 5) memcpy(&xyz[9 * i + 6], &xyz[9 * i + 3], 3 * sizeof(float)); /* degenerate */
+        if (i % 13 == 6) memcpy(&xyz[9 * i], &xyz[9 * (i - 1)], 9 * sizeof(float));   /* duplicate */
+    }
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, count, &err);
+    free(xyz);
+    if (!scene) fail_msg("scene: %s", err.message);
+    return scene;
+}
+
+static void build(const rtt_scene *scene, uint32_t leaf_size, uint32_t max_depth, uint32_t threads, bvh_tree *tree)
+{
+    bvh_build_options opt = {.leaf_size = leaf_size, .max_depth = max_depth, .threads = threads};
+    rtt_error err = {{0}};
+    if (!bvh_build_sah(scene, &opt, tree, &err)) fail_msg("build: %s", err.message);
+}
+
+static void test_builder_invariants_for_leaf_sizes_and_depths(void **state)
+{
+    (void)state;
+    rtt_scene *scene = soup_with_specials(3000, 0.05f, 41);
+    const uint32_t leaf_sizes[] = {1, 2, 4, 8, 16};
+    const uint32_t depths[] = {0, 3, 8, 64};
+    for (size_t l = 0; l < sizeof leaf_sizes / sizeof leaf_sizes[0]; l++)
+        for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
+            bvh_tree tree;
+            build(scene, leaf_sizes[l], depths[d], 2, &tree);
+            walk w = {.scene = scene, .tree = &tree, .leaf_size = leaf_sizes[l],
+                      .max_depth = depths[d] ? depths[d] : BVH_DEPTH_LIMIT};
+            w.seen = calloc(scene->triangle_count, 1);
+            assert_non_null(w.seen);
+            walk_child(&w, &tree.root, 0, NULL, 0);
+            /* every triangle with a record is in exactly one leaf; degenerates in none */
+            for (uint32_t p = 0; p < scene->triangle_count; p++) {
+                rtt_vec3 v[3];
+                rtt_scene_triangle(scene, p, v);
+                kd_triangle rec;
+                assert_int_equal(w.seen[p], kd_triangle_record(&rec, v, p) ? 1 : 0);
+            }
+            assert_int_equal(w.records, tree.triangle_count);
+            assert_int_equal(w.nodes, tree.node_count);
+            assert_int_equal(w.leaves, tree.info.leaf_count);
+            assert_int_equal(w.depth, tree.info.depth);
+            assert_true(tree.info.depth <= w.max_depth);
+            assert_true(tree.info.sah_cost > 0.0);
+            free(w.seen);
+            bvh_tree_free(&tree);
+        }
+    rtt_scene_free(scene);
+}
+
+static void test_one_and_two_threads_build_the_same_bytes(void **state)
+{
+    (void)state;
+    rtt_scene *scene = soup_with_specials(40000, 0.03f, 43);
+    bvh_tree one, two;
+    build(scene, 4, 0, 1, &one);
+    build(scene, 4, 0, 2, &two);
+    assert_int_equal(one.node_count, two.node_count);
+    assert_int_equal(one.triangle_count, two.triangle_count);
+    assert_memory_equal(&one.root, &two.root, sizeof one.root);
+    assert_memory_equal(one.nodes, two.nodes, one.node_count * sizeof *one.nodes);
+    assert_memory_equal(one.triangles, two.triangles, one.triangle_count * sizeof *one.triangles);
+    bvh_tree_free(&one);
+    bvh_tree_free(&two);
+    rtt_scene_free(scene);
+}
+
+static void test_degenerate_only_and_empty_scenes_build_and_miss(void **state)
+{
+    (void)state;
+    const float xyz[18] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 0, 0, 3, 0, 0, 3, 0, 0};
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, 2, &err);
+    assert_non_null(scene);
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.accel = RTT_ACCEL_BVH;
+    rtt_engine *e = rtt_optimized_engine_create(scene, &opt, &err);
+    assert_non_null(e);
+    assert_int_equal(bvh_engine_tree(e)->triangle_count, 0);
+    rtt_ray ray = {{-1, 0, 0}, {1, 0, 0}, 0, INFINITY};
+    rtt_hit hit;
+    uint8_t occ = 1;
+    rtt_engine_intersect(e, &ray, &hit, 1);
+    rtt_engine_occluded(e, &ray, &occ, 1);
+    assert_int_equal(hit.prim, RTT_MISS);
+    assert_int_equal(occ, 0);
+    rtt_engine_destroy(e);
+    rtt_scene_free(scene);
+}
+
+/* ---- the kernels ------------------------------------------------------- */
+
+/* The closest record hit by every record (the same scalar test as the
+ * single-ray kernel, order-independent by the (t, prim) rule). */
+static rtt_hit records_brute_force(const bvh_tree *tree, const rtt_ray *r)
+{
+    kd_hit1 hit = {INFINITY, 0.0f, 0.0f, RTT_MISS};
+    int traceable = 1;
+    for (int a = 0; a < 3; a++) traceable &= isfinite(r->org[a]) && isfinite(r->dir[a]);
+    if (!traceable || isnan(r->tnear) || isnan(r->tfar) || !(r->tnear <= r->tfar))
+        return (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+    const kd_ray1 ray = {{r->org[0], r->org[1], r->org[2]}, {r->dir[0], r->dir[1], r->dir[2]}, r->tnear, r->tfar};
+    for (uint32_t i = 0; i < tree->triangle_count; i++) isect1_projected_bary(&tree->triangles[i], &ray, &hit);
+    return hit.prim == RTT_MISS ? (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS} : (rtt_hit){hit.t, hit.u, hit.v, hit.prim};
+}
+
+typedef struct bvh_fixture {
+    fixture base;      /* the soup, the reference engine (and a kd engine, unused) */
+    rtt_engine *bvh;
+    const bvh_tree *tree;
+} bvh_fixture;
+
+static int setup_bvh(void **state)
+{
+    setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull);
+    fixture *base = *state;
+    bvh_fixture *f = calloc(1, sizeof *f);
+    assert_non_null(f);
+    f->base = *base;
+    free(base);
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.accel = RTT_ACCEL_BVH;
+    rtt_error err = {{0}};
+    f->bvh = rtt_optimized_engine_create(f->base.scene, &opt, &err);
+    if (!f->bvh) fail_msg("bvh engine: %s", err.message);
+    f->tree = bvh_engine_tree(f->bvh);
+    assert_non_null(f->tree);
+    *state = f;
+    return 0;
+}
+
+static int teardown_bvh(void **state)
+{
+    bvh_fixture *f = *state;
+    rtt_engine_destroy(f->bvh);
+    fixture *base = malloc(sizeof *base);
+    assert_non_null(base);
+    *base = f->base;
+    free(f);
+    *state = base;
+    return teardown(state);
+}
+
+/* Against the reference: both miss, or the same t within tolerance (a
+ * different prim only as a tie); a hit within tolerance of tnear or tfar,
+ * and a miss next to an edge (the projected test is not watertight), are
+ * counted apart. */
+static uint32_t reference_disagreements(const fixture *f, const rtt_ray *rays, const rtt_hit *got, uint32_t n,
+                                        uint32_t *edge)
+{
+    rtt_hit *want = malloc(n * sizeof *want);
+    assert_non_null(want);
+    rtt_engine_intersect(f->reference, rays, want, n);
+    uint32_t bad = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const int gh = got[i].prim != RTT_MISS, wh = want[i].prim != RTT_MISS;
+        if (!gh && !wh) continue;
+        if (gh != wh) {
+            if (near_interval_end(&rays[i], gh ? got[i].t : want[i].t)) continue;
+            const rtt_hit *h = wh ? &want[i] : &got[i];
+            if (h->u < 1e-4f || h->v < 1e-4f || h->u + h->v > 1.0f - 1e-4f) {
+                (*edge)++;
+                continue;
+            }
+            if (bad++ < 5) print_message("ray %u: prim %u t %.9g, reference prim %u t %.9g\n", i, got[i].prim, got[i].t, want[i].prim, want[i].t);
+            continue;
+        }
+        if (fabsf(got[i].t - want[i].t) > t_tolerance(want[i].t)) {
+            if (bad < 5) print_message("ray %u: prim %u t %.9g, reference prim %u t %.9g u %g v %g\n", i, got[i].prim, got[i].t, want[i].prim, want[i].t, want[i].u, want[i].v);
+            bad += !near_interval_end(&rays[i], got[i].t) && !near_interval_end(&rays[i], want[i].t);
+            continue;
+        }
+        if (got[i].prim != want[i].prim)
+            bad += !(prim_hit_at(f, &rays[i], got[i].prim, want[i].t) &&
+                     prim_hit_at(f, &rays[i], want[i].prim, got[i].t));
+    }
+    free(want);
+    return bad;
+}
+
+static void check_every_kernel(const bvh_fixture *f, const rtt_ray *rays, uint32_t n)
+{
+    rtt_hit *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
+    uint8_t *occ = malloc(n);
+    assert_non_null(want), assert_non_null(got), assert_non_null(occ);
+    for (uint32_t i = 0; i < n; i++) want[i] = records_brute_force(f->tree, &rays[i]);
+    const bvh_kernel *row;
+    for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
+        if (!isa_runs(row->isa)) continue;
+        bvh_counters counters = {0};
+        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .hits = got, .counters = &counters});
+        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .occluded = occ});
+        uint32_t lost = 0, occ_bad = 0, edge = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (memcmp(&got[i], &want[i], sizeof got[i]) != 0) {
+                if (lost++ < 5)
+                    print_message("%s/%s ray %u: prim %u t %.9g, brute force prim %u t %.9g\n", row->name,
+                                  rtt_isa_name(row->isa), i, got[i].prim, got[i].t, want[i].prim, want[i].t);
+            }
+            occ_bad += occ[i] != (want[i].prim != RTT_MISS);
+        }
+        const uint32_t bad = reference_disagreements(&f->base, rays, got, n, &edge);
+        print_message("%-11s %-7s %u rays: %u lost against the records, %u occluded wrong, %u off the reference, "
+                      "%u edge escapes, %.1f AABB tests per packet\n",
+                      row->name, rtt_isa_name(row->isa), n, lost, occ_bad, bad, edge,
+                      (double)counters.aabb_tests / (double)(counters.packets ? counters.packets : 1));
+        assert_int_equal(lost, 0);
+        assert_int_equal(occ_bad, 0);
+        assert_int_equal(bad, 0);
+        assert_true(edge <= n / 1000 + 1);
+    }
+    free(want), free(got), free(occ);
+}
+
+static void test_kernels_on_primary_rays(void **state)
+{
+    const bvh_fixture *f = *state;
+    uint32_t n;
+    /* wide, narrow, and a camera whose rays cross the axis planes */
+    rtt_ray *rays = primary_rays(64, 8, rtt_v3(0.3f, 0.4f, 3.0f), 0.6f, &n);
+    check_every_kernel(f, rays, n);
+    free(rays);
+    rays = primary_rays(32, 8, rtt_v3(2.5f, 1.5f, -2.0f), 0.05f, &n);
+    check_every_kernel(f, rays, n);
+    free(rays);
+    rays = primary_rays(32, 8, rtt_v3(0.0f, 0.0f, 2.5f), 2.0f, &n);
+    check_every_kernel(f, rays, n);
+    free(rays);
+}
+
+static void test_kernels_on_random_rays_with_specials(void **state)
+{
+    const bvh_fixture *f = *state;
+    rtt_ray *rays = random_rays(4099, 53, ALL_SPECIALS);
+    check_every_kernel(f, rays, 4099);
+    free(rays);
+}
+
+static void test_kernels_on_shadow_rays(void **state)
+{
+    const bvh_fixture *f = *state;
+    rtt_ray *rays = shadow_rays(4096, rtt_v3(0.5f, 3.0f, 0.7f), 59);
+    check_every_kernel(f, rays, 4096);
+    free(rays);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_builder_invariants_for_leaf_sizes_and_depths),
+        cmocka_unit_test(test_one_and_two_threads_build_the_same_bytes),
+        cmocka_unit_test(test_degenerate_only_and_empty_scenes_build_and_miss),
+        cmocka_unit_test_setup_teardown(test_kernels_on_primary_rays, setup_bvh, teardown_bvh),
+        cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
+        cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
