@@ -7,7 +7,7 @@
 
 #include "rtt/engine.h"
 
-static const char *const accel_names[RTT_ACCEL_COUNT] = {"default", "kd"};
+static const char *const accel_names[RTT_ACCEL_COUNT] = {"default", "kd", "pgrid"};
 
 void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n)
 {

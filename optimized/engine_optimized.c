@@ -26,6 +26,7 @@
 #include "kd_build.h"
 #include "kdt_format.h"
 #include "kernels.h"
+#include "pgrid_eye.h"
 #include "rtt/optimized.h"
 
 _Static_assert(sizeof(kd_node) == sizeof(kdt_node) && offsetof(kd_node, bits) == offsetof(kdt_node, bits),
@@ -48,7 +49,9 @@ typedef struct optimized_engine {
     kd_tree tree;
     bool owns_tree;           /* false when the arrays belong to scene->baked */
     rtt_engine_options opt;
-    const kd_kernel *kernel;  /* the descriptor-table row the options name */
+    const kd_kernel *kernel;  /* the descriptor-table row the options name (the kd default under pgrid) */
+    const pgrid_kernel *pgrid; /* --accel pgrid: the eye rays' cell kernel; streams go through the kd-tree */
+    uint8_t *degenerate;      /* per triangle, 1 = never hits; NULL when the scene has none */
     char kernel_label[48];    /* "mft/avx512" */
 } optimized_engine;
 
@@ -68,26 +71,31 @@ static const rtt_engine_vtable optimized_vtable = {
     .kernel_name = optimized_kernel_name,
 };
 
-static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
-{
-    if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD)
-        return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
-    if (kd_kernel_find(opt->traversal, RTT_ISA_AVX512)) return true;
-    char names[160] = "";
-    const char *name;
-    for (uint32_t i = 0; (name = kd_kernel_name_at(i)); i++)
-        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "", name);
-    return rtt_error_set(err, "unknown kd traversal \"%s\": expected %s", opt->traversal, names);
-}
-
 static const char *optimized_kernel_at(rtt_accel accel, uint32_t i)
 {
+    if (accel == RTT_ACCEL_PGRID) return pgrid_kernel_name_at(i);
     return accel == RTT_ACCEL_DEFAULT || accel == RTT_ACCEL_KD ? kd_kernel_name_at(i) : NULL;
+}
+
+static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
+{
+    const bool pgrid = opt->accel == RTT_ACCEL_PGRID;
+    if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD && !pgrid)
+        return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
+    if (pgrid ? pgrid_kernel_find(opt->traversal, RTT_ISA_AVX512) != NULL
+              : kd_kernel_find(opt->traversal, RTT_ISA_AVX512) != NULL)
+        return true;
+    char names[160] = "";
+    const char *name;
+    for (uint32_t i = 0; (name = optimized_kernel_at(opt->accel, i)); i++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "", name);
+    return rtt_error_set(err, "unknown %s traversal \"%s\": expected %s", pgrid ? "pgrid" : "kd", opt->traversal,
+                         names);
 }
 
 const rtt_engine_class rtt_optimized_engine_class = {
     .name = "optimized",
-    .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method",
+    .summary = "production path: SAH kd-tree, packet/frustum/MFT/cone kernels, every shadow method; perspective grids",
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
             RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA,
     .shadow_methods = RTT_SHADOWS_ALL,
@@ -119,6 +127,33 @@ const kd_kernel *kd_engine_kernel(rtt_engine *engine)
     return e ? e->kernel : NULL;
 }
 
+const uint8_t *optimized_engine_degenerate(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->degenerate : NULL;
+}
+
+const pgrid_kernel *pgrid_engine_kernel(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->pgrid : NULL;
+}
+
+/* The triangles that never hit, for the structures that skip them (the
+ * perspective grid); NULL when there are none. */
+static bool flag_degenerate(optimized_engine *e, const rtt_scene *scene, rtt_error *err)
+{
+    if (scene->degenerate_count == 0) return true;
+    e->degenerate = malloc(scene->triangle_count);
+    if (!e->degenerate) return rtt_error_set(err, "%s: out of memory creating the optimized engine", scene->path);
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        rtt_vec3 corners[3];
+        rtt_scene_triangle(scene, i, corners);
+        e->degenerate[i] = rtt_triangle_is_degenerate(corners);
+    }
+    return true;
+}
+
 static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
 {
     memset(tree, 0, sizeof *tree);
@@ -146,12 +181,24 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     e->base.scene = scene;
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
-    e->kernel = kd_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
-    snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
+    const rtt_isa isa = rtt_isa_resolve(opt->isa);
+    if (opt->accel == RTT_ACCEL_PGRID) {
+        e->pgrid = pgrid_kernel_find(opt->traversal, isa);
+        e->kernel = kd_kernel_find("", isa);
+        snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->pgrid->name, rtt_isa_name(e->pgrid->isa));
+    } else {
+        e->kernel = kd_kernel_find(opt->traversal, isa);
+        snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
+    }
+    if (!flag_degenerate(e, scene, err)) {
+        free(e);
+        return NULL;
+    }
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
         adopt_baked(&e->tree, scene->baked);
         if (!kd_baked_tree_verify(scene, &e->tree, opt->threads, err)) {
+            free(e->degenerate);
             free(e);
             return NULL;
         }
@@ -159,6 +206,7 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     }
     kd_build_options build = {.max_depth = opt->max_tree_depth, .threads = opt->threads};
     if (!kd_build_sah(scene, &build, &e->tree, err)) {
+        free(e->degenerate);
         free(e);
         return NULL;
     }
@@ -171,6 +219,7 @@ static void optimized_destroy(rtt_engine *base)
     optimized_engine *e = as_optimized(base);
     if (!e) return;
     if (e->owns_tree) kd_tree_free(&e->tree);
+    free(e->degenerate);
     free(e);
 }
 

@@ -39,6 +39,7 @@ _Static_assert(sizeof(rtt_hit) == 16, "rtt_hit is a 16-byte file record");
 typedef enum rtt_accel {
     RTT_ACCEL_DEFAULT = 0,   /* the engine's own choice */
     RTT_ACCEL_KD,            /* SAH kd-tree with perfect splits (the thesis) */
+    RTT_ACCEL_PGRID,         /* per-frame perspective grids for eye rays (Hunt & Mark 2008) */
     RTT_ACCEL_COUNT
 } rtt_accel;
 

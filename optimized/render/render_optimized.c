@@ -24,6 +24,7 @@
 #include "engine/threads.h"
 #include "engine_optimized.h"
 #include "kernels.h"
+#include "render_pgrid.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
 
@@ -36,6 +37,7 @@ typedef struct render_job {
     sp_tracer tracer;
     sp_scratch **scratch;           /* one per thread */
     uint32_t threads;
+    pgrid_render *pgrid;            /* --accel pgrid: the frame's grid, its cells the tiles; else NULL */
 } render_job;
 
 /* Primary rays of the tile as quads: packet q holds pixels (x, y), (x+1, y),
@@ -84,9 +86,13 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     sp_scratch *s = job->scratch[thread];
     if (sp_scratch_failed(s)) return;
     const uint32_t side = job->tile / 2u;
-    sp_tile_begin(s, side * side);
-    push_primary_packets(job, s, x0, y0, x1, y1);
-    sp_primary_trace(&job->tracer, s);
+    sp_tile_begin(s, job->pgrid ? 0 : side * side);
+    if (job->pgrid) {
+        pgrid_render_cell(job->pgrid, thread, s, x0, y0, x1, y1);
+    } else {
+        push_primary_packets(job, s, x0, y0, x1, y1);
+        sp_primary_trace(&job->tracer, s);
+    }
     sp_tile_shade(&job->shading, &job->tracer, s);
     for (uint32_t i = 0; i < sp_tile_pixel_count(s); i++) write_pixel(job, sp_tile_pixel(s, i));
 }
@@ -158,14 +164,29 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     bool ok = job.scratch != NULL;
     for (uint32_t t = 0; ok && t < threads; t++)
         ok = (job.scratch[t] = sp_scratch_create(job.shading.max_bounces + 1, opt->stats || stats != NULL)) != NULL;
+    pgrid_render pgrid;
+    const bool use_pgrid = engine_opt->accel == RTT_ACCEL_PGRID;
+    if (ok && use_pgrid) {
+        job.pgrid = &pgrid;
+        if (!pgrid_render_begin(&pgrid, pgrid_kernel_find(engine_opt->traversal, isa), scene,
+                                optimized_engine_degenerate(engine), &job.frame, width, height, 0, threads, err)) {
+            pgrid_render_end(&pgrid);
+            for (uint32_t t = 0; t < threads; t++) sp_scratch_destroy(job.scratch[t]);
+            free(job.scratch);
+            return false;
+        }
+    }
     if (ok) {
-        rtt_tiles_run(width, height, tile, threads, render_tile, &job, opt->progress, opt->progress_context);
+        rtt_tiles_run(width, height, use_pgrid ? pgrid.grid.cell : tile, threads, render_tile, &job, opt->progress,
+                      opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     if (ok && stats) {
         gather_stats(&job, stats);
+        if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
+    if (job.pgrid) pgrid_render_end(job.pgrid);
     if (job.scratch)
         for (uint32_t t = 0; t < threads; t++) sp_scratch_destroy(job.scratch[t]);
     free(job.scratch);

@@ -1,0 +1,230 @@
+/* Hunt & Mark 2008, section 4 and 5.1: the per-frame build of the eye
+ * rays' perspective grid (pgrid_eye.h).  Each triangle is transformed to
+ * the camera's perspective space (depth along the view axis, pixel-centre
+ * coordinates), its projected bounds widened by a pixel and binned into
+ * the cells they meet by a counting sort, so each cell lists its triangles
+ * in the global order (ties then go to the smaller prim by keeping the
+ * first of equal depths).
+ *
+ * The near plane, and what it trades against the paper: the paper clips
+ * geometry to a near plane and loses what lies in front of it.  Here a
+ * triangle with every corner beyond the near plane (depth >= z_near, a
+ * 2^-20 fraction of the scene's extent seen from the eye) is binned by its
+ * projected corners, which bound its projection exactly; one with every
+ * corner behind the eye (depth < -z_near) is dropped, as no eye ray meets
+ * it at t > 0; one in between is kept in every cell (its projection is
+ * unbounded), counted in near_count.  Exact for every scene; costs a full
+ * grid of references per triangle that reaches within z_near of the eye's
+ * plane, which no bench view has. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pgrid_eye.h"
+
+static bool grow(void **array, size_t *capacity, size_t need, size_t element)
+{
+    if (need <= *capacity) return true;
+    size_t cap = *capacity ? *capacity : 1024;
+    while (cap < need) cap *= 2;
+    void *p = aligned_alloc(64, (cap * element + 63) / 64 * 64);
+    if (!p) return false;
+    free(*array);
+    *array = p;
+    *capacity = cap;
+    return true;
+}
+
+void pgrid_eye_free(pgrid_eye *grid)
+{
+    free(grid->triangles);
+    free(grid->cell_first);
+    free(grid->refs);
+    memset(grid, 0, sizeof *grid);
+}
+
+/* The pixel-centre coordinate range [lo, hi] of a projected extent, as
+ * pixel indices 0 .. size-1; false when it misses the image.  The centre
+ * of pixel p is p + 0.5; one pixel of margin covers the rounding of the
+ * projection and of the triangle test. */
+static bool pixel_range(float lo, float hi, uint32_t size, uint16_t *first, uint16_t *last)
+{
+    const float margin = 1.0f;
+    float a = lo - margin - 0.5f, b = hi + margin - 0.5f;
+    if (!(b >= 0.0f) || !(a <= (float)size - 1.0f)) return false; /* NaN is outside too */
+    a = a < 0.0f ? 0.0f : ceilf(a);
+    b = b > (float)size - 1.0f ? (float)size - 1.0f : floorf(b);
+    if (a > b) return false;
+    *first = (uint16_t)a;
+    *last = (uint16_t)b;
+    return true;
+}
+
+/* What the build needs of the frame: the view axis and the projection of
+ * a point relative to the eye onto pixel-centre coordinates. */
+typedef struct projection {
+    rtt_vec3 forward, du, dv;
+    float corner_du, corner_dv, du2, dv2;   /* corner . du, corner . dv, |du|^2, |dv|^2 */
+    float z_near;
+} projection;
+
+static projection projection_make(const rtt_camera_frame *f, const rtt_scene *scene)
+{
+    projection p;
+    p.forward = rtt_v3_normalize(rtt_v3_cross(f->du, f->dv));
+    p.du = f->du;
+    p.dv = f->dv;
+    p.corner_du = rtt_v3_dot(f->corner, f->du);
+    p.corner_dv = rtt_v3_dot(f->corner, f->dv);
+    p.du2 = rtt_v3_dot(f->du, f->du);
+    p.dv2 = rtt_v3_dot(f->dv, f->dv);
+    rtt_vec3 lo = scene->bounds.lo, hi = scene->bounds.hi;
+    float extent = rtt_v3_length(rtt_v3_sub(hi, lo)) +
+                   rtt_v3_length(rtt_v3_sub(rtt_v3_scale(rtt_v3_add(lo, hi), 0.5f), f->eye));
+    p.z_near = isfinite(extent) && extent > 0.0f ? extent * 0x1p-20f : 0x1p-100f;
+    return p;
+}
+
+/* The edge functions of one triangle relative to the eye (pgrid_eye.h). */
+static void triangle_setup(pgrid_triangle *t, const rtt_camera_frame *f, const rtt_vec3 rel[3])
+{
+    const rtt_vec3 normal = rtt_v3_cross(rtt_v3_sub(rel[1], rel[0]), rtt_v3_sub(rel[2], rel[0]));
+    for (int e = 0; e < 4; e++) {
+        rtt_vec3 n = e < 3 ? rtt_v3_cross(rel[(e + 1) % 3], rel[(e + 2) % 3]) : normal;
+        t->a[e] = rtt_v3_dot(n, f->du);
+        t->b[e] = rtt_v3_dot(n, f->dv);
+        t->c[e] = rtt_v3_dot(n, f->corner);
+    }
+    t->det = rtt_v3_dot(normal, rel[0]);
+}
+
+/* The pixel rectangle of a triangle; false when no eye ray can hit it. */
+static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t width, uint32_t height,
+                          pgrid_triangle *t, bool *near)
+{
+    float z[3], zmin = INFINITY, zmax = -INFINITY;
+    for (int i = 0; i < 3; i++) {
+        z[i] = rtt_v3_dot(rel[i], p->forward);
+        zmin = fminf(zmin, z[i]);
+        zmax = fmaxf(zmax, z[i]);
+    }
+    *near = false;
+    if (zmax < -p->z_near) return false;
+    if (!(zmin >= p->z_near)) {
+        *near = true;
+        t->x0 = t->y0 = 0;
+        t->x1 = (uint16_t)(width - 1);
+        t->y1 = (uint16_t)(height - 1);
+        return true;
+    }
+    float xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    for (int i = 0; i < 3; i++) {
+        float fx = (rtt_v3_dot(rel[i], p->du) / z[i] - p->corner_du) / p->du2;
+        float fy = (rtt_v3_dot(rel[i], p->dv) / z[i] - p->corner_dv) / p->dv2;
+        xlo = fminf(xlo, fx);
+        xhi = fmaxf(xhi, fx);
+        ylo = fminf(ylo, fy);
+        yhi = fmaxf(yhi, fy);
+    }
+    return pixel_range(xlo, xhi, width, &t->x0, &t->x1) && pixel_range(ylo, yhi, height, &t->y0, &t->y1);
+}
+
+bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
+                     const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
+{
+    if (cell == 0) cell = PGRID_EYE_CELL_DEFAULT;
+    if (cell % 4u || cell > PGRID_EYE_CELL_MAX || width == 0 || height == 0 || width > PGRID_IMAGE_MAX ||
+        height > PGRID_IMAGE_MAX)
+        return rtt_error_set(err,
+                             "perspective grid: cell %u for %ux%u pixels (cells are 4 .. %u, a multiple of 4; "
+                             "images 1 .. %u a side)",
+                             cell, width, height, PGRID_EYE_CELL_MAX, PGRID_IMAGE_MAX);
+    g->width = width;
+    g->height = height;
+    g->cell = cell;
+    g->cells_x = (width + cell - 1) / cell;
+    g->cells_y = (height + cell - 1) / cell;
+    g->frame = *frame;
+    const uint32_t cells = g->cells_x * g->cells_y;
+    size_t cap = g->cell_capacity, tcap = g->triangle_capacity;
+    if (!grow((void **)&g->cell_first, &cap, (size_t)cells + 1, sizeof(uint32_t)) ||
+        !grow((void **)&g->triangles, &tcap, scene->triangle_count ? scene->triangle_count : 1,
+              sizeof(pgrid_triangle)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->cell_capacity = (uint32_t)cap;
+    g->triangle_capacity = (uint32_t)tcap;
+
+    /* transform, clip against the near plane, set up; count references per cell */
+    const projection p = projection_make(frame, scene);
+    memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
+    uint32_t kept = 0, near_count = 0;
+    size_t refs = 0;
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        if (degenerate && degenerate[i]) continue;
+        rtt_vec3 corners[3], rel[3];
+        rtt_scene_triangle(scene, i, corners);
+        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_sub(corners[k], frame->eye);
+        pgrid_triangle *t = &g->triangles[kept];
+        bool near;
+        if (!triangle_rect(&p, rel, width, height, t, &near)) continue;
+        triangle_setup(t, frame, rel);
+        t->prim = i;
+        near_count += near;
+        kept++;
+        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
+            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
+        refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
+    }
+    g->triangle_count = kept;
+    g->near_count = near_count;
+    if (!grow((void **)&g->refs, &g->ref_capacity, refs ? refs : 1, sizeof(uint32_t)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->ref_count = refs;
+
+    /* counting sort: each cell's references in triangle order */
+    for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
+    for (uint32_t k = 0; k < kept; k++) {
+        const pgrid_triangle *t = &g->triangles[k];
+        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
+            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->refs[g->cell_first[cy * g->cells_x + cx]++] = k;
+    }
+    for (uint32_t c = cells; c > 0; c--) g->cell_first[c] = g->cell_first[c - 1];
+    g->cell_first[0] = 0;
+    return true;
+}
+
+/* u, v of the hit point p (relative to the eye) in double: the world-space
+ * barycentrics of vertices 1 and 2, as the reference reports them. */
+static void barycentrics(const rtt_vec3 rel[3], const double p[3], float *u, float *v)
+{
+    double e1[3], e2[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)rtt_v3_get(rel[1], k) - (double)rtt_v3_get(rel[0], k);
+        e2[k] = (double)rtt_v3_get(rel[2], k) - (double)rtt_v3_get(rel[0], k);
+        q[k] = p[k] - (double)rtt_v3_get(rel[0], k);
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double qe2[3] = {q[1] * e2[2] - q[2] * e2[1], q[2] * e2[0] - q[0] * e2[2], q[0] * e2[1] - q[1] * e2[0]};
+    const double e1q[3] = {e1[1] * q[2] - e1[2] * q[1], e1[2] * q[0] - e1[0] * q[2], e1[0] * q[1] - e1[1] * q[0]};
+    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    *u = (float)((qe2[0] * n[0] + qe2[1] * n[1] + qe2[2] * n[2]) / nn);
+    *v = (float)((e1q[0] * n[0] + e1q[1] * n[1] + e1q[2] * n[2]) / nn);
+}
+
+rtt_hit pgrid_eye_resolve(const pgrid_eye *g, const rtt_scene *scene, uint32_t triangle, uint32_t px, uint32_t py)
+{
+    if (triangle == PGRID_NO_TRIANGLE) return (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+    const pgrid_triangle *t = &g->triangles[triangle];
+    const float fx = (float)px + 0.5f, fy = (float)py + 0.5f;
+    const float t_d = t->det / ((t->c[3] + t->b[3] * fy) + t->a[3] * fx); /* pgrid_cell.c's order */
+    /* rtt_camera_ray's direction before normalisation, in its order */
+    const rtt_camera_frame *f = &g->frame;
+    const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, fx), rtt_v3_scale(f->dv, fy)));
+    rtt_vec3 corners[3], rel[3];
+    rtt_scene_triangle(scene, t->prim, corners);
+    for (int k = 0; k < 3; k++) rel[k] = rtt_v3_sub(corners[k], f->eye);
+    const double p[3] = {(double)t_d * d.x, (double)t_d * d.y, (double)t_d * d.z};
+    rtt_hit hit = {t_d * rtt_v3_length(d), 0.0f, 0.0f, t->prim};
+    barycentrics(rel, p, &hit.u, &hit.v);
+    return hit;
+}

@@ -1,0 +1,181 @@
+/* Hunt & Mark 2008, section 5.1: one cell of the eye rays' perspective
+ * grid processed like a tiled Z-buffer.  In object order (the cell's list,
+ * global triangle order), for each triangle the pixels of its rectangle
+ * inside the cell are tested in packets of one vector: 4x4 pixels with
+ * AVX-512, 4x2 with AVX2, 4x1 with SSE4.1 (the paper's 4-wide packets),
+ * against the cell's depth buffer, which keeps the closest t along the
+ * unnormalised pixel direction and the triangle that gave it.  The rays
+ * are the pixel formula (pgrid_eye.h), never loaded.
+ *
+ * Exactness: the test is pgrid_eye.h's edge functions, the same
+ * operations in the same order in every lane and in pgrid_eye_resolve, so
+ * every copy gives the same bits and a pixel's hit is recomputed exactly
+ * from the triangle kept.  A strictly closer t replaces the kept one: the
+ * list is in prim order, so equal depths keep the smaller prim.  Trades:
+ * every pixel block of the rectangle is tested even where the triangle
+ * covers a corner of it (no coverage mask by edge stepping); a division
+ * per block with a lane inside. */
+#include <immintrin.h>
+#include <math.h>
+
+#include "pgrid_eye.h"
+#include "pgrid_isa.h"
+
+#if defined(__AVX512F__)
+#define LANES 16
+typedef __m512 vfloat;
+typedef __mmask16 vmask;
+static inline vfloat vf_set1(float x) { return _mm512_set1_ps(x); }
+static inline vfloat vf_add(vfloat a, vfloat b) { return _mm512_add_ps(a, b); }
+static inline vfloat vf_mul(vfloat a, vfloat b) { return _mm512_mul_ps(a, b); }
+static inline vfloat vf_div(vfloat a, vfloat b) { return _mm512_div_ps(a, b); }
+static inline vfloat vf_load(const float *p) { return _mm512_load_ps(p); }
+static inline vfloat vf_lane_x(void)
+{
+    return _mm512_setr_ps(0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f);
+}
+static inline vfloat vf_lane_y(void)
+{
+    return _mm512_setr_ps(0.5f, 0.5f, 0.5f, 0.5f, 1.5f, 1.5f, 1.5f, 1.5f, 2.5f, 2.5f, 2.5f, 2.5f, 3.5f, 3.5f, 3.5f, 3.5f);
+}
+/* all three >= 0 or all three <= 0 */
+static inline vmask vm_inside(vfloat a, vfloat b, vfloat c)
+{
+    const __m512 z = _mm512_setzero_ps();
+    vmask pos = _mm512_cmp_ps_mask(a, z, _CMP_GE_OQ) & _mm512_cmp_ps_mask(b, z, _CMP_GE_OQ) &
+                _mm512_cmp_ps_mask(c, z, _CMP_GE_OQ);
+    vmask neg = _mm512_cmp_ps_mask(a, z, _CMP_LE_OQ) & _mm512_cmp_ps_mask(b, z, _CMP_LE_OQ) &
+                _mm512_cmp_ps_mask(c, z, _CMP_LE_OQ);
+    return pos | neg;
+}
+static inline bool vm_any(vmask m) { return m != 0; }
+/* lanes of m with 0 < t < depth */
+static inline vmask vm_closer(vmask m, vfloat t, vfloat depth)
+{
+    return m & _mm512_cmp_ps_mask(t, _mm512_setzero_ps(), _CMP_GT_OQ) & _mm512_cmp_ps_mask(t, depth, _CMP_LT_OQ);
+}
+static inline void store_closer(vmask m, float *depth, uint32_t *triangle, vfloat t, uint32_t index)
+{
+    _mm512_mask_store_ps(depth, m, t);
+    _mm512_mask_store_epi32(triangle, m, _mm512_set1_epi32((int)index));
+}
+static inline void clear_block(float *depth, uint32_t *triangle)
+{
+    _mm512_store_ps(depth, _mm512_set1_ps(INFINITY));
+    _mm512_store_si512((void *)triangle, _mm512_set1_epi32(-1));
+}
+#elif defined(__AVX2__)
+#define LANES 8
+typedef __m256 vfloat;
+typedef __m256 vmask;
+static inline vfloat vf_set1(float x) { return _mm256_set1_ps(x); }
+static inline vfloat vf_add(vfloat a, vfloat b) { return _mm256_add_ps(a, b); }
+static inline vfloat vf_mul(vfloat a, vfloat b) { return _mm256_mul_ps(a, b); }
+static inline vfloat vf_div(vfloat a, vfloat b) { return _mm256_div_ps(a, b); }
+static inline vfloat vf_load(const float *p) { return _mm256_load_ps(p); }
+static inline vfloat vf_lane_x(void) { return _mm256_setr_ps(0.5f, 1.5f, 2.5f, 3.5f, 0.5f, 1.5f, 2.5f, 3.5f); }
+static inline vfloat vf_lane_y(void) { return _mm256_setr_ps(0.5f, 0.5f, 0.5f, 0.5f, 1.5f, 1.5f, 1.5f, 1.5f); }
+static inline vmask vm_inside(vfloat a, vfloat b, vfloat c)
+{
+    const __m256 z = _mm256_setzero_ps();
+    __m256 pos = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(a, z, _CMP_GE_OQ), _mm256_cmp_ps(b, z, _CMP_GE_OQ)),
+                               _mm256_cmp_ps(c, z, _CMP_GE_OQ));
+    __m256 neg = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(a, z, _CMP_LE_OQ), _mm256_cmp_ps(b, z, _CMP_LE_OQ)),
+                               _mm256_cmp_ps(c, z, _CMP_LE_OQ));
+    return _mm256_or_ps(pos, neg);
+}
+static inline bool vm_any(vmask m) { return _mm256_movemask_ps(m) != 0; }
+static inline vmask vm_closer(vmask m, vfloat t, vfloat depth)
+{
+    return _mm256_and_ps(m, _mm256_and_ps(_mm256_cmp_ps(t, _mm256_setzero_ps(), _CMP_GT_OQ),
+                                          _mm256_cmp_ps(t, depth, _CMP_LT_OQ)));
+}
+static inline void store_closer(vmask m, float *depth, uint32_t *triangle, vfloat t, uint32_t index)
+{
+    _mm256_store_ps(depth, _mm256_blendv_ps(_mm256_load_ps(depth), t, m));
+    __m256 old = _mm256_load_ps((const float *)triangle);
+    __m256 now = _mm256_castsi256_ps(_mm256_set1_epi32((int)index));
+    _mm256_store_ps((float *)triangle, _mm256_blendv_ps(old, now, m));
+}
+static inline void clear_block(float *depth, uint32_t *triangle)
+{
+    _mm256_store_ps(depth, _mm256_set1_ps(INFINITY));
+    _mm256_store_si256((__m256i *)triangle, _mm256_set1_epi32(-1));
+}
+#else
+#define LANES 4
+typedef __m128 vfloat;
+typedef __m128 vmask;
+static inline vfloat vf_set1(float x) { return _mm_set1_ps(x); }
+static inline vfloat vf_add(vfloat a, vfloat b) { return _mm_add_ps(a, b); }
+static inline vfloat vf_mul(vfloat a, vfloat b) { return _mm_mul_ps(a, b); }
+static inline vfloat vf_div(vfloat a, vfloat b) { return _mm_div_ps(a, b); }
+static inline vfloat vf_load(const float *p) { return _mm_load_ps(p); }
+static inline vfloat vf_lane_x(void) { return _mm_setr_ps(0.5f, 1.5f, 2.5f, 3.5f); }
+static inline vfloat vf_lane_y(void) { return _mm_set1_ps(0.5f); }
+static inline vmask vm_inside(vfloat a, vfloat b, vfloat c)
+{
+    const __m128 z = _mm_setzero_ps();
+    __m128 pos = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(a, z), _mm_cmpge_ps(b, z)), _mm_cmpge_ps(c, z));
+    __m128 neg = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(a, z), _mm_cmple_ps(b, z)), _mm_cmple_ps(c, z));
+    return _mm_or_ps(pos, neg);
+}
+static inline bool vm_any(vmask m) { return _mm_movemask_ps(m) != 0; }
+static inline vmask vm_closer(vmask m, vfloat t, vfloat depth)
+{
+    return _mm_and_ps(m, _mm_and_ps(_mm_cmpgt_ps(t, _mm_setzero_ps()), _mm_cmplt_ps(t, depth)));
+}
+static inline void store_closer(vmask m, float *depth, uint32_t *triangle, vfloat t, uint32_t index)
+{
+    _mm_store_ps(depth, _mm_blendv_ps(_mm_load_ps(depth), t, m));
+    __m128 old = _mm_load_ps((const float *)triangle);
+    _mm_store_ps((float *)triangle, _mm_blendv_ps(old, _mm_castsi128_ps(_mm_set1_epi32((int)index)), m));
+}
+static inline void clear_block(float *depth, uint32_t *triangle)
+{
+    _mm_store_ps(depth, _mm_set1_ps(INFINITY));
+    _mm_store_si128((__m128i *)triangle, _mm_set1_epi32(-1));
+}
+#endif
+
+#define BLOCK_H (LANES / 4)
+
+void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t *triangle);
+
+void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t *triangle)
+{
+    const uint32_t side = g->cell, blocks_x = side / 4u;
+    const uint32_t X0 = (cell % g->cells_x) * side, Y0 = (cell / g->cells_x) * side;
+    const uint32_t X1 = (X0 + side < g->width ? X0 + side : g->width) - 1u;
+    const uint32_t Y1 = (Y0 + side < g->height ? Y0 + side : g->height) - 1u;
+    for (uint32_t b = 0; b < side * side / LANES; b++) clear_block(depth + b * LANES, triangle + b * LANES);
+    const vfloat lane_x = vf_lane_x(), lane_y = vf_lane_y();
+    const uint32_t end = g->cell_first[cell + 1];
+    for (uint32_t r = g->cell_first[cell]; r < end; r++) {
+        const uint32_t index = g->refs[r];
+        const pgrid_triangle *t = &g->triangles[index];
+        const uint32_t x0 = t->x0 > X0 ? t->x0 : X0, x1 = t->x1 < X1 ? t->x1 : X1;
+        const uint32_t y0 = t->y0 > Y0 ? t->y0 : Y0, y1 = t->y1 < Y1 ? t->y1 : Y1;
+        const vfloat a0 = vf_set1(t->a[0]), a1 = vf_set1(t->a[1]), a2 = vf_set1(t->a[2]);
+        const vfloat b0 = vf_set1(t->b[0]), b1 = vf_set1(t->b[1]), b2 = vf_set1(t->b[2]);
+        const vfloat c0 = vf_set1(t->c[0]), c1 = vf_set1(t->c[1]), c2 = vf_set1(t->c[2]);
+        const vfloat a3 = vf_set1(t->a[3]), b3 = vf_set1(t->b[3]), c3 = vf_set1(t->c[3]);
+        const vfloat det = vf_set1(t->det);
+        for (uint32_t by = (y0 - Y0) / BLOCK_H; by <= (y1 - Y0) / BLOCK_H; by++) {
+            const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
+            const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
+                         r2 = vf_add(c2, vf_mul(b2, fy)), r3 = vf_add(c3, vf_mul(b3, fy));
+            for (uint32_t bx = (x0 - X0) / 4u; bx <= (x1 - X0) / 4u; bx++) {
+                const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x);
+                const vfloat w0 = vf_add(r0, vf_mul(a0, fx)), w1 = vf_add(r1, vf_mul(a1, fx)),
+                             w2 = vf_add(r2, vf_mul(a2, fx));
+                const vmask inside = vm_inside(w0, w1, w2);
+                if (!vm_any(inside)) continue;
+                const size_t at = ((size_t)by * blocks_x + bx) * LANES;
+                const vfloat tv = vf_div(det, vf_add(r3, vf_mul(a3, fx)));
+                const vmask closer = vm_closer(inside, tv, vf_load(depth + at));
+                if (vm_any(closer)) store_closer(closer, depth + at, triangle + at, tv, index);
+            }
+        }
+    }
+}
