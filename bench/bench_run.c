@@ -202,11 +202,43 @@ static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays 
     return true;
 }
 
+static bool runs_accel(const bench_state *s, rtt_accel accel)
+{
+    return s->config->accel == RTT_ACCEL_DEFAULT || s->config->accel == accel;
+}
+
+/* Hunt & Mark's Table 1, primary: the perspective grid per frame, its
+ * build as a build row of the same method. */
+static bool run_pgrid_primary(bench_state *s, const bench_rays *rays)
+{
+    for (uint32_t t = 0; t < s->config->thread_count; t++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_PRIMARY, "rtt", s->config->threads[t]);
+        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
+        snprintf(row.method, sizeof row.method, "pgrid");
+        snprintf(build.method, sizeof build.method, "pgrid");
+        snprintf(row.family, sizeof row.family, "pgrid");
+        snprintf(build.family, sizeof build.family, "build");
+        row.rays = rays->active;
+        build.rays = s->scene->triangle_count;
+        progress(s, &row);
+        bench_trace_spec spec = {false, row.threads, s->warmup, s->frames, false, s->config->isa};
+        bool check = t == 0 && s->have_oracle;
+        if (!bench_pgrid_row(s->scene, optimized_engine_degenerate(s->engine), s->width, s->height, &spec, &row,
+                             &build, check ? s->result : NULL))
+            return false;
+        if (check && !row.error[0]) row.agree = agreement(s, rays);
+        if (!bench_report_push(s->report, &row) || !bench_report_push(s->report, &build)) return false;
+    }
+    return true;
+}
+
 static bool run_primary(bench_state *s, const bench_rays *rays)
 {
     static const uint32_t lanes[] = {1, 4, 8, 16}, quick_lanes[] = {1, 16};
     if (!run_peer_rows(s, RTT_BENCH_PRIMARY, rays, s->config->quick ? quick_lanes : lanes, s->config->quick ? 2 : 4))
         return false;
+    if (runs_accel(s, RTT_ACCEL_PGRID) && !run_pgrid_primary(s, rays)) return false;
+    if (!runs_accel(s, RTT_ACCEL_KD)) return true;
     kernel_method methods[32];
     size_t n = 0;
     methods[n++] = (kernel_method){"mono", 0, 1};

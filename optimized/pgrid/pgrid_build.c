@@ -38,6 +38,7 @@ static bool grow(void **array, size_t *capacity, size_t need, size_t element)
 void pgrid_eye_free(pgrid_eye *grid)
 {
     free(grid->triangles);
+    free(grid->surfaces);
     free(grid->cell_first);
     free(grid->refs);
     memset(grid, 0, sizeof *grid);
@@ -47,6 +48,9 @@ void pgrid_eye_free(pgrid_eye *grid)
  * pixel indices 0 .. size-1; false when it misses the image.  The centre
  * of pixel p is p + 0.5; one pixel of margin covers the rounding of the
  * projection and of the triangle test. */
+static inline float min_float(float a, float b) { return b < a ? b : a; }
+static inline float max_float(float a, float b) { return b > a ? b : a; }
+
 static bool pixel_range(float lo, float hi, uint32_t size, uint16_t *first, uint16_t *last)
 {
     const float margin = 1.0f;
@@ -64,7 +68,7 @@ static bool pixel_range(float lo, float hi, uint32_t size, uint16_t *first, uint
  * a point relative to the eye onto pixel-centre coordinates. */
 typedef struct projection {
     rtt_vec3 forward, du, dv;
-    float corner_du, corner_dv, du2, dv2;   /* corner . du, corner . dv, |du|^2, |dv|^2 */
+    float corner_du, corner_dv, inv_du2, inv_dv2;   /* corner . du, corner . dv, 1 / |du|^2, 1 / |dv|^2 */
     float z_near;
 } projection;
 
@@ -76,8 +80,8 @@ static projection projection_make(const rtt_camera_frame *f, const rtt_scene *sc
     p.dv = f->dv;
     p.corner_du = rtt_v3_dot(f->corner, f->du);
     p.corner_dv = rtt_v3_dot(f->corner, f->dv);
-    p.du2 = rtt_v3_dot(f->du, f->du);
-    p.dv2 = rtt_v3_dot(f->dv, f->dv);
+    p.inv_du2 = 1.0f / rtt_v3_dot(f->du, f->du);
+    p.inv_dv2 = 1.0f / rtt_v3_dot(f->dv, f->dv);
     rtt_vec3 lo = scene->bounds.lo, hi = scene->bounds.hi;
     float extent = rtt_v3_length(rtt_v3_sub(hi, lo)) +
                    rtt_v3_length(rtt_v3_sub(rtt_v3_scale(rtt_v3_add(lo, hi), 0.5f), f->eye));
@@ -86,9 +90,15 @@ static projection projection_make(const rtt_camera_frame *f, const rtt_scene *sc
 }
 
 /* The edge functions of one triangle relative to the eye (pgrid_eye.h). */
-static void triangle_setup(pgrid_triangle *t, const rtt_camera_frame *f, const rtt_vec3 rel[3])
+static void triangle_setup(pgrid_triangle *t, pgrid_surface *surface, const rtt_camera_frame *f,
+                           const rtt_vec3 rel[3])
 {
-    const rtt_vec3 normal = rtt_v3_cross(rtt_v3_sub(rel[1], rel[0]), rtt_v3_sub(rel[2], rel[0]));
+    const rtt_vec3 e1 = rtt_v3_sub(rel[1], rel[0]), e2 = rtt_v3_sub(rel[2], rel[0]);
+    const rtt_vec3 normal = rtt_v3_cross(e1, e2);
+    const float inv_n2 = 1.0f / rtt_v3_dot(normal, normal);
+    const rtt_vec3 m_u = rtt_v3_scale(rtt_v3_cross(e2, normal), inv_n2);
+    const rtt_vec3 m_v = rtt_v3_scale(rtt_v3_cross(normal, e1), inv_n2);
+    *surface = (pgrid_surface){{rel[0].x, rel[0].y, rel[0].z}, {m_u.x, m_u.y, m_u.z}, {m_v.x, m_v.y, m_v.z}, {0}};
     for (int e = 0; e < 4; e++) {
         rtt_vec3 n = e < 3 ? rtt_v3_cross(rel[(e + 1) % 3], rel[(e + 2) % 3]) : normal;
         t->a[e] = rtt_v3_dot(n, f->du);
@@ -105,8 +115,8 @@ static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t w
     float z[3], zmin = INFINITY, zmax = -INFINITY;
     for (int i = 0; i < 3; i++) {
         z[i] = rtt_v3_dot(rel[i], p->forward);
-        zmin = fminf(zmin, z[i]);
-        zmax = fmaxf(zmax, z[i]);
+        zmin = min_float(zmin, z[i]);
+        zmax = max_float(zmax, z[i]);
     }
     *near = false;
     if (zmax < -p->z_near) return false;
@@ -119,12 +129,13 @@ static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t w
     }
     float xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
     for (int i = 0; i < 3; i++) {
-        float fx = (rtt_v3_dot(rel[i], p->du) / z[i] - p->corner_du) / p->du2;
-        float fy = (rtt_v3_dot(rel[i], p->dv) / z[i] - p->corner_dv) / p->dv2;
-        xlo = fminf(xlo, fx);
-        xhi = fmaxf(xhi, fx);
-        ylo = fminf(ylo, fy);
-        yhi = fmaxf(yhi, fy);
+        const float inv_z = 1.0f / z[i];
+        float fx = (rtt_v3_dot(rel[i], p->du) * inv_z - p->corner_du) * p->inv_du2;
+        float fy = (rtt_v3_dot(rel[i], p->dv) * inv_z - p->corner_dv) * p->inv_dv2;
+        xlo = min_float(xlo, fx);
+        xhi = max_float(xhi, fx);
+        ylo = min_float(ylo, fy);
+        yhi = max_float(yhi, fy);
     }
     return pixel_range(xlo, xhi, width, &t->x0, &t->x1) && pixel_range(ylo, yhi, height, &t->y0, &t->y1);
 }
@@ -146,10 +157,11 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     g->cells_y = (height + cell - 1) / cell;
     g->frame = *frame;
     const uint32_t cells = g->cells_x * g->cells_y;
-    size_t cap = g->cell_capacity, tcap = g->triangle_capacity;
+    size_t cap = g->cell_capacity, tcap = g->triangle_capacity, scap = g->triangle_capacity;
+    const size_t triangles = scene->triangle_count ? scene->triangle_count : 1;
     if (!grow((void **)&g->cell_first, &cap, (size_t)cells + 1, sizeof(uint32_t)) ||
-        !grow((void **)&g->triangles, &tcap, scene->triangle_count ? scene->triangle_count : 1,
-              sizeof(pgrid_triangle)))
+        !grow((void **)&g->triangles, &tcap, triangles, sizeof(pgrid_triangle)) ||
+        !grow((void **)&g->surfaces, &scap, triangles, sizeof(pgrid_surface)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     g->cell_capacity = (uint32_t)cap;
     g->triangle_capacity = (uint32_t)tcap;
@@ -167,7 +179,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         pgrid_triangle *t = &g->triangles[kept];
         bool near;
         if (!triangle_rect(&p, rel, width, height, t, &near)) continue;
-        triangle_setup(t, frame, rel);
+        triangle_setup(t, &g->surfaces[kept], frame, rel);
         t->prim = i;
         near_count += near;
         kept++;
@@ -191,40 +203,4 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     for (uint32_t c = cells; c > 0; c--) g->cell_first[c] = g->cell_first[c - 1];
     g->cell_first[0] = 0;
     return true;
-}
-
-/* u, v of the hit point p (relative to the eye) in double: the world-space
- * barycentrics of vertices 1 and 2, as the reference reports them. */
-static void barycentrics(const rtt_vec3 rel[3], const double p[3], float *u, float *v)
-{
-    double e1[3], e2[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = (double)rtt_v3_get(rel[1], k) - (double)rtt_v3_get(rel[0], k);
-        e2[k] = (double)rtt_v3_get(rel[2], k) - (double)rtt_v3_get(rel[0], k);
-        q[k] = p[k] - (double)rtt_v3_get(rel[0], k);
-    }
-    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    const double qe2[3] = {q[1] * e2[2] - q[2] * e2[1], q[2] * e2[0] - q[0] * e2[2], q[0] * e2[1] - q[1] * e2[0]};
-    const double e1q[3] = {e1[1] * q[2] - e1[2] * q[1], e1[2] * q[0] - e1[0] * q[2], e1[0] * q[1] - e1[1] * q[0]};
-    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    *u = (float)((qe2[0] * n[0] + qe2[1] * n[1] + qe2[2] * n[2]) / nn);
-    *v = (float)((e1q[0] * n[0] + e1q[1] * n[1] + e1q[2] * n[2]) / nn);
-}
-
-rtt_hit pgrid_eye_resolve(const pgrid_eye *g, const rtt_scene *scene, uint32_t triangle, uint32_t px, uint32_t py)
-{
-    if (triangle == PGRID_NO_TRIANGLE) return (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-    const pgrid_triangle *t = &g->triangles[triangle];
-    const float fx = (float)px + 0.5f, fy = (float)py + 0.5f;
-    const float t_d = t->det / ((t->c[3] + t->b[3] * fy) + t->a[3] * fx); /* pgrid_cell.c's order */
-    /* rtt_camera_ray's direction before normalisation, in its order */
-    const rtt_camera_frame *f = &g->frame;
-    const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, fx), rtt_v3_scale(f->dv, fy)));
-    rtt_vec3 corners[3], rel[3];
-    rtt_scene_triangle(scene, t->prim, corners);
-    for (int k = 0; k < 3; k++) rel[k] = rtt_v3_sub(corners[k], f->eye);
-    const double p[3] = {(double)t_d * d.x, (double)t_d * d.y, (double)t_d * d.z};
-    rtt_hit hit = {t_d * rtt_v3_length(d), 0.0f, 0.0f, t->prim};
-    barycentrics(rel, p, &hit.u, &hit.v);
-    return hit;
 }

@@ -18,6 +18,8 @@
 #include <immintrin.h>
 #include <math.h>
 
+#include "rtt/vec3.h"
+
 #include "pgrid_eye.h"
 #include "pgrid_isa.h"
 
@@ -176,6 +178,43 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
                 const vmask closer = vm_closer(inside, tv, vf_load(depth + at));
                 if (vm_any(closer)) store_closer(closer, depth + at, triangle + at, tv, index);
             }
+        }
+    }
+}
+
+void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, const uint32_t *triangle,
+                        rtt_hit *hits, size_t stride);
+
+/* The hits of the cell's pixels from its buffers: t along the normalised
+ * direction is t_D |D| (|D| in rtt_camera_ray's order), u, v the
+ * barycentric map of the hit point t_D D (pgrid_eye.h). */
+void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, const uint32_t *triangle,
+                        rtt_hit *hits, size_t stride)
+{
+    const uint32_t side = g->cell;
+    const uint32_t X0 = (cell % g->cells_x) * side, Y0 = (cell / g->cells_x) * side;
+    const uint32_t w = (X0 + side < g->width ? X0 + side : g->width) - X0;
+    const uint32_t h = (Y0 + side < g->height ? Y0 + side : g->height) - Y0;
+    const rtt_camera_frame *f = &g->frame;
+    for (uint32_t y = 0; y < h; y++) {
+        const float fy = (float)(Y0 + y) + 0.5f;
+        const rtt_vec3 row = rtt_v3_scale(f->dv, fy);
+        const size_t block_row = (size_t)(y / BLOCK_H) * (side / 4u) * LANES + (y % BLOCK_H) * 4u;
+        rtt_hit *out = hits + (size_t)y * stride;
+        for (uint32_t x = 0; x < w; x++) {
+            const size_t at = block_row + (x / 4u) * LANES + x % 4u;
+            const uint32_t index = triangle[at];
+            if (index == PGRID_NO_TRIANGLE) {
+                out[x] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+                continue;
+            }
+            const pgrid_surface *sf = &g->surfaces[index];
+            const float fx = (float)(X0 + x) + 0.5f, t_d = depth[at];
+            const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, fx), row));
+            const rtt_vec3 q = rtt_v3(t_d * d.x - sf->origin[0], t_d * d.y - sf->origin[1], t_d * d.z - sf->origin[2]);
+            const float u = (q.x * sf->m_u[0] + q.y * sf->m_u[1]) + q.z * sf->m_u[2];
+            const float v = (q.x * sf->m_v[0] + q.y * sf->m_v[1]) + q.z * sf->m_v[2];
+            out[x] = (rtt_hit){t_d * rtt_v3_length(d), u, v, g->triangles[index].prim};
         }
     }
 }

@@ -12,7 +12,6 @@
 typedef struct frame_job {
     const pgrid_eye *grid;
     const pgrid_kernel *kernel;
-    const rtt_scene *scene;
     rtt_hit *hits;
     float **depth;
     uint32_t **triangle;
@@ -22,14 +21,10 @@ static void trace_cell(void *context, uint32_t thread, uint32_t cell)
 {
     const frame_job *job = context;
     const pgrid_eye *g = job->grid;
-    float *depth = job->depth[thread];
-    uint32_t *triangle = job->triangle[thread];
-    job->kernel->trace_cell(g, cell, depth, triangle);
     const uint32_t X0 = (cell % g->cells_x) * g->cell, Y0 = (cell / g->cells_x) * g->cell;
-    for (uint32_t y = Y0; y < Y0 + g->cell && y < g->height; y++)
-        for (uint32_t x = X0; x < X0 + g->cell && x < g->width; x++)
-            job->hits[(size_t)y * g->width + x] = pgrid_eye_resolve(
-                g, job->scene, triangle[pgrid_cell_offset(g->cell, job->kernel->lanes, x - X0, y - Y0)], x, y);
+    job->kernel->trace_cell(g, cell, job->depth[thread], job->triangle[thread]);
+    job->kernel->resolve_cell(g, cell, job->depth[thread], job->triangle[thread],
+                              job->hits + (size_t)Y0 * g->width + X0, g->width);
 }
 
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
@@ -42,7 +37,7 @@ bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rt
     if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     threads = rtt_thread_count(threads);
     const size_t entries = (size_t)grid->cell * grid->cell;
-    frame_job job = {grid, kernel, scene, hits, calloc(threads, sizeof(float *)), calloc(threads, sizeof(uint32_t *))};
+    frame_job job = {grid, kernel, hits, calloc(threads, sizeof(float *)), calloc(threads, sizeof(uint32_t *))};
     bool ok = job.depth && job.triangle;
     for (uint32_t t = 0; ok && t < threads; t++) {
         job.depth[t] = aligned_alloc(64, entries * sizeof(float));

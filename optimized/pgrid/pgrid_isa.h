@@ -16,5 +16,6 @@
 #define PGRID_ISA(name) PGRID_ISA_EXPAND(name, RTT_ISA_SUFFIX)
 
 #define pgrid_trace_cell PGRID_ISA(pgrid_trace_cell)
+#define pgrid_resolve_cell PGRID_ISA(pgrid_resolve_cell)
 
 #endif

@@ -6,16 +6,19 @@
 
 #include "pgrid_eye.h"
 
-void pgrid_trace_cell_sse4(const pgrid_eye *, uint32_t, float *, uint32_t *);
-void pgrid_trace_cell_avx2(const pgrid_eye *, uint32_t, float *, uint32_t *);
-void pgrid_trace_cell_avx512(const pgrid_eye *, uint32_t, float *, uint32_t *);
+#define PGRID_KERNEL_COPY(isa)                                                                                \
+    void pgrid_trace_cell_##isa(const pgrid_eye *, uint32_t, float *, uint32_t *);                            \
+    void pgrid_resolve_cell_##isa(const pgrid_eye *, uint32_t, const float *, const uint32_t *, rtt_hit *, size_t);
+PGRID_KERNEL_COPY(sse4)
+PGRID_KERNEL_COPY(avx2)
+PGRID_KERNEL_COPY(avx512)
 
 #define PGRID_IMPLEMENTS "Hunt & Mark 5.1: 2D perspective grid, cells in object order against a depth buffer"
 
 static const pgrid_kernel pgrid_kernels[] = {
-    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_sse4, 4, RTT_ISA_SSE4},
-    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_avx2, 8, RTT_ISA_AVX2},
-    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_avx512, 16, RTT_ISA_AVX512},
+    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_sse4, pgrid_resolve_cell_sse4, 4, RTT_ISA_SSE4},
+    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_avx2, pgrid_resolve_cell_avx2, 8, RTT_ISA_AVX2},
+    {"pgrid", PGRID_IMPLEMENTS, pgrid_trace_cell_avx512, pgrid_resolve_cell_avx512, 16, RTT_ISA_AVX512},
 };
 #define PGRID_KERNEL_ROW_COUNT (sizeof pgrid_kernels / sizeof pgrid_kernels[0])
 

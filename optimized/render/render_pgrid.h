@@ -13,10 +13,10 @@
 typedef struct pgrid_render {
     pgrid_eye grid;
     const pgrid_kernel *kernel;
-    const rtt_scene *scene;
     uint32_t threads;
     float **depth;          /* per thread: a cell's depth buffer */
     uint32_t **triangle;    /* per thread: the triangle per pixel */
+    rtt_hit **hits;         /* per thread: the cell's hits, row-major */
     double build_seconds;
 } pgrid_render;
 
