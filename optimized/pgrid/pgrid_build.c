@@ -6,6 +6,11 @@
  * in the global order (ties then go to the smaller prim by keeping the
  * first of equal depths).
  *
+ * Corners are taken relative to the eye and scaled by a power of two that
+ * brings the scene's extent seen from the eye to about 1 (exact), so the
+ * products of the edge functions neither underflow at 1e-20 nor overflow
+ * at 1e20; t is scaled back when hits are resolved.
+ *
  * The near plane, and what it trades against the paper: the paper clips
  * geometry to a near plane and loses what lies in front of it.  Here a
  * triangle with every corner beyond the near plane (depth >= z_near, a
@@ -70,6 +75,7 @@ typedef struct projection {
     rtt_vec3 forward, du, dv;
     float corner_du, corner_dv, inv_du2, inv_dv2;   /* corner . du, corner . dv, 1 / |du|^2, 1 / |dv|^2 */
     float z_near;
+    float scale;        /* a power of two bringing the scene's extent seen from the eye to about 1 */
 } projection;
 
 static projection projection_make(const rtt_camera_frame *f, const rtt_scene *scene)
@@ -85,7 +91,9 @@ static projection projection_make(const rtt_camera_frame *f, const rtt_scene *sc
     rtt_vec3 lo = scene->bounds.lo, hi = scene->bounds.hi;
     float extent = rtt_v3_length(rtt_v3_sub(hi, lo)) +
                    rtt_v3_length(rtt_v3_sub(rtt_v3_scale(rtt_v3_add(lo, hi), 0.5f), f->eye));
-    p.z_near = isfinite(extent) && extent > 0.0f ? extent * 0x1p-20f : 0x1p-100f;
+    const bool usable = isfinite(extent) && extent > 0.0f;
+    p.scale = usable ? ldexpf(1.0f, -ilogbf(extent)) : 1.0f;
+    p.z_near = usable ? extent * p.scale * 0x1p-20f : 0x1p-100f;
     return p;
 }
 
@@ -175,7 +183,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         if (degenerate && degenerate[i]) continue;
         rtt_vec3 corners[3], rel[3];
         rtt_scene_triangle(scene, i, corners);
-        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_sub(corners[k], frame->eye);
+        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_scale(rtt_v3_sub(corners[k], frame->eye), p.scale);
         pgrid_triangle *t = &g->triangles[kept];
         bool near;
         if (!triangle_rect(&p, rel, width, height, t, &near)) continue;
@@ -188,6 +196,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
     }
     g->triangle_count = kept;
+    g->inv_scale = 1.0f / p.scale;
     g->near_count = near_count;
     if (!grow((void **)&g->refs, &g->ref_capacity, refs ? refs : 1, sizeof(uint32_t)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);

@@ -214,7 +214,7 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
             const rtt_vec3 q = rtt_v3(t_d * d.x - sf->origin[0], t_d * d.y - sf->origin[1], t_d * d.z - sf->origin[2]);
             const float u = (q.x * sf->m_u[0] + q.y * sf->m_u[1]) + q.z * sf->m_u[2];
             const float v = (q.x * sf->m_v[0] + q.y * sf->m_v[1]) + q.z * sf->m_v[2];
-            out[x] = (rtt_hit){t_d * rtt_v3_length(d), u, v, g->triangles[index].prim};
+            out[x] = (rtt_hit){t_d * g->inv_scale * rtt_v3_length(d), u, v, g->triangles[index].prim};
         }
     }
 }

@@ -79,6 +79,7 @@ typedef struct pgrid_eye {
     uint32_t *refs;            /* indices into triangles */
     size_t ref_count, ref_capacity;
     uint32_t near_count;       /* triangles reaching in front of the near plane: every cell holds them */
+    float inv_scale;           /* the build works on corners scaled by 1 / inv_scale (a power of two) */
 } pgrid_eye;
 
 /* Builds the grid of `frame` at width x height in cells of `cell` pixels
