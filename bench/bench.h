@@ -55,6 +55,7 @@ typedef struct rtt_bench_config {
     uint32_t max_tree_depth;                /* the kd-tree's depth bound, 0 → the builder's default */
     rtt_accel accel;                        /* our rows: RTT_ACCEL_DEFAULT (default) every structure's,
                                                else only that one's (kd, pgrid) */
+    uint32_t pgrid_cell;                    /* the eye grid's cell side in pixels, 0 → its default */
     rtt_isa isa;                            /* the kernels' instruction set; RTT_ISA_AUTO (default):
                                                $RTT_ISA when set, else the widest the CPU has */
     const char *image_dir;                  /* write each render row's image here (EXR), or NULL */

@@ -71,7 +71,7 @@ bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t 
  * grid's build, every cell and every pixel's hit.  Fills row (fps, rays/s)
  * and build_row (the build's median, its memory); result as above. */
 bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t width, uint32_t height,
-                     const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
+                     uint32_t cell, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
 
 /* The Embree peer: one device and scene per variant. */
 typedef struct bench_embree bench_embree;

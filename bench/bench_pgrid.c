@@ -18,7 +18,7 @@ typedef struct pgrid_frame {
     const rtt_scene *scene;
     const uint8_t *degenerate;
     rtt_camera_frame camera;
-    uint32_t width, height, threads;
+    uint32_t width, height, cell, threads;
     rtt_hit *hits;
     double *build_seconds;      /* per frame run, warm-up included */
     uint32_t runs;
@@ -31,7 +31,7 @@ static void run_frame(void *context)
     rtt_error err;
     double build = 0.0;
     f->failed |= !pgrid_eye_trace_frame(&f->grid, f->kernel, f->scene, f->degenerate, &f->camera, f->width,
-                                        f->height, 0, f->threads, f->hits, &build, &err);
+                                        f->height, f->cell, f->threads, f->hits, &build, &err);
     f->build_seconds[f->runs++] = build;
 }
 
@@ -42,11 +42,11 @@ static int compare_double(const void *a, const void *b)
 }
 
 bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t width, uint32_t height,
-                     const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result)
+                     uint32_t cell, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result)
 {
     pgrid_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
                      .degenerate = degenerate, .camera = rtt_camera_frame_make(&scene->camera, width, height),
-                     .width = width, .height = height, .threads = spec->threads};
+                     .width = width, .height = height, .cell = cell, .threads = spec->threads};
     f.hits = malloc((size_t)width * height * sizeof *f.hits);
     f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
     if (!f.hits || !f.build_seconds) {
@@ -54,7 +54,9 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
         free(f.build_seconds);
         return false;
     }
-    snprintf(row->variant, sizeof row->variant, "%s/%s", f.kernel->name, rtt_isa_name(f.kernel->isa));
+    snprintf(row->variant, sizeof row->variant, "%s/%s cell %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
+             cell ? cell : PGRID_EYE_CELL_DEFAULT);
+    row->tile = cell ? cell : PGRID_EYE_CELL_DEFAULT;
     bench_time_frames(run_frame, &f, spec->warmup, spec->frames, row);
     if (f.failed) snprintf(row->error, sizeof row->error, "out of memory building the perspective grid");
     double *timed = f.build_seconds + spec->warmup;

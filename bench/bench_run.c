@@ -223,7 +223,8 @@ static bool run_pgrid_primary(bench_state *s, const bench_rays *rays)
         progress(s, &row);
         bench_trace_spec spec = {false, row.threads, s->warmup, s->frames, false, s->config->isa};
         bool check = t == 0 && s->have_oracle;
-        if (!bench_pgrid_row(s->scene, optimized_engine_degenerate(s->engine), s->width, s->height, &spec, &row,
+        if (!bench_pgrid_row(s->scene, optimized_engine_degenerate(s->engine), s->width, s->height,
+                             s->config->pgrid_cell, &spec, &row,
                              &build, check ? s->result : NULL))
             return false;
         if (check && !row.error[0]) row.agree = agreement(s, rays);

@@ -51,6 +51,9 @@ static const cli_option bench_options[] = {
     {.name = "--accel", .value_name = "NAME",
      .help = "only our rows of this acceleration structure (default: every one's):", .kind = CLI_CUSTOM,
      CLI_FIELD(bench_args, config.accel), .parse = cli_parse_accel, .help_more = cli_help_accels},
+    {.name = "--pgrid-cell", .value_name = "N",
+     .help = "the perspective grid's cell side in pixels, a multiple of 4 from 4 to 512 (default 128)",
+     .kind = CLI_U32, CLI_FIELD(bench_args, config.pgrid_cell), .lo = 4, .hi = 512},
     {.name = "--frames", .value_name = "N", .help = "timed frames per row, 1 to 64, median reported (default 5)",
      .kind = CLI_U32, CLI_FIELD(bench_args, config.frames), .lo = 1, .hi = 64},
     {.name = "--warmup", .value_name = "N", .help = "untimed frames before them, 0 to 64 (default 1)",
@@ -86,6 +89,7 @@ static int check_applicable(const cli_parsed *parsed, const bench_args *a)
 {
     if (a->view && !a->views) return cli_refuse(parsed, "--view", "needs --views FILE");
     if (cli_given(parsed, "--height") && !cli_given(parsed, "--size")) return cli_refuse(parsed, "--height", "needs --size N");
+    if (a->config.pgrid_cell % 4u) return cli_refuse(parsed, "--pgrid-cell", "must be a multiple of 4");
     if (a->config.quick && cli_given(parsed, "--frames"))
         return cli_refuse(parsed, "--frames", "--quick times one frame per row");
     if (a->config.quick && cli_given(parsed, "--warmup"))

@@ -245,12 +245,14 @@ static void test_pgrid_render_matches_reference(void **state)
                 ro.width = 96, ro.height = 72, ro.threads = 2, ro.shadows = shadows[m];
                 ro.engine.accel = RTT_ACCEL_PGRID;
                 ro.engine.isa = isa;
+                if (m) snprintf(ro.engine.traversal, sizeof ro.engine.traversal, "pgrid"); /* named or default */
                 rtt_image *a = rtt_image_create(96, 72, 0, &err), *b = rtt_image_create(96, 72, 0, &err);
                 assert_non_null(a);
                 assert_non_null(b);
                 if (!rtt_optimized_render(opt_engine, &ro, a, NULL, &err)) fail_msg("pgrid render: %s", err.message);
                 ro.engine.accel = RTT_ACCEL_DEFAULT;
                 ro.engine.isa = RTT_ISA_AUTO;
+                ro.engine.traversal[0] = '\0';
                 if (!rtt_reference_render(s, ref, &ro, b, NULL, &err)) fail_msg("reference: %s", err.message);
                 rtt_image_metrics mt;
                 assert_true(rtt_image_compare(a, b, &mt, &err));

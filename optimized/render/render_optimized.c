@@ -151,7 +151,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                     .epsilon = rtt_scene_ray_epsilon(scene),
                     .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix)},
         .tracer = {.tree = tree,
-                   .kernel = kd_kernel_find(engine_opt->traversal, isa),
+                   /* under pgrid the traversal names the grid's kernel: shadows take the kd default */
+                   .kernel = kd_kernel_find(engine_opt->accel == RTT_ACCEL_PGRID ? "" : engine_opt->traversal, isa),
                    .secondary = kd_kernel_for_secondary_rays(isa),
                    .pyramid = kd_kernel_for_pyramid_groups(isa),
                    .shadows = kd_shadow_kernels_find(isa),
