@@ -66,7 +66,7 @@ typedef struct rtt_bench_config {
 
 typedef struct rtt_bench_row {
     rtt_bench_kind kind;
-    char engine[8];            /* "rtt" or "embree" */
+    char engine[12];           /* "rtt", "embree" or "llvmpipe" */
     char method[48];           /* "mft 16x16", "packet 2x2", "rtcIntersect16", "edgewidth" */
     char family[16];           /* "mft", "frustum", "packet", ... / "embree" */
     char variant[32];          /* embree: "native robust" ...; rtt: "cull on" / "cull off" */

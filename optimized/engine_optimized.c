@@ -1,5 +1,7 @@
 /* The optimized engine behind the engine interface: the SAH kd-tree of
- * kd_build_sah.c, or the tree of a baked .kdt
+ * kd_build_sah.c (also under --accel pgrid, whose per-frame eye-ray grid
+ * lives in the renderer: the tree serves every other ray and the engine's
+ * ray streams), or the tree of a baked .kdt
  * adopted as is (scene->baked, validated by scene/kdt_file.c; its arrays
  * have kd_tree.h's layout, asserted below, so nothing is rebuilt or copied).
  *
