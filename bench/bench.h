@@ -104,12 +104,12 @@ typedef struct rtt_bench_report {
 
 void rtt_bench_config_default(rtt_bench_config *config);
 
-/* Applies entry `name` of a views file (bench/views.json) to the scene: its
- * camera, its light (replacing the scene's lights by one), and its image
- * size when it names one.  name NULL → the scene file's base name without
- * extension.  False + err when the file or entry is missing or malformed. */
-bool rtt_bench_apply_view(rtt_scene *scene, const char *views_path, const char *name, char view_out[64],
-                          rtt_error *err);
+/* Applies a view of a views file (bench/views.json, read by rtt_views_load)
+ * to the scene as the benchmarks define it: its camera, its light (replacing
+ * the scene's lights by one; a view without one keeps the scene's), and its
+ * image size when it names one.  False + err when out of memory. */
+struct rtt_view;
+bool rtt_bench_apply_view(rtt_scene *scene, const struct rtt_view *view, rtt_error *err);
 
 /* Runs every row the config asks for.  False only when the optimized
  * engine cannot be built or memory runs out; a row that cannot run (a

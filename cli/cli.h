@@ -33,6 +33,6 @@ rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *er
 /* The subcommands (options.h: cli_command), each in its cmd_*.c. */
 struct cli_command;
 extern const struct cli_command render_command, bake_command, info_command, triangles_command, trace_command,
-    conform_command, compare_command, bench_command;
+    conform_command, compare_command, bench_command, view_command;
 
 #endif

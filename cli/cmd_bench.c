@@ -7,15 +7,17 @@
 #include <unistd.h>
 
 #include "bench.h"
+#include "camera_options.h"
 #include "cli.h"
 #include "options.h"
 
 typedef struct bench_args {
-    const char *scene_path, *views, *view, *markdown, *tsv;
+    const char *scene_path, *views, *markdown, *tsv;
     bool json, progress, no_embree;
     uint32_t size, height, kinds; /* kinds: bit k for kind_names[k] */
     rtt_bench_config config;
     rtt_engine_options engine; /* the optimized engine's options the bench takes */
+    cli_camera_args camera;
 } bench_args;
 
 static bool parse_threads(const char *text, void *field, rtt_error *why)
@@ -66,11 +68,10 @@ static const cli_option bench_options[] = {
      .help = "one frame, no warm-up, tile 8 only, one Embree variant, one thread unless --threads is given "
              "(a smoke run)",
      .kind = CLI_FLAG, CLI_FIELD(bench_args, config.quick)},
-    {.name = "--views", .value_name = "FILE", .help = "apply a camera and light from FILE (bench/views.json)",
+    {.name = "--views", .value_name = "FILE",
+     .help = "the same as --view FILE: the view named after the scene file (bench/views.json)",
      .kind = CLI_STRING, CLI_FIELD(bench_args, views)},
-    {.name = "--view", .value_name = "NAME",
-     .help = "with --views: the entry to apply (default: the scene file's base name)",
-     .kind = CLI_STRING, CLI_FIELD(bench_args, view)},
+    CLI_OPTIONS_CAMERA(bench_args, camera),
     {.name = "--only", .value_name = "KINDS", .help = "comma list of primary, shadow, render, build (default all)",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(bench_args, kinds), .choices = kind_names},
     {.name = "--no-embree", .help = "do not race Embree", .kind = CLI_FLAG, CLI_FIELD(bench_args, no_embree)},
@@ -85,10 +86,11 @@ static const cli_option bench_options[] = {
 };
 
 /* What --quick, --only and the scene file make meaningless. */
-static int check_applicable(const cli_parsed *parsed, const bench_args *a)
+static int check_applicable(const cli_parsed *parsed, bench_args *a)
 {
-    if (a->view && !a->views) return cli_refuse(parsed, "--view", "needs --views FILE");
-    if (cli_given(parsed, "--height") && !cli_given(parsed, "--size")) return cli_refuse(parsed, "--height", "needs --size N");
+    if (a->views && a->camera.view) return cli_refuse(parsed, "--views", "does not go with --view");
+    if (cli_given(parsed, "--height") && !cli_given(parsed, "--size"))
+        return cli_refuse(parsed, "--height", "needs --size N");
     if (a->config.pgrid_cell % 4u) return cli_refuse(parsed, "--pgrid-cell", "must be a multiple of 4");
     if (a->config.quick && cli_given(parsed, "--frames"))
         return cli_refuse(parsed, "--frames", "--quick times one frame per row");
@@ -98,7 +100,9 @@ static int check_applicable(const cli_parsed *parsed, const bench_args *a)
         return cli_refuse(parsed, "--images", "--only leaves out the render rows, the only ones with images");
     /* the bench measures the optimized engine's kernels and renders */
     int rc = cli_check_engine_options(parsed, "optimized", &a->engine);
-    return rc != CLI_CONTINUE ? rc : cli_check_scene_options(parsed, a->scene_path, "optimized");
+    if (rc == CLI_CONTINUE) rc = cli_check_scene_options(parsed, a->scene_path, "optimized");
+    if (a->views) a->camera.view = a->views;
+    return rc != CLI_CONTINUE ? rc : cli_camera_check(parsed, &a->camera, a->scene_path);
 }
 
 static void bench_defaults(void *opaque)
@@ -150,11 +154,19 @@ static int bench(void *opaque, const cli_parsed *parsed)
 
     rtt_error err = {{0}};
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
-    if (!scene) return cli_fail(&err);
     char view[64] = "";
-    if (args->views && !rtt_bench_apply_view(scene, args->views, args->view, view, &err)) {
+    /* the view's camera, light and size as the benchmarks define them, then
+     * whatever the camera options change */
+    if (scene && args->camera.chosen && !rtt_bench_apply_view(scene, args->camera.chosen, &err)) {
         rtt_scene_free(scene);
-        return cli_fail(&err);
+        scene = NULL;
+    }
+    if (args->camera.chosen) snprintf(view, sizeof view, "%s", args->camera.chosen->name);
+    status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    cli_camera_free(&args->camera);
+    if (status != CLI_CONTINUE) {
+        rtt_scene_free(scene);
+        return status;
     }
     rtt_bench_report report;
     bool ok = rtt_bench_run(scene, &args->config, &report, &err);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "camera_options.h"
 #include "cli.h"
 #include "options.h"
 #include "conform.h"
@@ -16,6 +17,7 @@ typedef struct conform_args {
     uint32_t max_rays, seed;
     rtt_conform_config config;
     rtt_engine_options engine; /* what --isa sets, for the engines that read it */
+    cli_camera_args camera;    /* the camera of the primary set */
 } conform_args;
 
 static bool parse_sets(const char *text, void *field, rtt_error *why)
@@ -65,6 +67,7 @@ static const cli_option conform_options[] = {
      .help = "with --extremes: benchmark meshes for watertightness (default "
              "${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes; skipped when absent)",
      .kind = CLI_STRING, CLI_FIELD(conform_args, meshes)},
+    CLI_OPTIONS_CAMERA(conform_args, camera),
 };
 
 /* --isa goes to the listed engines that read an instruction-set choice: at
@@ -90,17 +93,22 @@ static int check_isa(const cli_parsed *parsed, const conform_args *args)
 }
 
 /* The options one mode reads and the other does not. */
-static int check_applicable(const cli_parsed *parsed, const conform_args *args)
+static int check_applicable(const cli_parsed *parsed, conform_args *args)
 {
     if (args->extremes) {
         if (args->scene_path) return cli_refuse(parsed, "--extremes", "builds its own scenes: give no SCENE");
         if (cli_given(parsed, "--rays")) return cli_refuse(parsed, "--rays", "--extremes traces rays of its own");
         if (cli_given(parsed, "--seed")) return cli_refuse(parsed, "--seed", "--extremes has no random rays to seed");
+        static const char *const camera[] = {"--eye", "--look-at", "--up", "--fov", "--view", "--lights"};
+        for (int i = 0; i < 6; i++)
+            if (cli_given(parsed, camera[i]))
+                return cli_refuse(parsed, camera[i], "--extremes builds its own scenes and cameras");
     } else {
         if (!args->scene_path) return cli_refuse(parsed, NULL, "no SCENE given");
         if (cli_given(parsed, "--meshes")) return cli_refuse(parsed, "--meshes", "only --extremes reads meshes");
     }
-    return check_isa(parsed, args);
+    int rc = check_isa(parsed, args);
+    return rc != CLI_CONTINUE || args->extremes ? rc : cli_camera_check(parsed, &args->camera, args->scene_path);
 }
 
 static int print_and_free(char *text)
@@ -151,7 +159,12 @@ static int conform(void *opaque, const cli_parsed *parsed)
 
     rtt_error err = {{0}};
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
-    if (!scene) return cli_fail(&err);
+    rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    cli_camera_free(&args->camera);
+    if (rc != CLI_CONTINUE) {
+        rtt_scene_free(scene);
+        return rc;
+    }
     rtt_conform_report report;
     bool ran = rtt_conform_run(scene, &args->config, &report, &err);
     rtt_scene_free(scene);

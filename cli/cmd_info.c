@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "camera_options.h"
 #include "cli.h"
 #include "options.h"
 #include "rtt/engine.h"
@@ -13,6 +14,7 @@ typedef struct info_args {
     const char *scene_path;
     int engines; /* info_engines */
     rtt_engine_options engine;
+    cli_camera_args camera;
 } info_args;
 
 static const cli_option info_options[] = {
@@ -20,6 +22,7 @@ static const cli_option info_options[] = {
      .help = "whose kd-tree to describe: both (default), optimized or reference",
      .kind = CLI_CHOICE, CLI_FIELD(info_args, engines), .choices = info_engine_choices},
     CLI_OPTIONS_KD_TREE(info_args, engine),
+    CLI_OPTIONS_CAMERA(info_args, camera),
 };
 
 static const char *const material_type_names[] = {"diffuse", "specular", "reflective", "transparent",
@@ -40,10 +43,8 @@ static void print_scene(const rtt_scene *s)
     for (uint32_t i = 0; i < s->material_count; i++)
         printf(" %s(%s)", s->materials[i].name[0] ? s->materials[i].name : "-",
                material_type_names[s->materials[i].type]);
-    printf("\n  lights      %u:", s->light_count);
-    for (uint32_t i = 0; i < s->light_count; i++)
-        printf(" %s", s->lights[i].type == RTT_LIGHT_SPHERE ? "sphere" : "point");
     printf("\n");
+    cli_print_camera_and_lights(s);
 }
 
 static bool print_tree(const char *engine_name, const rtt_scene *scene, const rtt_engine_options *opt,
@@ -69,14 +70,14 @@ static bool print_tree(const char *engine_name, const rtt_scene *scene, const rt
 }
 
 /* The engine options and the scene file must suit every engine described. */
-static int check_applicable(const cli_parsed *parsed, const info_args *args, const char *const engines[2])
+static int check_applicable(const cli_parsed *parsed, info_args *args, const char *const engines[2])
 {
     for (int i = 0; i < 2 && engines[i]; i++) {
         int rc = cli_check_engine_options(parsed, engines[i], &args->engine);
         if (rc == CLI_CONTINUE) rc = cli_check_scene_options(parsed, args->scene_path, engines[i]);
         if (rc != CLI_CONTINUE) return rc;
     }
-    return CLI_CONTINUE;
+    return cli_camera_check(parsed, &args->camera, args->scene_path);
 }
 
 static void info_defaults(void *args)
@@ -86,7 +87,7 @@ static void info_defaults(void *args)
 
 static int info(void *opaque, const cli_parsed *parsed)
 {
-    const info_args *args = opaque;
+    info_args *args = opaque;
     const char *engines[2] = {args->engines == INFO_REFERENCE ? "reference" : "optimized",
                               args->engines == INFO_BOTH ? "reference" : NULL};
     int rc = check_applicable(parsed, args, engines);
@@ -94,7 +95,12 @@ static int info(void *opaque, const cli_parsed *parsed)
 
     rtt_error err = {0};
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
-    if (!scene) return cli_fail(&err);
+    rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    cli_camera_free(&args->camera);
+    if (rc != CLI_CONTINUE) {
+        rtt_scene_free(scene);
+        return rc;
+    }
     print_scene(scene);
     bool ok = true;
     for (int i = 0; ok && i < 2 && engines[i]; i++) ok = print_tree(engines[i], scene, &args->engine, &err);
@@ -107,8 +113,9 @@ const cli_command info_command = {
     CLI_ARGS(info_args, info_defaults), CLI_ROWS(info_options), CLI_SCENE_OPERAND(info_args),
     .engine_offset = offsetof(info_args, engine),
     .synopsis = "SCENE|scene.kdt [options]",
-    .description = "Prints triangles (and degenerate ones), vertices, meshes, materials, lights,\n"
-                   "bounds, and for each engine's kd-tree: build time (the optimized builder uses\n"
-                   "every core), depth against its bound, nodes, leaves, SAH cost, references and\n"
+    .description = "Prints triangles (and degenerate ones), vertices, meshes, materials, bounds,\n"
+                   "the camera and the lights a render with the same camera options uses, and\n"
+                   "for each engine's kd-tree: build time (the optimized builder uses every\n"
+                   "core), depth against its bound, nodes, leaves, SAH cost, references and\n"
                    "duplication against the reference cap, and memory.\n",
 };

@@ -5,6 +5,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "camera_options.h"
 #include "cli.h"
 #include "options.h"
 #include "rtt/engine.h"
@@ -21,6 +22,7 @@ typedef struct render_args {
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
+    cli_camera_args camera;
 } render_args;
 
 static bool has_extension(const char *path, const char *extension)
@@ -62,16 +64,11 @@ static const cli_option render_options[] = {
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--edge-leak-fix", .help = "with --shadows edgewidth: entry and exit polygons must share a vertex",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.edge_leak_fix)},
-    {.name = "--threads", .value_name = "N", .help = "threads for the tree build and the render, 1 to 1024 (default: one per core)",
-     .kind = CLI_U32, CLI_FIELD(render_args, render.threads), .lo = 1, .hi = 1024},
-    {.name = "--width", .value_name = "W", .help = "image width, 1 to 16384 (default: the scene's)",
-     .kind = CLI_U32, CLI_FIELD(render_args, render.width), .lo = 1, .hi = 16384},
-    {.name = "--height", .value_name = "H", .help = "image height, 1 to 16384 (default: the scene's)",
-     .kind = CLI_U32, CLI_FIELD(render_args, render.height), .lo = 1, .hi = 16384},
-    {.name = "--max-bounces", .value_name = "N",
-     .help = "reflection/refraction depth, 0 (none) to 64 (default: the scene's)",
-     .kind = CLI_U32, CLI_FIELD(render_args, render.max_bounces), .lo = 0, .hi = RTT_MAX_BOUNCES},
+    CLI_OPTION_RENDER_THREADS(render_args, render),
+    CLI_OPTION_RENDER_SIZE(render_args, render),
+    CLI_OPTION_MAX_BOUNCES(render_args, render),
     CLI_OPTION_BEZIER_LEVEL(render_args, bezier_level),
+    CLI_OPTIONS_CAMERA(render_args, camera),
     {.name = "--aov", .value_name = "LIST", .help = "extra EXR channels, a comma list of depth, prim, normal",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(render_args, render.aovs), .choices = aov_names},
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
@@ -81,7 +78,7 @@ static const cli_option render_options[] = {
 
 /* What the parsed options ask that the engine, the scene file or the
  * outputs cannot honour. */
-static int check_applicable(const cli_parsed *parsed, const render_args *args)
+static int check_applicable(const cli_parsed *parsed, render_args *args)
 {
     int rc = cli_check_engine_options(parsed, args->engine, &args->render.engine);
     if (rc != CLI_CONTINUE) return rc;
@@ -100,7 +97,8 @@ static int check_applicable(const cli_parsed *parsed, const render_args *args)
             return cli_refuse(parsed, "--aov", "PNG output %s%s has no AOV channels; write an .exr", args->outputs[0],
                               cli_given(parsed, "--output") ? "" : " (the default)");
     }
-    return cli_check_scene_options(parsed, args->scene_path, args->engine);
+    int rc_scene = cli_check_scene_options(parsed, args->scene_path, args->engine);
+    return rc_scene != CLI_CONTINUE ? rc_scene : cli_camera_check(parsed, &args->camera, args->scene_path);
 }
 
 static void render_defaults(void *opaque)
@@ -205,7 +203,12 @@ static int render(void *opaque, const cli_parsed *parsed)
 
     rtt_error err = {0};
     rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
-    if (!scene) return cli_fail(&err);
+    status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
+    cli_camera_free(&args->camera);
+    if (status != CLI_CONTINUE) {
+        rtt_scene_free(scene);
+        return status;
+    }
     uint32_t width = args->render.width ? args->render.width : scene->width;
     uint32_t height = args->render.height ? args->render.height : scene->height;
     args->render.width = width;

@@ -10,7 +10,7 @@
 
 static const cli_command *const commands[] = {
     &render_command, &bake_command,    &info_command,    &triangles_command,
-    &trace_command,  &conform_command, &compare_command, &bench_command,
+    &trace_command,  &conform_command, &compare_command, &bench_command,   &view_command,
 };
 
 static void print_usage(FILE *out)

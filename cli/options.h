@@ -169,6 +169,22 @@ extern const char *const cli_on_off[];
     {.name = "--bezier-level", .value_name = "N", .help = "Quake III patch tessellation, 1 to 64 (default 4)",  \
      .kind = CLI_U32, CLI_FIELD(type, member), .lo = 1, .hi = 64}
 
+/* Rows of the render settings every command that renders shares (render,
+ * view); `render` is the path of its rtt_render_options member. */
+#define CLI_OPTION_RENDER_THREADS(type, render)                                                                 \
+    {.name = "--threads", .value_name = "N",                                                                    \
+     .help = "threads for the tree build and the render, 1 to 1024 (default: one per core)", .kind = CLI_U32,   \
+     CLI_FIELD(type, render.threads), .lo = 1, .hi = 1024}
+#define CLI_OPTION_RENDER_SIZE(type, render)                                                                    \
+    {.name = "--width", .value_name = "W", .help = "image width, 1 to 16384 (default: the scene's)",            \
+     .kind = CLI_U32, CLI_FIELD(type, render.width), .lo = 1, .hi = 16384},                                     \
+    {.name = "--height", .value_name = "H", .help = "image height, 1 to 16384 (default: the scene's)",          \
+     .kind = CLI_U32, CLI_FIELD(type, render.height), .lo = 1, .hi = 16384}
+#define CLI_OPTION_MAX_BOUNCES(type, render)                                                                    \
+    {.name = "--max-bounces", .value_name = "N",                                                                \
+     .help = "reflection/refraction depth, 0 (none) to 64 (default: the scene's)", .kind = CLI_U32,             \
+     CLI_FIELD(type, render.max_bounces), .lo = 0, .hi = RTT_MAX_BOUNCES}
+
 /* Refuses the options the kind of scene file at `scene_path`
  * (rtt_file_kind_of, as the loader picks its reader) makes meaningless:
  * --bezier-level for a .kdt (its patches were tessellated when it was

@@ -24,7 +24,15 @@ bool rtt_buffer_grow(rtt_buffer *b, size_t count, size_t element, size_t align)
     if (!data) return false;
     b->data = data;
     b->capacity = capacity;
+    b->element = element;
+    b->align = align;
     return true;
+}
+
+bool rtt_buffer_match(rtt_buffer *b, const rtt_buffer *other)
+{
+    if (other->capacity <= b->capacity) return true;
+    return rtt_buffer_grow(b, other->capacity, other->element, other->align);
 }
 
 void rtt_buffer_free(rtt_buffer *b)

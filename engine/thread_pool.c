@@ -1,8 +1,17 @@
 /* The thread pool (threads.h): tasks handed out by an atomic counter, the
- * calling thread working as worker 0.  Threads are created per run: a run
- * is a frame or a build, long next to pthread_create's ~20 us. */
+ * calling thread working as worker 0.
+ *
+ * Workers persist: the first run that wants k threads starts k - 1 workers,
+ * which then sleep on a condition variable between runs, so a frame of an
+ * interactive loop neither creates threads nor allocates.  One run owns the
+ * persistent workers at a time; a run that finds them busy (a nested run from
+ * inside a task, as the tree builders make, or a second caller thread)
+ * starts threads of its own for its duration, as every run did before the
+ * pool persisted.  The workers are never joined: they sleep until the
+ * process exits. */
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -15,11 +24,6 @@ typedef struct pool_run {
     atomic_uint next;   /* next task to hand out */
 } pool_run;
 
-typedef struct pool_worker {
-    pool_run *run;
-    uint32_t index;
-} pool_worker;
-
 static void work(pool_run *run, uint32_t thread)
 {
     for (;;) {
@@ -27,13 +31,6 @@ static void work(pool_run *run, uint32_t thread)
         if (task >= run->tasks) return;
         run->fn(run->context, thread, task);
     }
-}
-
-static void *worker_main(void *arg)
-{
-    pool_worker *worker = arg;
-    work(worker->run, worker->index);
-    return NULL;
 }
 
 uint32_t rtt_cpu_count(void)
@@ -49,6 +46,107 @@ uint32_t rtt_thread_count(uint32_t threads)
     return threads > RTT_MAX_THREADS ? RTT_MAX_THREADS : threads;
 }
 
+/* ---- the persistent workers ---- */
+
+static struct {
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    uint32_t started;          /* workers 1..started exist */
+    uint64_t generation;       /* bumped when a run is handed out */
+    pool_run *run;             /* the run being worked, NULL between runs */
+    uint32_t wanted;           /* workers 1..wanted-1 take part in it */
+    uint32_t working;          /* of those, how many have not finished */
+    bool owned;                /* a run owns the workers */
+} pool = {.lock = PTHREAD_MUTEX_INITIALIZER, .wake = PTHREAD_COND_INITIALIZER,
+          .finished = PTHREAD_COND_INITIALIZER};
+
+static void *pool_worker_main(void *arg)
+{
+    const uint32_t index = (uint32_t)(uintptr_t)arg;
+    uint64_t seen = 0;
+    pthread_mutex_lock(&pool.lock);
+    for (;;) {
+        while (pool.generation == seen) pthread_cond_wait(&pool.wake, &pool.lock);
+        seen = pool.generation;
+        if (index >= pool.wanted) continue;
+        pool_run *run = pool.run;
+        pthread_mutex_unlock(&pool.lock);
+        work(run, index);
+        pthread_mutex_lock(&pool.lock);
+        if (--pool.working == 0) pthread_cond_signal(&pool.finished);
+    }
+    return NULL;
+}
+
+/* Takes the persistent workers for a run of `threads` and starts the
+ * missing ones; returns how many threads the run has (1 + workers), or 0
+ * when another run holds them. */
+static uint32_t pool_acquire(uint32_t threads)
+{
+    pthread_mutex_lock(&pool.lock);
+    if (pool.owned) {
+        pthread_mutex_unlock(&pool.lock);
+        return 0;
+    }
+    pool.owned = true;
+    while (pool.started + 1 < threads) {
+        pthread_t id;
+        if (pthread_create(&id, NULL, pool_worker_main, (void *)(uintptr_t)(pool.started + 1)) != 0) break;
+        pthread_detach(id);
+        pool.started++;
+    }
+    pthread_mutex_unlock(&pool.lock);
+    return pool.started + 1 < threads ? pool.started + 1 : threads;
+}
+
+static void pool_run_owned(pool_run *run, uint32_t threads)
+{
+    pthread_mutex_lock(&pool.lock);
+    pool.run = run;
+    pool.wanted = threads;
+    pool.working = threads - 1;
+    pool.generation++;
+    pthread_cond_broadcast(&pool.wake);
+    pthread_mutex_unlock(&pool.lock);
+    work(run, 0);
+    pthread_mutex_lock(&pool.lock);
+    while (pool.working > 0) pthread_cond_wait(&pool.finished, &pool.lock);
+    pool.run = NULL;
+    pool.owned = false;
+    pthread_mutex_unlock(&pool.lock);
+}
+
+/* ---- threads of one run, when the persistent workers are taken ---- */
+
+typedef struct run_worker {
+    pool_run *run;
+    uint32_t index;
+} run_worker;
+
+static void *run_worker_main(void *arg)
+{
+    run_worker *worker = arg;
+    work(worker->run, worker->index);
+    return NULL;
+}
+
+static void run_with_own_threads(pool_run *run, uint32_t threads)
+{
+    pthread_t *ids = malloc(threads * sizeof *ids);
+    run_worker *workers = malloc(threads * sizeof *workers);
+    uint32_t started = 1;
+    if (ids && workers) {
+        for (; started < threads; started++) {
+            workers[started] = (run_worker){run, started};
+            if (pthread_create(&ids[started], NULL, run_worker_main, &workers[started]) != 0) break;
+        }
+    }
+    work(run, 0); /* the tasks of workers that could not start run here */
+    for (uint32_t i = 1; i < started; i++) pthread_join(ids[i], NULL);
+    free(ids);
+    free(workers);
+}
+
 void rtt_parallel_run(uint32_t tasks, uint32_t threads, rtt_task_fn fn, void *context)
 {
     if (tasks == 0 || !fn) return;
@@ -60,17 +158,17 @@ void rtt_parallel_run(uint32_t tasks, uint32_t threads, rtt_task_fn fn, void *co
         work(&run, 0);
         return;
     }
-    pthread_t *ids = malloc(threads * sizeof *ids);
-    pool_worker *workers = malloc(threads * sizeof *workers);
-    uint32_t started = 1;
-    if (ids && workers) {
-        for (; started < threads; started++) {
-            workers[started] = (pool_worker){&run, started};
-            if (pthread_create(&ids[started], NULL, worker_main, &workers[started]) != 0) break;
-        }
+    uint32_t pooled = pool_acquire(threads);
+    if (pooled > 1) {
+        pool_run_owned(&run, pooled); /* fewer than asked only when threads could not start */
+        return;
     }
-    work(&run, 0); /* the tasks of workers that could not start run here */
-    for (uint32_t i = 1; i < started; i++) pthread_join(ids[i], NULL);
-    free(ids);
-    free(workers);
+    if (pooled == 1) { /* holds the pool but no worker could start */
+        pthread_mutex_lock(&pool.lock);
+        pool.owned = false;
+        pthread_mutex_unlock(&pool.lock);
+        work(&run, 0);
+        return;
+    }
+    run_with_own_threads(&run, threads);
 }

@@ -31,7 +31,7 @@ static void on_png_warning(png_structp png, png_const_charp message)
     (void)message;   /* warnings are not errors; the library never prints */
 }
 
-static uint8_t srgb8(float linear)
+uint8_t rtt_linear_to_srgb8(float linear)
 {
     if (!(linear > 0.0f))
         return 0;   /* also NaN */
@@ -65,7 +65,7 @@ static bool write_png(FILE *stream, const rtt_image *image, uint8_t *row, png_fa
     for (uint32_t y = 0; y < image->height; y++) {
         const float *src = image->rgb + (size_t)y * image->width * 3;
         for (size_t i = 0; i < (size_t)image->width * 3; i++)
-            row[i] = srgb8(src[i]);
+            row[i] = rtt_linear_to_srgb8(src[i]);
         png_write_row(png, row);
     }
     png_write_end(png, NULL);

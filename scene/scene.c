@@ -14,6 +14,7 @@
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
+#include "rtt/views.h"
 #include "transform.h"
 
 /* Scenes larger than this are refused: indices stay far from overflow and a
@@ -347,18 +348,13 @@ bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
     }
     if (scene->normals) fill_vertex_normals(scene);
     if (!classify_meshes(scene, err)) return false;
-    if (!has_camera(scene)) default_camera(scene);
+    if (!has_camera(scene)) {
+        default_camera(scene);
+        scene->camera_source = RTT_CAMERA_FRAMING;
+    }
     if (scene->width == 0) scene->width = RTT_DEFAULT_WIDTH;
     if (scene->height == 0) scene->height = RTT_DEFAULT_HEIGHT;
-    if (scene->light_count == 0) {
-        rtt_light light = {.type = RTT_LIGHT_POINT,
-                           .position = scene->camera.eye,
-                           .color = rtt_v3(1.0f, 1.0f, 1.0f),
-                           .intensity = 1.0f,
-                           .attenuation = {1.0f, 0.0f, 0.0f},
-                           .radius = 0.0f};
-        if (!rtt_scene_add_light(scene, &light, err)) return false;
-    }
+    if (scene->light_count == 0 && !rtt_scene_use_camera_light(scene, err)) return false;
     return true;
 }
 
@@ -411,7 +407,7 @@ rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, r
     if (kind == RTT_FILE_SCENE_JSON) {
         ok = rtt_scene_parse_json(scene, path, opt, err); /* bezier_level 0: the file's own, else the default */
     } else if (kind == RTT_FILE_Q3BSP) {
-        ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err);
+        ok = rtt_import_q3bsp(scene, path, NULL, UINT32_MAX, level, err) && rtt_q3bsp_read_entities(scene, path, err);
     } else { /* a mesh, or a file of unknown kind that Assimp may recognise by its content */
         ok = rtt_import_assimp(scene, path, NULL, UINT32_MAX, err);
     }

@@ -33,6 +33,10 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
                        rtt_error *err);
 bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
                       uint32_t bezier_level, rtt_error *err);
+/* A Quake III map's own camera (intermission point, else the first spawn
+ * point) and its light entities as lights (q3bsp_entities.c, which documents
+ * the rules); run after rtt_import_q3bsp when the map is the whole scene. */
+bool rtt_q3bsp_read_entities(rtt_scene *scene, const char *path, rtt_error *err);
 /* The baked kd-tree file (kdt_file.c): the whole scene plus the optimized
  * engine's tree, validated section by section; scene->baked carries the tree. */
 rtt_scene *rtt_kdt_read_scene(const char *path, rtt_error *err);

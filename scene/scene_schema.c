@@ -67,7 +67,7 @@ bool rtt_schema_check_object(rtt_schema_parser *p, const cJSON *obj, const rtt_j
     return true;
 }
 
-static bool read_number(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
+bool rtt_schema_read_number(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
                         float *out)
 {
     if (!cJSON_IsNumber(v) || !(v->valuedouble >= lo && v->valuedouble <= hi))
@@ -111,7 +111,7 @@ bool rtt_schema_read_vec3(rtt_schema_parser *p, const cJSON *v, const rtt_json_p
     return true;
 }
 
-static bool read_color(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out)
+bool rtt_schema_read_color(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out)
 {
     if (!rtt_schema_read_vec3(p, v, at, out) || out->x < 0.0f || out->y < 0.0f || out->z < 0.0f)
         return rtt_schema_fail(p, at, " must be an array of 3 non-negative numbers");
@@ -137,7 +137,7 @@ static bool parse_image(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     return true;
 }
 
-static bool parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
+bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out)
 {
     static const char *const keys[] = {"eye", "look_at", "up", "fov", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
@@ -149,7 +149,7 @@ static bool parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_
     if (!look) return rtt_schema_fail(p, place, ": missing \"look_at\"");
     if (!rtt_schema_read_vec3(p, eye, &eye_at, &cam.eye) || !rtt_schema_read_vec3(p, look, &look_at, &cam.look_at))
         return false;
-    RTT_SCHEMA_OPTIONAL(obj, place, "fov", read_number(p, v, at, 1, 179, &cam.fov_deg));
+    RTT_SCHEMA_OPTIONAL(obj, place, "fov", rtt_schema_read_number(p, v, at, 1, 179, &cam.fov_deg));
     const cJSON *up = rtt_schema_member(obj, place, "up", &up_at);
     if (up && !rtt_schema_read_vec3(p, up, &up_at, &cam.up)) return false;
     rtt_vec3 view = rtt_v3_sub(cam.look_at, cam.eye);
@@ -159,7 +159,7 @@ static bool parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_
         return rtt_schema_fail(p, up ? &up_at : place,
                                up ? " must not be zero or parallel to the view direction"
                                   : ": the view direction is parallel to the default up [0, 1, 0]; give \"up\"");
-    p->scene->camera = cam;
+    *out = cam;
     return true;
 }
 
@@ -225,11 +225,11 @@ static bool parse_material(rtt_schema_parser *p, const cJSON *obj, const rtt_jso
                                "\"transparent_reflective\"");
     m.type = t->type;
     if (!check_material_fields(p, obj, place, t)) return false;
-    RTT_SCHEMA_OPTIONAL(obj, place, "diffuse", read_color(p, v, at, &m.diffuse));
+    RTT_SCHEMA_OPTIONAL(obj, place, "diffuse", rtt_schema_read_color(p, v, at, &m.diffuse));
     RTT_SCHEMA_OPTIONAL(obj, place, "specular", rtt_schema_read_nonneg(p, v, at, false, &m.specular));
     RTT_SCHEMA_OPTIONAL(obj, place, "shininess", rtt_schema_read_nonneg(p, v, at, false, &m.shininess));
-    RTT_SCHEMA_OPTIONAL(obj, place, "reflection", read_number(p, v, at, 0, 1, &m.reflection));
-    RTT_SCHEMA_OPTIONAL(obj, place, "transparency", read_number(p, v, at, 0, 1, &m.transparency));
+    RTT_SCHEMA_OPTIONAL(obj, place, "reflection", rtt_schema_read_number(p, v, at, 0, 1, &m.reflection));
+    RTT_SCHEMA_OPTIONAL(obj, place, "transparency", rtt_schema_read_number(p, v, at, 0, 1, &m.transparency));
     RTT_SCHEMA_OPTIONAL(obj, place, "ior", rtt_schema_read_nonneg(p, v, at, true, &m.ior));
     RTT_SCHEMA_OPTIONAL(obj, place, "edge_width_scale", rtt_schema_read_nonneg(p, v, at, true, &m.edge_width_scale));
     if (t->reflective && t->transparent && m.reflection + m.transparency > 1.0f)
@@ -253,6 +253,15 @@ bool rtt_schema_material_index(rtt_schema_parser *p, const cJSON *v, const rtt_j
 
 /* ---- lights ---- */
 
+bool rtt_schema_read_attenuation(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, float out[3])
+{
+    rtt_vec3 a = rtt_v3(0, 0, 0);
+    if (!rtt_schema_read_vec3(p, v, at, &a) || a.x < 0.0f || a.y < 0.0f || a.z < 0.0f || a.x + a.y + a.z <= 0.0f)
+        return rtt_schema_fail(p, at, " must be [constant, linear, quadratic], each >= 0, not all 0");
+    out[0] = a.x, out[1] = a.y, out[2] = a.z;
+    return true;
+}
+
 static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
 {
     static const char *const keys[] = {"type", "position", "color", "intensity", "attenuation", "radius", NULL};
@@ -270,16 +279,9 @@ static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     const cJSON *position = rtt_schema_member(obj, place, "position", &at);
     if (!position) return rtt_schema_fail(p, place, ": missing \"position\"");
     if (!rtt_schema_read_vec3(p, position, &at, &light.position)) return false;
-    RTT_SCHEMA_OPTIONAL(obj, place, "color", read_color(p, v, at, &light.color));
+    RTT_SCHEMA_OPTIONAL(obj, place, "color", rtt_schema_read_color(p, v, at, &light.color));
     RTT_SCHEMA_OPTIONAL(obj, place, "intensity", rtt_schema_read_nonneg(p, v, at, false, &light.intensity));
-    const cJSON *attenuation = rtt_schema_member(obj, place, "attenuation", &at);
-    if (attenuation) {
-        rtt_vec3 a;
-        if (!rtt_schema_read_vec3(p, attenuation, &at, &a) || a.x < 0.0f || a.y < 0.0f || a.z < 0.0f ||
-            a.x + a.y + a.z <= 0.0f)
-            return rtt_schema_fail(p, &at, " must be [constant, linear, quadratic], each >= 0, not all 0");
-        light.attenuation[0] = a.x, light.attenuation[1] = a.y, light.attenuation[2] = a.z;
-    }
+    RTT_SCHEMA_OPTIONAL(obj, place, "attenuation", rtt_schema_read_attenuation(p, v, at, light.attenuation));
     const cJSON *radius = rtt_schema_member(obj, place, "radius", &at);
     if (light.type == RTT_LIGHT_POINT && radius) return rtt_schema_fail(p, &at, " is only for sphere lights");
     if (light.type == RTT_LIGHT_SPHERE && !radius)
@@ -325,9 +327,9 @@ static bool parse_root(rtt_schema_parser *p, const cJSON *root)
     s->background = rtt_v3(0, 0, 0);
     uint32_t bezier_level = RTT_DEFAULT_BEZIER_LEVEL;
     RTT_SCHEMA_OPTIONAL(root, &place, "image", parse_image(p, v, at));
-    RTT_SCHEMA_OPTIONAL(root, &place, "camera", parse_camera(p, v, at));
-    RTT_SCHEMA_OPTIONAL(root, &place, "background", read_color(p, v, at, &s->background));
-    RTT_SCHEMA_OPTIONAL(root, &place, "ambient", read_number(p, v, at, 0, 1, &s->ambient));
+    RTT_SCHEMA_OPTIONAL(root, &place, "camera", rtt_schema_parse_camera(p, v, at, &s->camera));
+    RTT_SCHEMA_OPTIONAL(root, &place, "background", rtt_schema_read_color(p, v, at, &s->background));
+    RTT_SCHEMA_OPTIONAL(root, &place, "ambient", rtt_schema_read_number(p, v, at, 0, 1, &s->ambient));
     RTT_SCHEMA_OPTIONAL(root, &place, "max_bounces",
                         rtt_schema_read_uint(p, v, at, 0, RTT_MAX_BOUNCES, &s->max_bounces));
     RTT_SCHEMA_OPTIONAL(root, &place, "bezier_level",
@@ -338,31 +340,44 @@ static bool parse_root(rtt_schema_parser *p, const cJSON *root)
            parse_list(p, root, &place, "meshes", rtt_schema_parse_mesh, true);
 }
 
-bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err)
+bool rtt_schema_parse_file(const char *path, const char *empty, rtt_schema_parser *p, rtt_schema_root_reader read,
+                           void *context)
 {
     size_t length = 0;
-    char *text = rtt_file_read(path, RTT_FILE_TEXT_MAX, &length, err);
+    char *text = rtt_file_read(path, RTT_FILE_TEXT_MAX, &length, p->err);
     if (!text) return false;
-    rtt_json_source src = {path, text, length};
+    p->src = (rtt_json_source){path, text, length};
     bool ok = false;
     const char *nul = memchr(text, '\0', length);
     if (rtt_json_is_blank(text, length)) {
-        rtt_error_set(err, "%s:1: the file is empty (a scene needs at least one mesh)", path);
+        rtt_error_set(p->err, "%s:1: the file is empty (%s)", path, empty);
     } else if (nul) {
-        rtt_error_set(err, "%s:%d: a NUL byte: this is not a text file", path, rtt_json_line_at(text, nul));
+        rtt_error_set(p->err, "%s:%d: a NUL byte: this is not a text file", path, rtt_json_line_at(text, nul));
     } else {
         /* the length includes the terminating NUL: cJSON's require_null_terminated
          * looks for it inside the buffer */
         const char *parse_end = NULL;
         cJSON *root = cJSON_ParseWithLengthOpts(text, length + 1u, &parse_end, true);
         if (!root) {
-            rtt_json_syntax_error(&src, parse_end, err);
+            rtt_json_syntax_error(&p->src, parse_end, p->err);
         } else {
-            rtt_schema_parser p = {scene, src, err, UINT32_MAX, opt ? opt->bezier_level : 0};
-            ok = parse_root(&p, root);
+            ok = read(p, root, context);
             cJSON_Delete(root);
         }
     }
     free(text);
+    p->src.text = NULL;
     return ok;
+}
+
+static bool read_scene_root(rtt_schema_parser *p, const cJSON *root, void *context)
+{
+    (void)context;
+    return parse_root(p, root);
+}
+
+bool rtt_scene_parse_json(rtt_scene *scene, const char *path, const rtt_scene_load_options *opt, rtt_error *err)
+{
+    rtt_schema_parser p = {scene, {path, NULL, 0}, err, UINT32_MAX, opt ? opt->bezier_level : 0};
+    return rtt_schema_parse_file(path, "a scene needs at least one mesh", &p, read_scene_root, NULL);
 }

@@ -40,10 +40,27 @@ bool rtt_schema_read_nonneg(rtt_schema_parser *p, const cJSON *v, const rtt_json
 bool rtt_schema_read_uint(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
                           uint32_t *out);
 bool rtt_schema_read_vec3(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out);
+/* A number in [lo, hi]; a colour: three non-negative numbers. */
+bool rtt_schema_read_number(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
+                            float *out);
+bool rtt_schema_read_color(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out);
+/* A light's [constant, linear, quadratic] fall-off: each >= 0, not all 0. */
+bool rtt_schema_read_attenuation(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, float out[3]);
 bool rtt_schema_read_name(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, char out[64]);
+
+/* A "camera" object (eye, look_at, up, fov) into *out: the scene file's and
+ * the views file's (views.c). */
+bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out);
 
 /* The index of the scene material named by the string v. */
 bool rtt_schema_material_index(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, uint32_t *out);
+
+/* Reads the JSON file at `path` and hands its root to `read` with p->src set
+ * (freed again before returning): one-line errors for an empty file
+ * ("file:1: the file is empty (<empty>)"), NUL bytes and syntax errors. */
+typedef bool (*rtt_schema_root_reader)(rtt_schema_parser *p, const cJSON *root, void *context);
+bool rtt_schema_parse_file(const char *path, const char *empty, rtt_schema_parser *p, rtt_schema_root_reader read,
+                           void *context);
 
 /* One element of "meshes" (scene_schema_meshes.c). */
 bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place);

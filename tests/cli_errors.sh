@@ -129,7 +129,36 @@ expect 2 "--meshes .*: only --extremes reads meshes" -- conform "$scene" --meshe
 expect 2 "--frames 3: --quick times one frame" -- bench "$scene" --quick --frames 3
 expect 2 "--warmup 2: --quick warms up none" -- bench "$scene" --quick --warmup 2
 expect 2 "--images .*: --only leaves out the render rows" -- bench "$scene" --only primary --images "$work"
-expect 2 "--view door: needs --views" -- bench "$scene" --view door
+
+# cameras and lights (--eye, --look-at, --up, --fov, --view, --lights)
+printf '{ "mat_diffuse": { "camera": { "eye": [0, 1, 3], "look_at": [0, 1, 0] } },\n  "near": { "camera": { "eye": [0, 1, 2], "look_at": [0, 1, 0] } } }\n' >"$work/views.json"
+printf '{ "ok": { "camera": { "eye": [0, 1, 3], "look_at": [0, 1, 0] } },\n  "wide": { "camera": { "eye": [0, 1, 3], "look_at": [0, 1, 0], "fov": 200 } } }\n' >"$work/wide.json"
+printf '{ "a": { "camera": { "eye": [0, 1, 3] } } }\n' >"$work/noat.json"
+printf '{ "a": { "camera": { "eye": [0, 1, 3], "look_at": [0, 0, 0] }, "colour": 1 } }\n' >"$work/unknown.json"
+expect 2 "--eye 1,2: expected three finite numbers" -- render "$scene" --eye 1,2
+expect 2 "--eye 1,2,x: expected three" -- render "$scene" --eye 1,2,x
+expect 2 "--look-at 1,2,3,4: expected three" -- render "$scene" --look-at 1,2,3,4
+expect 2 "--up nan,1,0: expected three" -- render "$scene" --up nan,1,0
+expect 2 "--fov 0: expected a number of at least 1" -- render "$scene" --fov 0
+expect 2 "--fov 180: must be between 1 and 179" -- render "$scene" --fov 180
+expect 2 "--look-at 0,0,0: the eye and the look-at point are the same" -- \
+    render "$scene" --eye 0,0,0 --look-at 0,0,0 -o "$work/cam.png"
+expect_absent "$work/cam.png"
+expect 2 "--up 0,0,0: the up vector is zero" -- render "$scene" --up 0,0,0
+expect 2 "--up 0,0,1: the up vector is parallel" -- render "$scene" --eye 0,0,5 --look-at 0,0,0 --up 0,0,1
+expect 2 "--eye 0,0,1: does not go with --view" -- render "$scene" --view "$work/views.json" --eye 0,0,1
+expect 2 "--view .*views.json:nosuch: .*has no view named \"nosuch\" \(it has mat_diffuse, near\)" -- \
+    render "$scene" --view "$work/views.json:nosuch"
+expect 1 "wide.json:2: wide.camera.fov must be a number between 1 and 179" -- \
+    info "$scene" --view "$work/wide.json:ok"
+expect 1 "noat.json:1: a.camera: missing \"look_at\"" -- render "$scene" --view "$work/noat.json:a"
+expect 1 "unknown.json:1: a: unknown key \"colour\"" -- render "$scene" --view "$work/unknown.json:a"
+expect 1 "syntax.json:1: JSON syntax error" -- render "$scene" --view "$work/syntax.json"
+expect 1 "missing.json: cannot open" -- render "$scene" --view "$work/missing.json"
+expect 2 "--lights map: only a Quake III map \(.bsp\)" -- render "$scene" --lights map
+expect 2 "--lights sun: expected map or camera" -- render "$scene" --lights sun
+expect 2 "--eye 0,0,1: --extremes builds its own scenes and cameras" -- conform --extremes --eye 0,0,1
+expect 2 "--views .*: does not go with --view" -- bench "$scene" --views "$work/views.json" --view "$work/views.json"
 
 # a baked .kdt: its tree is adopted as is and its patches are tessellated
 "$rtt" bake "$scene" -o "$work/baked.kdt" || { echo "FAIL: rtt bake"; failures=$((failures + 1)); }

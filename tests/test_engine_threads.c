@@ -151,6 +151,64 @@ static void test_cpu_count_is_at_least_one(void **state)
     assert_true(rtt_cpu_count() >= 1);
 }
 
+/* ---- the persistent workers: nested and concurrent runs, many runs ---- */
+
+typedef struct nested_job {
+    atomic_uint inner_tasks;
+    atomic_uint outer_tasks;
+} nested_job;
+
+static void inner_task(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread, (void)task;
+    atomic_fetch_add(&((nested_job *)context)->inner_tasks, 1);
+}
+
+static void outer_task(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread, (void)task;
+    nested_job *job = context;
+    atomic_fetch_add(&job->outer_tasks, 1);
+    rtt_parallel_run(10, 3, inner_task, job); /* runs while the outer run holds the workers */
+}
+
+static void test_nested_runs_do_every_task(void **state)
+{
+    (void)state;
+    nested_job job;
+    atomic_init(&job.inner_tasks, 0);
+    atomic_init(&job.outer_tasks, 0);
+    rtt_parallel_run(6, 4, outer_task, &job);
+    assert_int_equal(atomic_load(&job.outer_tasks), 6);
+    assert_int_equal(atomic_load(&job.inner_tasks), 60);
+}
+
+static void *concurrent_caller(void *arg)
+{
+    for (int i = 0; i < 50; i++) rtt_parallel_run(8, 3, inner_task, arg);
+    return NULL;
+}
+
+static void test_concurrent_callers_and_many_runs(void **state)
+{
+    (void)state;
+    nested_job a, b;
+    atomic_init(&a.inner_tasks, 0);
+    atomic_init(&b.inner_tasks, 0);
+    pthread_t other;
+    assert_int_equal(pthread_create(&other, NULL, concurrent_caller, &b), 0);
+    concurrent_caller(&a);
+    pthread_join(other, NULL);
+    assert_int_equal(atomic_load(&a.inner_tasks), 400);
+    assert_int_equal(atomic_load(&b.inner_tasks), 400);
+    /* thread counts that grow and shrink between runs */
+    nested_job c;
+    atomic_init(&c.inner_tasks, 0);
+    for (uint32_t threads = 1; threads <= 9; threads++) rtt_parallel_run(20, threads, inner_task, &c);
+    for (uint32_t threads = 9; threads >= 1; threads--) rtt_parallel_run(20, threads, inner_task, &c);
+    assert_int_equal(atomic_load(&c.inner_tasks), 18 * 20);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -160,6 +218,8 @@ int main(void)
         cmocka_unit_test(test_progress_reports_each_tile_once_with_total),
         cmocka_unit_test(test_one_thread_runs_inline_on_the_caller),
         cmocka_unit_test(test_cpu_count_is_at_least_one),
+        cmocka_unit_test(test_nested_runs_do_every_task),
+        cmocka_unit_test(test_concurrent_callers_and_many_runs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

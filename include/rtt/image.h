@@ -25,6 +25,9 @@ void rtt_image_free(rtt_image *image);
  * as 32-bit float (prim as uint); PNG is sRGB, clamped, 8 bit. */
 bool rtt_image_write_exr(const rtt_image *image, const char *path, rtt_error *err);
 bool rtt_image_write_png(const rtt_image *image, const char *path, rtt_error *err);
+/* A linear value as the 8-bit sRGB code PNG output stores (clamped to
+ * [0, 1]; NaN → 0). */
+uint8_t rtt_linear_to_srgb8(float linear);
 /* Picks the format from the extension (.exr or .png). */
 bool rtt_image_write(const rtt_image *image, const char *path, rtt_error *err);
 rtt_image *rtt_image_read_exr(const char *path, rtt_error *err);

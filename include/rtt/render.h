@@ -27,6 +27,14 @@ typedef enum rtt_aov {
     RTT_AOV_NORMAL = 1 << 2
 } rtt_aov;
 
+/* Working memory a renderer keeps from one frame to the next, so that an
+ * interactive loop renders without allocating (rtt view).  Optional: a
+ * render without one allocates and frees its own.  A cache serves one
+ * render at a time. */
+typedef struct rtt_render_cache rtt_render_cache;
+rtt_render_cache *rtt_render_cache_create(void);
+void rtt_render_cache_destroy(rtt_render_cache *cache);
+
 typedef struct rtt_render_options {
     uint32_t width, height;          /* 0 → the scene's */
     uint32_t threads;                /* 0 → one per core */
@@ -42,6 +50,7 @@ typedef struct rtt_render_options {
      * worker threads with tiles done / total). */
     void (*progress)(void *context, uint32_t done, uint32_t total);
     void *progress_context;
+    rtt_render_cache *cache;         /* optional: memory kept between frames */
 } rtt_render_options;
 
 /* Counters of the thesis' tables.  N = traversal steps per 2x2 packet,

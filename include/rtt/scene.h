@@ -73,6 +73,22 @@ typedef struct rtt_camera {
     float fov_deg; /* vertical field of view */
 } rtt_camera;
 
+/* Where a scene's camera and lights came from (rtt info prints it). */
+typedef enum rtt_camera_source {
+    RTT_CAMERA_FROM_FILE = 0,     /* the scene file's (or the .kdt's) */
+    RTT_CAMERA_FRAMING,           /* the default framing the bounds */
+    RTT_CAMERA_INTERMISSION,      /* a Quake III map's info_player_intermission */
+    RTT_CAMERA_SPAWN_POINT,       /* a Quake III map's first spawn point */
+    RTT_CAMERA_FROM_OPTIONS       /* put there by the caller (rtt_scene_set_camera) */
+} rtt_camera_source;
+
+typedef enum rtt_light_source {
+    RTT_LIGHTS_FROM_FILE = 0,     /* the scene file's (or the .kdt's) */
+    RTT_LIGHTS_AT_CAMERA,         /* the default: one point light at the eye */
+    RTT_LIGHTS_MAP,               /* a Quake III map's light entities */
+    RTT_LIGHTS_FROM_OPTIONS       /* put there by the caller */
+} rtt_light_source;
+
 /* One imported mesh: a run of triangles in the global order. */
 typedef struct rtt_mesh {
     char name[64];
@@ -107,6 +123,8 @@ typedef struct rtt_scene {
     rtt_material *materials;
     rtt_light *lights;
     rtt_camera camera;
+    rtt_camera_source camera_source;
+    rtt_light_source light_source;
     uint32_t width, height;
     rtt_vec3 background;
     float ambient;

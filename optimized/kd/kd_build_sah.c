@@ -167,7 +167,7 @@ static void task_free(build_task *task)
  * they are the .kdt's).  rtt_buffer grows it; the array stays free()able. */
 static bool reserve(void **array, size_t *capacity, size_t needed, size_t element)
 {
-    rtt_buffer buffer = {*array, *capacity};
+    rtt_buffer buffer = {.data = *array, .capacity = *capacity, .element = element};
     if (!rtt_buffer_reserve(&buffer, needed, element, 0)) return false;
     *array = buffer.data;
     *capacity = buffer.capacity;

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "engine/clock.h"
+#include "engine/render_cache.h"
 #include "engine/threads.h"
 #include "engine_optimized.h"
 #include "kernels.h"
@@ -78,6 +79,55 @@ static void write_pixel(const render_job *job, const sp_node *n)
         out->normal[3 * pixel + 1] = normal.y;
         out->normal[3 * pixel + 2] = normal.z;
     }
+}
+
+/* The per-thread scratch of a frame; kept in the caller's rtt_render_cache
+ * between frames when it passes one (and reused while the thread count,
+ * bounce depth and timing stay the same). */
+typedef struct frame_memory {
+    uint32_t threads, levels;
+    bool timing;
+    sp_scratch *scratch[];
+} frame_memory;
+
+static void frame_memory_free(void *data)
+{
+    frame_memory *m = data;
+    if (!m) return;
+    for (uint32_t t = 0; t < m->threads; t++) sp_scratch_destroy(m->scratch[t]);
+    free(m);
+}
+
+static frame_memory *frame_memory_get(rtt_render_cache *cache, uint32_t threads, uint32_t levels, bool timing)
+{
+    frame_memory *m = rtt_render_cache_take(cache, &rtt_optimized_engine_class);
+    if (m && m->threads == threads && m->levels == levels && m->timing == timing) {
+        for (uint32_t t = 0; t < threads; t++) sp_scratch_begin_frame(m->scratch[t]);
+        return m;
+    }
+    frame_memory_free(m);
+    m = calloc(1, sizeof *m + threads * sizeof m->scratch[0]);
+    if (!m) return NULL;
+    *m = (frame_memory){.threads = threads, .levels = levels, .timing = timing};
+    for (uint32_t t = 0; t < threads; t++)
+        if (!(m->scratch[t] = sp_scratch_create(levels, timing))) {
+            frame_memory_free(m);
+            return NULL;
+        }
+    return m;
+}
+
+/* Tiles go to threads first come, first served, so which thread's scratch
+ * meets the largest tile changes from frame to frame: before the scratch
+ * is kept, every thread's is grown to the largest of each array, and the
+ * next frame of the same image grows none. */
+static bool frame_memory_even_out(frame_memory *m)
+{
+    for (uint32_t t = 1; t < m->threads; t++)
+        if (!sp_scratch_match(m->scratch[0], m->scratch[t])) return false;
+    for (uint32_t t = 1; t < m->threads; t++)
+        if (!sp_scratch_match(m->scratch[t], m->scratch[0])) return false;
+    return true;
 }
 
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
@@ -161,10 +211,11 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     };
     const uint32_t threads = rtt_thread_count(opt->threads);
     job.threads = threads;
-    job.scratch = calloc(threads, sizeof *job.scratch);
-    bool ok = job.scratch != NULL;
-    for (uint32_t t = 0; ok && t < threads; t++)
-        ok = (job.scratch[t] = sp_scratch_create(job.shading.max_bounces + 1, opt->stats || stats != NULL)) != NULL;
+    frame_memory *memory = frame_memory_get(opt->cache, threads, job.shading.max_bounces + 1,
+                                            opt->stats || stats != NULL);
+    bool ok = memory != NULL;
+    /* --accel pgrid: the frame's grid is built here, its cells are the tiles
+     * (its arrays are the frame's own: a render cache keeps none of them) */
     pgrid_render pgrid;
     const bool use_pgrid = engine_opt->accel == RTT_ACCEL_PGRID;
     if (ok && use_pgrid) {
@@ -172,12 +223,12 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         if (!pgrid_render_begin(&pgrid, pgrid_kernel_find(engine_opt->traversal, isa), scene,
                                 optimized_engine_degenerate(engine), &job.frame, width, height, 0, threads, err)) {
             pgrid_render_end(&pgrid);
-            for (uint32_t t = 0; t < threads; t++) sp_scratch_destroy(job.scratch[t]);
-            free(job.scratch);
+            frame_memory_free(memory);
             return false;
         }
     }
     if (ok) {
+        job.scratch = memory->scratch;
         rtt_tiles_run(width, height, use_pgrid ? pgrid.grid.cell : tile, threads, render_tile, &job, opt->progress,
                       opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
@@ -188,9 +239,10 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.pgrid) pgrid_render_end(job.pgrid);
-    if (job.scratch)
-        for (uint32_t t = 0; t < threads; t++) sp_scratch_destroy(job.scratch[t]);
-    free(job.scratch);
+    if (ok && opt->cache && frame_memory_even_out(memory))
+        rtt_render_cache_keep(opt->cache, &rtt_optimized_engine_class, memory, frame_memory_free);
+    else
+        frame_memory_free(memory);
     if (!ok) return rtt_error_set(err, "%s: out of memory in the optimized renderer", scene->path);
     return true;
 }

@@ -76,6 +76,11 @@ typedef struct sp_scratch sp_scratch;
  * primary counters on.  NULL when out of memory. */
 sp_scratch *sp_scratch_create(uint32_t level_count, bool timing);
 void sp_scratch_destroy(sp_scratch *s);
+/* Clears the statistics of a scratch kept from an earlier frame. */
+void sp_scratch_begin_frame(sp_scratch *s);
+/* Grows every array of s to other's size, so that scratch kept between
+ * frames fits any tile any thread met; false when out of memory. */
+bool sp_scratch_match(sp_scratch *s, sp_scratch *other);
 /* True once an allocation has failed: the tile's results are void. */
 bool sp_scratch_failed(const sp_scratch *s);
 const sp_stats *sp_scratch_stats(const sp_scratch *s);

@@ -22,19 +22,46 @@ sp_scratch *sp_scratch_create(uint32_t level_count, bool timing)
     return NULL;
 }
 
+/* Every buffer of a scratch but the levels' nodes, in one list for
+ * destroy and match. */
+#define SP_SCRATCH_BUFFERS 13u
+static void scratch_buffers(sp_scratch *s, rtt_buffer *out[SP_SCRATCH_BUFFERS])
+{
+    rtt_buffer *buffers[SP_SCRATCH_BUFFERS] = {
+        &s->packets,      &s->hits,     &s->occluded, &s->primary_lanes, &s->shadow_rays,
+        &s->shadow_clear, &s->surfaces, &s->requests, &s->group_first,   &s->edge_rays,
+        &s->edge_order,   &s->edge_light, &s->edge_occlusion};
+    memcpy(out, buffers, sizeof buffers);
+}
+
 void sp_scratch_destroy(sp_scratch *s)
 {
     if (!s) return;
     for (uint32_t i = 0; i < s->level_count; i++) rtt_buffer_free(&s->levels[i].nodes);
     free(s->levels);
-    rtt_buffer *buffers[] = {&s->packets,  &s->hits,      &s->occluded,   &s->primary_lanes, &s->shadow_rays,
-                             &s->shadow_clear, &s->surfaces, &s->requests, &s->group_first,  &s->edge_rays,
-                             &s->edge_order, &s->edge_light, &s->edge_occlusion};
-    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++) rtt_buffer_free(buffers[i]);
+    rtt_buffer *buffers[SP_SCRATCH_BUFFERS];
+    scratch_buffers(s, buffers);
+    for (size_t i = 0; i < SP_SCRATCH_BUFFERS; i++) rtt_buffer_free(buffers[i]);
     free(s);
 }
 
+bool sp_scratch_match(sp_scratch *s, sp_scratch *other)
+{
+    bool ok = s->level_count == other->level_count;
+    for (uint32_t i = 0; ok && i < s->level_count; i++) ok = rtt_buffer_match(&s->levels[i].nodes, &other->levels[i].nodes);
+    rtt_buffer *mine[SP_SCRATCH_BUFFERS], *theirs[SP_SCRATCH_BUFFERS];
+    scratch_buffers(s, mine);
+    scratch_buffers(other, theirs);
+    for (size_t i = 0; ok && i < SP_SCRATCH_BUFFERS; i++) ok = rtt_buffer_match(mine[i], theirs[i]);
+    return ok;
+}
+
 bool sp_scratch_failed(const sp_scratch *s) { return s->failed; }
+
+void sp_scratch_begin_frame(sp_scratch *s)
+{
+    memset(&s->stats, 0, sizeof s->stats);
+}
 
 const sp_stats *sp_scratch_stats(const sp_scratch *s) { return &s->stats; }
 

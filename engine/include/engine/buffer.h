@@ -10,6 +10,7 @@
 typedef struct rtt_buffer {
     void *data;
     size_t capacity;      /* elements */
+    size_t element, align; /* of the last growth (rtt_buffer_match copies them) */
 } rtt_buffer;
 
 /* Room for `count` elements of `element` bytes, aligned to `align` (a power
@@ -23,6 +24,10 @@ static inline bool rtt_buffer_reserve(rtt_buffer *b, size_t count, size_t elemen
     return count <= b->capacity || rtt_buffer_grow(b, count, element, align);
 }
 void rtt_buffer_free(rtt_buffer *b);
+/* Grows b to at least other's capacity (of other's element type): scratch
+ * kept between frames is made as large as the largest of its kind, so the
+ * next frame grows none.  False when out of memory. */
+bool rtt_buffer_match(rtt_buffer *b, const rtt_buffer *other);
 
 /* Typed use: RTT_BUFFER_RESERVE(&s->rays, n, rtt_ray) */
 #define RTT_BUFFER_RESERVE(b, count, type) rtt_buffer_reserve((b), (count), sizeof(type), _Alignof(type))

@@ -1,0 +1,158 @@
+/* --eye, --look-at, --up, --fov, --view and --lights (camera_options.h). */
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "camera_options.h"
+#include "cli.h"
+
+const char *const cli_light_choices[] = {"map", "camera", NULL};
+
+bool cli_parse_vec3(const char *value, void *field, rtt_error *why)
+{
+    float xyz[3];
+    const char *p = value;
+    for (int k = 0; k < 3; k++) {
+        char item[64];
+        size_t n = strcspn(p, ",");
+        if (n == 0 || n >= sizeof item || (k < 2 && p[n] != ',') || (k == 2 && p[n] != '\0')) goto bad;
+        memcpy(item, p, n);
+        item[n] = '\0';
+        if (!cli_parse_float(item, &xyz[k])) goto bad;
+        p += n + (k < 2);
+    }
+    *(rtt_vec3 *)field = rtt_v3(xyz[0], xyz[1], xyz[2]);
+    return true;
+bad:
+    return rtt_error_set(why, "expected three finite numbers X,Y,Z");
+}
+
+/* "FILE:NAME" splits at its last colon unless FILE:NAME is itself a file. */
+static void split_view(const char *value, char *file, size_t file_size, char *name, size_t name_size,
+                       const char *scene_path)
+{
+    const char *colon = strrchr(value, ':');
+    bool split = colon && access(value, F_OK) != 0 && !strchr(colon, '/');
+    size_t file_length = split ? (size_t)(colon - value) : strlen(value);
+    snprintf(file, file_size, "%.*s", (int)file_length, value);
+    if (split) {
+        snprintf(name, name_size, "%s", colon + 1);
+        return;
+    }
+    const char *slash = strrchr(scene_path, '/');
+    const char *base = slash ? slash + 1 : scene_path;
+    snprintf(name, name_size, "%.*s", (int)strcspn(base, "."), base);
+}
+
+int cli_camera_check(const cli_parsed *parsed, cli_camera_args *camera, const char *scene_path)
+{
+    memset(&camera->views, 0, sizeof camera->views);
+    camera->chosen = NULL;
+    if (cli_given(parsed, "--fov") && camera->fov > 179.0f)
+        return cli_refuse(parsed, "--fov", "must be between 1 and 179 degrees");
+    if (cli_given(parsed, "--lights") && camera->lights == CLI_LIGHTS_MAP &&
+        rtt_file_kind_of(scene_path) != RTT_FILE_Q3BSP)
+        return cli_refuse(parsed, "--lights",
+                          "only a Quake III map (.bsp) given as SCENE has light entities; %s is not one",
+                          scene_path);
+    if (!camera->view) return CLI_CONTINUE;
+    static const char *const replaced[] = {"--eye", "--look-at", "--up"};
+    for (int i = 0; i < 3; i++)
+        if (cli_given(parsed, replaced[i]))
+            return cli_refuse(parsed, replaced[i], "does not go with --view, whose camera it would replace");
+    char file[512], name[128];
+    split_view(camera->view, file, sizeof file, name, sizeof name, scene_path);
+    if (!file[0] || !name[0]) return cli_refuse(parsed, "--view", "expected FILE or FILE:NAME");
+    rtt_error err = {{0}};
+    if (!rtt_views_load(file, &camera->views, &err)) {
+        rtt_views_free(&camera->views);
+        return cli_fail(&err);
+    }
+    camera->chosen = rtt_views_find(&camera->views, name);
+    if (camera->chosen) return CLI_CONTINUE;
+    char names[256];
+    rtt_views_names(&camera->views, names, sizeof names);
+    int rc = cli_refuse(parsed, "--view", "%s has no view named \"%s\" (it has %s)", file, name, names);
+    cli_camera_free(camera);
+    return rc;
+}
+
+int cli_camera_apply(const cli_parsed *parsed, const cli_camera_args *camera, rtt_scene *scene)
+{
+    rtt_camera c = camera->chosen ? camera->chosen->camera : scene->camera;
+    static const char *const pieces[] = {"--eye", "--look-at", "--up", "--fov"};
+    const char *last = NULL;
+    for (int i = 0; i < 4; i++)
+        if (cli_given(parsed, pieces[i])) last = pieces[i];
+    if (cli_given(parsed, "--eye")) c.eye = camera->eye;
+    if (cli_given(parsed, "--look-at")) c.look_at = camera->look_at;
+    if (cli_given(parsed, "--up")) c.up = camera->up;
+    if (cli_given(parsed, "--fov")) c.fov_deg = camera->fov;
+    if (last || camera->chosen) {
+        rtt_error why = {{0}};
+        if (!rtt_camera_check(&c, &why))
+            return cli_refuse(parsed, last ? last : "--view", "%s%s", why.message,
+                              last && !camera->chosen ? " (with the rest of the scene's camera)" : "");
+        rtt_scene_set_camera(scene, &c);
+    }
+    if (!cli_given(parsed, "--lights")) return CLI_CONTINUE;
+    rtt_error err = {{0}};
+    if (camera->lights == CLI_LIGHTS_CAMERA)
+        return rtt_scene_use_camera_light(scene, &err) ? CLI_CONTINUE : cli_fail(&err);
+    if (scene->light_source != RTT_LIGHTS_MAP) {
+        rtt_error_set(&err, "%s: the map has no light entities to light it with (--lights map)", scene->path);
+        return cli_fail(&err);
+    }
+    return CLI_CONTINUE;
+}
+
+void cli_camera_free(cli_camera_args *camera)
+{
+    rtt_views_free(&camera->views);
+    camera->chosen = NULL;
+}
+
+static const char *camera_source_name(rtt_camera_source source)
+{
+    switch (source) {
+    case RTT_CAMERA_FRAMING: return "the default, framing the bounds";
+    case RTT_CAMERA_INTERMISSION: return "the map's info_player_intermission";
+    case RTT_CAMERA_SPAWN_POINT: return "the map's first spawn point";
+    case RTT_CAMERA_FROM_OPTIONS: return "the command line";
+    default: return "the scene file";
+    }
+}
+
+static const char *light_source_name(rtt_light_source source)
+{
+    switch (source) {
+    case RTT_LIGHTS_AT_CAMERA: return "one point light at the camera";
+    case RTT_LIGHTS_MAP: return "the map's light entities";
+    case RTT_LIGHTS_FROM_OPTIONS: return "the command line";
+    default: return "the scene file";
+    }
+}
+
+#define LIGHTS_LISTED 8u
+
+void cli_print_camera_and_lights(const rtt_scene *s)
+{
+    const rtt_camera *c = &s->camera;
+    printf("  camera      eye (%g, %g, %g), look-at (%g, %g, %g), up (%g, %g, %g), fov %g (%s)\n", c->eye.x,
+           c->eye.y, c->eye.z, c->look_at.x, c->look_at.y, c->look_at.z, c->up.x, c->up.y, c->up.z,
+           (double)c->fov_deg, camera_source_name(s->camera_source));
+    uint32_t spheres = 0;
+    for (uint32_t i = 0; i < s->light_count; i++) spheres += s->lights[i].type == RTT_LIGHT_SPHERE;
+    printf("  lights      %u (%u sphere, %u point) from %s\n", s->light_count, spheres, s->light_count - spheres,
+           light_source_name(s->light_source));
+    for (uint32_t i = 0; i < s->light_count && i < LIGHTS_LISTED; i++) {
+        const rtt_light *l = &s->lights[i];
+        printf("    %-6s at (%g, %g, %g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
+               l->type == RTT_LIGHT_SPHERE ? "sphere" : "point", l->position.x, l->position.y, l->position.z,
+               l->color.x, l->color.y, l->color.z, (double)l->intensity, (double)l->attenuation[0],
+               (double)l->attenuation[1], (double)l->attenuation[2]);
+        if (l->type == RTT_LIGHT_SPHERE) printf(", radius %g", (double)l->radius);
+        printf("\n");
+    }
+    if (s->light_count > LIGHTS_LISTED) printf("    ... and %u more\n", s->light_count - LIGHTS_LISTED);
+}

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# rtt view without a display: scripts played under Xvfb (xvfb-run).
+#  - a screenshot of the start camera equals `rtt render` of the scene;
+#  - after moving (keys held, a mouse drag) the screenshot equals `rtt render
+#    --view` of the camera the viewer prints as a views.json entry;
+#  - --eye/--look-at start the viewer where rtt render looks from;
+#  - T, G and I change what the overlay reports (traversal, shadows, ISA),
+#    Home resets the camera, resize follows the window;
+#  - a bad script is one line naming file and line, exit 1.
+# Skipped (77) when xvfb-run is missing or rtt was built without the viewer.
+set -uo pipefail
+rtt=$1
+src=$2
+if ! command -v xvfb-run >/dev/null || ! command -v jq >/dev/null; then
+  echo "viewer_headless: xvfb-run or jq missing: skipped"; exit 77
+fi
+if ! "$rtt" view --help >/dev/null 2>&1; then
+  echo "viewer_headless: rtt has no view command: skipped"; exit 77
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "viewer_headless: FAIL: $*"; exit 1; }
+view() { xvfb-run -a -s "-screen 0 1024x768x24" "$rtt" view "$@"; }
+scene=$src/scenes/demo.json
+size=(--width 96 --height 80)
+
+# 1. the start camera: the same picture as rtt render
+printf 'frames 1\n' >"$work/still.txt"
+view "$scene" "${size[@]}" --script "$work/still.txt" --screenshot "$work/still.exr" >/dev/null ||
+  fail "still script"
+"$rtt" render "$scene" "${size[@]}" -o "$work/render.exr" || fail "render"
+"$rtt" compare "$work/still.exr" "$work/render.exr" --max-error 0 >/dev/null ||
+  fail "start screenshot differs from rtt render: $("$rtt" compare "$work/still.exr" "$work/render.exr")"
+
+# 2. moved: keys held and a drag; the printed camera renders the same picture
+cat >"$work/move.txt" <<'SCRIPT'
+key w 6      # forward for 6 frames of 1/30 s
+key d 3
+key e 2
+drag 25 -10  # look right and up
+print-camera
+SCRIPT
+view "$scene" "${size[@]}" --script "$work/move.txt" --screenshot "$work/moved.exr" >"$work/move.out" ||
+  fail "move script"
+grep -q '^"view": {"camera": {"eye": \[' "$work/move.out" || fail "no camera printed: $(cat "$work/move.out")"
+# the printed line is a views.json entry: wrapped in braces it is a views file
+echo "{$(grep '^"view":' "$work/move.out")}" >"$work/views.json"
+jq -e '.view.camera.eye | length == 3' "$work/views.json" >/dev/null || fail "not a views.json entry: $(cat "$work/views.json")"
+"$rtt" render "$scene" "${size[@]}" --view "$work/views.json:view" -o "$work/moved_render.exr" || fail "render moved"
+"$rtt" compare "$work/moved.exr" "$work/moved_render.exr" --max-error 0 >/dev/null ||
+  fail "moved screenshot differs from rtt render of its camera"
+if "$rtt" compare "$work/moved.exr" "$work/still.exr" --max-rmse 0.001 >/dev/null 2>&1; then
+  fail "moving the camera did not change the picture"
+fi
+
+# 2b. the camera options of rtt render start the viewer there
+eye=(--eye 0.3,1.2,2.5 --look-at 0,0.8,0 --fov 50)
+view "$scene" "${size[@]}" "${eye[@]}" --script "$work/still.txt" --screenshot "$work/eye.exr" >/dev/null ||
+  fail "--eye script"
+"$rtt" render "$scene" "${size[@]}" "${eye[@]}" -o "$work/eye_render.exr" || fail "render --eye"
+"$rtt" compare "$work/eye.exr" "$work/eye_render.exr" --max-error 0 >/dev/null ||
+  fail "--eye screenshot differs from rtt render --eye"
+
+# 3. the keys change what the overlay reports; Home resets; resize follows
+cat >"$work/keys.txt" <<'SCRIPT'
+print-overlay
+key t
+print-overlay
+key g
+print-overlay
+key i
+print-overlay
+print-camera
+key w 4
+key Home
+print-camera
+resize 64 48
+print-overlay
+screenshot RESIZED
+SCRIPT
+sed -i "s|RESIZED|$work/resized.png|" "$work/keys.txt"
+view "$scene" "${size[@]}" --isa avx2 --script "$work/keys.txt" >"$work/keys.out" 2>"$work/keys.err" ||
+  fail "keys script: $(cat "$work/keys.err")"
+mapfile -t overlay < <(grep '^rtt view |' "$work/keys.out")
+[ "${#overlay[@]}" -eq 5 ] || fail "expected 5 overlay lines: $(cat "$work/keys.out")"
+field() { echo "$1" | awk -F' [|] ' -v k="$2" '{print $k}'; }
+[ "$(field "${overlay[0]}" 4)" = "kd mft/avx2" ] || fail "start overlay: ${overlay[0]}"
+[ "$(field "${overlay[1]}" 4)" != "$(field "${overlay[0]}" 4)" ] || fail "T did not change the traversal"
+[ "$(field "${overlay[2]}" 5)" != "$(field "${overlay[1]}" 5)" ] || fail "G did not change the shadows"
+[ "$(field "${overlay[3]}" 4)" != "$(field "${overlay[2]}" 4)" ] || fail "I did not change the instruction set"
+[ "$(field "${overlay[0]}" 6)" = "96x80" ] || fail "start size: ${overlay[0]}"
+[ "$(field "${overlay[4]}" 6)" = "64x48" ] || fail "resize not followed: ${overlay[4]}"
+mapfile -t cams < <(grep '^"view":' "$work/keys.out")
+[ "${cams[0]}" = "${cams[1]}" ] || fail "Home did not reset the camera: ${cams[0]} / ${cams[1]}"
+file "$work/resized.png" | grep -q '64 x 48' || fail "resized screenshot: $(file "$work/resized.png")"
+
+# 4. a bad script: one line with file and line, exit 1
+printf 'frames 1\nfly 3\n' >"$work/bad.txt"
+view "$scene" "${size[@]}" --script "$work/bad.txt" >/dev/null 2>"$work/bad.err"
+rc=$?
+[ "$rc" -eq 1 ] || fail "bad script exit $rc"
+[ "$(wc -l <"$work/bad.err")" -eq 1 ] && grep -q "bad.txt:2: unknown command \"fly\"" "$work/bad.err" ||
+  fail "bad script message: $(cat "$work/bad.err")"
+printf 'key NoSuchKey\n' >"$work/badkey.txt"
+view "$scene" "${size[@]}" --script "$work/badkey.txt" >/dev/null 2>"$work/badkey.err"
+[ $? -eq 1 ] && grep -q 'badkey.txt:1: unknown key "NoSuchKey"' "$work/badkey.err" ||
+  fail "bad key message: $(cat "$work/badkey.err")"
+echo "viewer_headless: ok"
