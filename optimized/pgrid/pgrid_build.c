@@ -17,10 +17,11 @@
  * 2^-20 fraction of the scene's extent seen from the eye) is binned by its
  * projected corners, which bound its projection exactly; one with every
  * corner behind the eye (depth < -z_near) is dropped, as no eye ray meets
- * it at t > 0; one in between is kept in every cell (its projection is
- * unbounded), counted in near_count.  Exact for every scene; costs a full
- * grid of references per triangle that reaches within z_near of the eye's
- * plane, which no bench view has. */
+ * it at t > 0; one in between is clipped to a plane that no eye ray
+ * meets it in front of (from the distance of its plane, triangle_rect) and
+ * binned by the clipped polygon; only one whose plane passes within about
+ * z_near of the eye is kept in every cell (its projection is unbounded),
+ * counted in near_count.  Exact for every scene. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +75,7 @@ static bool pixel_range(float lo, float hi, uint32_t size, uint16_t *first, uint
 typedef struct projection {
     rtt_vec3 forward, du, dv;
     float corner_du, corner_dv, inv_du2, inv_dv2;   /* corner . du, corner . dv, 1 / |du|^2, 1 / |dv|^2 */
+    float corner_length;                            /* |corner|: 1 / the smallest cosine of an eye ray */
     float z_near;
     float scale;        /* a power of two bringing the scene's extent seen from the eye to about 1 */
 } projection;
@@ -88,6 +90,7 @@ static projection projection_make(const rtt_camera_frame *f, const rtt_scene *sc
     p.corner_dv = rtt_v3_dot(f->corner, f->dv);
     p.inv_du2 = 1.0f / rtt_v3_dot(f->du, f->du);
     p.inv_dv2 = 1.0f / rtt_v3_dot(f->dv, f->dv);
+    p.corner_length = rtt_v3_length(f->corner);
     rtt_vec3 lo = scene->bounds.lo, hi = scene->bounds.hi;
     float extent = rtt_v3_length(rtt_v3_sub(hi, lo)) +
                    rtt_v3_length(rtt_v3_sub(rtt_v3_scale(rtt_v3_add(lo, hi), 0.5f), f->eye));
@@ -116,6 +119,41 @@ static void triangle_setup(pgrid_triangle *t, pgrid_surface *surface, const rtt_
     t->det = rtt_v3_dot(normal, rel[0]);
 }
 
+/* The pixel-centre bounds of points relative to the eye, all at depth
+ * >= z_near (z their depths). */
+static void project_bounds(const projection *p, const rtt_vec3 *rel, const float *z, int count, float box[4])
+{
+    box[0] = box[2] = INFINITY;
+    box[1] = box[3] = -INFINITY;
+    for (int i = 0; i < count; i++) {
+        const float inv_z = 1.0f / z[i];
+        float fx = (rtt_v3_dot(rel[i], p->du) * inv_z - p->corner_du) * p->inv_du2;
+        float fy = (rtt_v3_dot(rel[i], p->dv) * inv_z - p->corner_dv) * p->inv_dv2;
+        box[0] = min_float(box[0], fx);
+        box[1] = max_float(box[1], fx);
+        box[2] = min_float(box[2], fy);
+        box[3] = max_float(box[3], fy);
+    }
+}
+
+/* The triangle clipped to depth >= z_clip (Sutherland-Hodgman, one plane):
+ * at most four corners. */
+static int clip_near(float z_clip, const rtt_vec3 rel[3], const float z[3], rtt_vec3 out[4], float zout[4])
+{
+    int n = 0;
+    for (int i = 0; i < 3; i++) {
+        const int j = (i + 1) % 3;
+        const bool in_i = z[i] >= z_clip, in_j = z[j] >= z_clip;
+        if (in_i) out[n] = rel[i], zout[n++] = z[i];
+        if (in_i != in_j) {
+            const float s = (z_clip - z[i]) / (z[j] - z[i]);
+            out[n] = rtt_v3_add(rel[i], rtt_v3_scale(rtt_v3_sub(rel[j], rel[i]), s));
+            zout[n++] = z_clip; /* on the plane up to rounding: the bounds are widened for it */
+        }
+    }
+    return n;
+}
+
 /* The pixel rectangle of a triangle; false when no eye ray can hit it. */
 static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t width, uint32_t height,
                           pgrid_triangle *t, bool *near)
@@ -128,24 +166,39 @@ static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t w
     }
     *near = false;
     if (zmax < -p->z_near) return false;
-    if (!(zmin >= p->z_near)) {
-        *near = true;
-        t->x0 = t->y0 = 0;
-        t->x1 = (uint16_t)(width - 1);
-        t->y1 = (uint16_t)(height - 1);
-        return true;
+    float box[4];
+    if (zmin >= p->z_near) {
+        project_bounds(p, rel, z, 3, box);
+    } else {
+        /* Crossing the near plane.  Every point of the triangle's plane is
+         * at least its distance h from the eye, and an eye ray's depth is
+         * at least its length / |corner| (|corner| = 1 / the smallest cosine
+         * of an eye ray with the view axis), so no eye ray meets the plane
+         * at a depth below h / |corner|: the triangle clipped to half that
+         * bounds every hit.  When that clip plane would lie nearer than
+         * z_near, the triangle is kept in every cell. */
+        const rtt_vec3 normal = rtt_v3_cross(rtt_v3_sub(rel[1], rel[0]), rtt_v3_sub(rel[2], rel[0]));
+        const float h = fabsf(rtt_v3_dot(normal, rel[0])) / rtt_v3_length(normal);
+        const float z_clip = 0.5f * h / p->corner_length;
+        if (!(z_clip >= p->z_near && zmax > z_clip)) {
+            *near = true;
+            t->x0 = t->y0 = 0;
+            t->x1 = (uint16_t)(width - 1);
+            t->y1 = (uint16_t)(height - 1);
+            return true;
+        }
+        rtt_vec3 clipped[4];
+        float zc[4];
+        const int n = clip_near(z_clip, rel, z, clipped, zc);
+        project_bounds(p, clipped, zc, n, box);
+        /* a crossing is off the plane by a few ulps of the corners' size:
+         * over z_clip, 2^-18 of that in the projection, in pixels */
+        float size = 0.0f;
+        for (int i = 0; i < 3; i++) size = max_float(size, rtt_v3_length(rel[i]));
+        const float widen = size / z_clip * 0x1p-18f * sqrtf(p->inv_du2 > p->inv_dv2 ? p->inv_du2 : p->inv_dv2);
+        box[0] -= widen, box[1] += widen, box[2] -= widen, box[3] += widen;
     }
-    float xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
-    for (int i = 0; i < 3; i++) {
-        const float inv_z = 1.0f / z[i];
-        float fx = (rtt_v3_dot(rel[i], p->du) * inv_z - p->corner_du) * p->inv_du2;
-        float fy = (rtt_v3_dot(rel[i], p->dv) * inv_z - p->corner_dv) * p->inv_dv2;
-        xlo = min_float(xlo, fx);
-        xhi = max_float(xhi, fx);
-        ylo = min_float(ylo, fy);
-        yhi = max_float(yhi, fy);
-    }
-    return pixel_range(xlo, xhi, width, &t->x0, &t->x1) && pixel_range(ylo, yhi, height, &t->y0, &t->y1);
+    return pixel_range(box[0], box[1], width, &t->x0, &t->x1) && pixel_range(box[2], box[3], height, &t->y0, &t->y1);
 }
 
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
