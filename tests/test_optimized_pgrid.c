@@ -2,7 +2,9 @@
  * engine and a double-precision brute force, at every instruction set this
  * CPU runs and at several cell sizes; every copy bit for bit equal to the
  * SSE4.1 one; the renderer's --accel pgrid images against the reference
- * renderer's; bad cell sizes refused.
+ * renderer's; bad cell sizes refused.  demo.json's camera stands inside the
+ * room, so its floor, walls and ceiling cross the eye's plane: the build's
+ * near-plane clipping is checked there.
  *
  * Hits: the same prim as the reference, with t within 1e-5 (|t| + S) (S the
  * scene's extent seen from the eye).  A different prim (or a hit against a
