@@ -142,6 +142,38 @@ static inline void clear_block(float *depth, uint32_t *triangle)
 
 #define BLOCK_H (LANES / 4)
 
+/* Edge stepping for wide rectangles: the blocks of one block row that can
+ * hold a pixel inside the triangle.  A hit at t > 0 has every w_e of the
+ * sign of det (their sum is N . D), so on the row's pixel centres fy in
+ * [y + 0.5, y + BLOCK_H - 0.5] each edge bounds fx on one side; the span
+ * is widened by a block each way for the rounding of this bound (the
+ * test itself stays the per-lane one), so no block with a pixel inside is
+ * skipped.  False when no block of the row can be. */
+static bool row_span(const pgrid_triangle *t, float sign, float y, uint32_t X0, uint32_t *bx0, uint32_t *bx1)
+{
+    float lo = (float)X0 + 4.0f * (float)*bx0, hi = (float)X0 + 4.0f * (float)*bx1 + 4.0f;
+    for (int e = 0; e < 3; e++) {
+        const float a = sign * t->a[e], b = sign * t->b[e], c = sign * t->c[e];
+        /* the largest sign * w_e over the row's fy, at fx = 0 */
+        const float top = c + b * (y + 0.5f), bottom = c + b * (y + (float)BLOCK_H - 0.5f);
+        const float r = top > bottom ? top : bottom;
+        if (a > 0.0f) {
+            const float from = -r / a;
+            if (from > lo) lo = from;
+        } else if (a < 0.0f) {
+            const float to = -r / a;
+            if (to < hi) hi = to;
+        } else if (r < 0.0f) {
+            return false;
+        }
+    }
+    const float first = (lo - (float)X0) * 0.25f - 1.0f, last = (hi - (float)X0) * 0.25f + 1.0f;
+    if (first > last || first > (float)*bx1 || last < (float)*bx0) return false;
+    if (first > (float)*bx0) *bx0 = first < (float)*bx1 ? (uint32_t)first : *bx1;
+    if (last < (float)*bx1) *bx1 = last > (float)*bx0 ? (uint32_t)last : *bx0;
+    return true;
+}
+
 void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t *triangle);
 
 void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t *triangle)
@@ -163,11 +195,14 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
         const vfloat c0 = vf_set1(t->c[0]), c1 = vf_set1(t->c[1]), c2 = vf_set1(t->c[2]);
         const vfloat a3 = vf_set1(t->a[3]), b3 = vf_set1(t->b[3]), c3 = vf_set1(t->c[3]);
         const vfloat det = vf_set1(t->det);
+        const float sign = t->det < 0.0f ? -1.0f : 1.0f;
         for (uint32_t by = (y0 - Y0) / BLOCK_H; by <= (y1 - Y0) / BLOCK_H; by++) {
             const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
             const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
                          r2 = vf_add(c2, vf_mul(b2, fy)), r3 = vf_add(c3, vf_mul(b3, fy));
-            for (uint32_t bx = (x0 - X0) / 4u; bx <= (x1 - X0) / 4u; bx++) {
+            uint32_t bx0 = (x0 - X0) / 4u, bx1 = (x1 - X0) / 4u;
+            if (bx1 - bx0 >= 4u && !row_span(t, sign, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) continue;
+            for (uint32_t bx = bx0; bx <= bx1; bx++) {
                 const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x);
                 const vfloat w0 = vf_add(r0, vf_mul(a0, fx)), w1 = vf_add(r1, vf_mul(a1, fx)),
                              w2 = vf_add(r2, vf_mul(a2, fx));
