@@ -30,6 +30,7 @@ typedef struct bench_state {
     uint32_t *result;           /* per pixel, the row being checked */
     uint32_t *oracle;           /* per pixel, Embree's (first variant, rtcIntersect1/rtcOccluded1) */
     bool have_oracle;
+    rtt_error *err;             /* a failure that ends the run (an image not written) */
 } bench_state;
 
 void rtt_bench_config_default(rtt_bench_config *config)
@@ -383,7 +384,11 @@ static bool render_row(bench_state *s, const kernel_method *m, const char *shado
         if (s->config->image_dir) {
             image_name(&row, row.image, sizeof row.image, s->config->image_dir);
             rtt_error err = {{0}};
-            if (!rtt_image_write(f.image, row.image, &err)) row_error(&row, "", err.message);
+            if (!rtt_image_write(f.image, row.image, &err)) { /* an output lost is a failed run, not a row */
+                rtt_image_free(f.image);
+                *s->err = err;
+                return false;
+            }
         }
         bench_time_frames(render_once, &f, s->warmup, s->frames, &row);
         if (f.failed) row_error(&row, "", f.err.message);
@@ -486,7 +491,8 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
 {
     memset(report, 0, sizeof *report);
     snprintf(report->scene, sizeof report->scene, "%s", scene->path);
-    bench_state s = {.scene = scene, .config = config, .report = report};
+    rtt_error failure = {{0}};
+    bench_state s = {.scene = scene, .config = config, .report = report, .err = &failure};
     s.width = config->width ? config->width : scene->width;
     s.height = config->height ? config->height : scene->height;
     s.warmup = config->quick ? 0 : config->warmup;
@@ -531,6 +537,10 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     rtt_engine_destroy(s.engine);
     if (!ok) {
         rtt_bench_report_free(report);
+        if (failure.message[0]) {
+            *err = failure;
+            return false;
+        }
         return rtt_error_set(err, "%s: out of memory in the benchmark", scene->path);
     }
     return true;

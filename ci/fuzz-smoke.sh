@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz smoke run: builds the libFuzzer harnesses with clang
 # (-DRTT_FUZZ=ON -DRTT_EMBREE=ON, ASan + UBSan, in build-fuzz) and runs each
-# for FUZZ_SECONDS (default 60; six harnesses stay under 10 minutes) over its
+# for FUZZ_SECONDS (default 60; seven harnesses stay under 10 minutes) over its
 # committed seed corpus.  New inputs go to a scratch directory, never into the
 # committed corpus.  A crash fails the run and leaves its input in
 # build-fuzz/fuzz-artifacts/<harness>/: minimise it (-minimize_crash=1), fix
@@ -25,7 +25,7 @@
 # FUZZ_SEED=0 asks libFuzzer for a random seed.
 #
 # Environment: FUZZ_SECONDS, FUZZ_SEED, FUZZ_BUILD (build directory), JOBS
-# (default 2), FUZZ_HARNESSES (default: all six).
+# (default 2), FUZZ_HARNESSES (default: all seven).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -33,7 +33,7 @@ build=${FUZZ_BUILD:-$root/build-fuzz}
 seconds=${FUZZ_SECONDS:-60}
 seed=${FUZZ_SEED:-1}
 jobs=${JOBS:-2}
-harnesses=(${FUZZ_HARNESSES:-scene_json q3bsp assimp kdt kd_build exr})
+harnesses=(${FUZZ_HARNESSES:-scene_json q3bsp assimp mesh_header kdt kd_build exr})
 
 if ! command -v clang >/dev/null; then
   echo "fuzz-smoke: clang is not installed (ci/install-deps.sh installs it)" >&2

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "rtt/atomic_file.h"
+#include "rtt/files.h"
 
 int cli_fail(const rtt_error *err)
 {
@@ -43,63 +45,16 @@ bool cli_parse_float(const char *text, float *out)
 
 bool cli_write_file_atomic(const char *path, const void *data, size_t size, rtt_error *err)
 {
-    char temp[4096];
-    if (snprintf(temp, sizeof temp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof temp)
-        return rtt_error_set(err, "%s: path too long", path);
-    FILE *file = fopen(temp, "wb");
-    if (!file) return rtt_error_set(err, "%s: cannot write: %s", path, strerror(errno));
-    bool ok = fwrite(data, 1, size, file) == size;
-    ok = (fclose(file) == 0) && ok;
-    if (!ok) {
-        remove(temp);
-        return rtt_error_set(err, "%s: write failed: %s", path, strerror(errno));
-    }
-    if (rename(temp, path) != 0) {
-        int saved = errno;
-        remove(temp);
-        return rtt_error_set(err, "%s: cannot replace: %s", path, strerror(saved));
-    }
-    return true;
+    return rtt_atomic_file_write(path, data, size, err);
 }
 
 void *cli_read_file(const char *path, size_t *size, rtt_error *err)
 {
-    FILE *file = fopen(path, "rb");
-    if (!file) {
-        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    char *data = NULL;
-    size_t length = 0, capacity = 0;
-    for (;;) {
-        if (length == capacity) {
-            capacity = capacity ? capacity * 2 : 1 << 16;
-            char *grown = realloc(data, capacity);
-            if (!grown) {
-                free(data);
-                fclose(file);
-                rtt_error_set(err, "%s: out of memory", path);
-                return NULL;
-            }
-            data = grown;
-        }
-        size_t got = fread(data + length, 1, capacity - length, file);
-        length += got;
-        if (got == 0) break;
-    }
-    bool failed = ferror(file);
-    fclose(file);
-    if (failed) {
-        free(data);
-        rtt_error_set(err, "%s: read failed", path);
-        return NULL;
-    }
-    *size = length;
-    return data;
+    return rtt_file_read(path, SIZE_MAX, size, err); /* regular files only */
 }
 
-rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, rtt_error *err)
+rtt_scene *cli_load_scene(const char *path, uint32_t bezier_level, uint64_t max_memory, rtt_error *err)
 {
-    rtt_scene_load_options opt = {.bezier_level = bezier_level};
+    rtt_scene_load_options opt = {.bezier_level = bezier_level, .max_memory = max_memory};
     return rtt_scene_load(path, &opt, err);
 }

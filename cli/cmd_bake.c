@@ -14,6 +14,7 @@ typedef struct bake_args {
     const char *scene_path, *out_path;
     uint32_t bezier_level;
     rtt_engine_options engine;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } bake_args;
 
 static bool parse_kdt_path(const char *value, void *field, rtt_error *why)
@@ -29,6 +30,8 @@ static const cli_option bake_options[] = {
      .kind = CLI_CUSTOM, CLI_FIELD(bake_args, out_path), .parse = parse_kdt_path},
     CLI_OPTIONS_KD_TREE(bake_args, engine),
     CLI_OPTION_BEZIER_LEVEL(bake_args, bezier_level),
+    CLI_OPTION_BUILD_THREADS(bake_args, engine),
+    CLI_OPTION_MAX_MEMORY(bake_args, max_memory),
 };
 
 static void bake_defaults(void *args)
@@ -46,7 +49,9 @@ static int bake(void *opaque, const cli_parsed *parsed)
     if ((rc = cli_check_scene_options(parsed, args->scene_path, NULL)) != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    const char *inputs[] = {args->scene_path};
+    if (!cli_check_outputs(&args->out_path, 1, inputs, 1, &err)) return cli_fail(&err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     bool ok = rtt_optimized_bake(scene, &args->engine, args->out_path, &err);
     rtt_scene_free(scene);

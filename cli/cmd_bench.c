@@ -9,6 +9,7 @@
 #include "bench.h"
 #include "camera_options.h"
 #include "cli.h"
+#include "rtt/atomic_file.h"
 #include "options.h"
 
 typedef struct bench_args {
@@ -17,6 +18,7 @@ typedef struct bench_args {
     uint32_t size, height, kinds; /* kinds: bit k for kind_names[k] */
     rtt_bench_config config;
     rtt_engine_options engine; /* the optimized engine's options the bench takes */
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;
 } bench_args;
 
@@ -83,6 +85,7 @@ static const cli_option bench_options[] = {
      .kind = CLI_STRING, CLI_FIELD(bench_args, config.image_dir)},
     {.name = "--progress", .help = "name each row on stderr as it starts", .kind = CLI_FLAG,
      CLI_FIELD(bench_args, progress)},
+    CLI_OPTION_MAX_MEMORY(bench_args, max_memory),
 };
 
 /* What --quick, --only and the scene file make meaningless. */
@@ -153,7 +156,10 @@ static int bench(void *opaque, const cli_parsed *parsed)
     if (args->progress) args->config.progress = print_progress;
 
     rtt_error err = {{0}};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    const char *outputs[] = {args->markdown, args->tsv}, *inputs[] = {args->scene_path, args->views};
+    const bool writable = cli_check_outputs(outputs, 2, inputs, 2, &err) &&
+                          (!args->config.image_dir || cli_check_directory(args->config.image_dir, "--images", &err));
+    rtt_scene *scene = writable ? cli_load_scene(args->scene_path, 0, args->max_memory, &err) : NULL;
     char view[64] = "";
     /* the view's camera, light and size as the benchmarks define them, then
      * whatever the camera options change */
@@ -173,8 +179,10 @@ static int bench(void *opaque, const cli_parsed *parsed)
     rtt_scene_free(scene);
     if (!ok) return cli_fail(&err);
     snprintf(report.view, sizeof report.view, "%s", view);
+    rtt_atomic_files_hold(); /* the reports: both or neither */
     if (args->markdown) ok = write_text(args->markdown, rtt_bench_report_markdown(&report), &err);
     if (ok && args->tsv) ok = write_text(args->tsv, rtt_bench_report_tsv(&report), &err);
+    ok = rtt_atomic_files_release(ok, &err) && ok;
     char *text = ok ? (args->json ? rtt_bench_report_json(&report) : rtt_bench_report_table(&report)) : NULL;
     if (ok && !text) ok = rtt_error_set(&err, "rtt bench: out of memory formatting the report");
     if (text) {

@@ -17,6 +17,7 @@ typedef struct conform_args {
     uint32_t max_rays, seed;
     rtt_conform_config config;
     rtt_engine_options engine; /* what --isa sets, for the engines that read it */
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;    /* the camera of the primary set */
 } conform_args;
 
@@ -67,6 +68,7 @@ static const cli_option conform_options[] = {
      .help = "with --extremes: benchmark meshes for watertightness (default "
              "${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes; skipped when absent)",
      .kind = CLI_STRING, CLI_FIELD(conform_args, meshes)},
+    CLI_OPTION_MAX_MEMORY(conform_args, max_memory),
     CLI_OPTIONS_CAMERA(conform_args, camera),
 };
 
@@ -158,7 +160,7 @@ static int conform(void *opaque, const cli_parsed *parsed)
     args->config.isa = args->engine.isa;
 
     rtt_error err = {{0}};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (rc != CLI_CONTINUE) {

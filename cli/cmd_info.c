@@ -14,6 +14,7 @@ typedef struct info_args {
     const char *scene_path;
     int engines; /* info_engines */
     rtt_engine_options engine;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;
 } info_args;
 
@@ -22,6 +23,8 @@ static const cli_option info_options[] = {
      .help = "whose kd-tree to describe: both (default), optimized or reference",
      .kind = CLI_CHOICE, CLI_FIELD(info_args, engines), .choices = info_engine_choices},
     CLI_OPTIONS_KD_TREE(info_args, engine),
+    CLI_OPTION_BUILD_THREADS(info_args, engine),
+    CLI_OPTION_MAX_MEMORY(info_args, max_memory),
     CLI_OPTIONS_CAMERA(info_args, camera),
 };
 
@@ -94,7 +97,7 @@ static int info(void *opaque, const cli_parsed *parsed)
     if (rc != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (rc != CLI_CONTINUE) {

@@ -8,6 +8,7 @@
 #include "camera_options.h"
 #include "cli.h"
 #include "options.h"
+#include "rtt/atomic_file.h"
 #include "rtt/engine.h"
 #include "rtt/image.h"
 #include "rtt/optimized.h"
@@ -22,6 +23,7 @@ typedef struct render_args {
     const char *engine;
     uint32_t bezier_level;
     rtt_render_options render;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
     cli_camera_args camera;
 } render_args;
 
@@ -74,6 +76,7 @@ static const cli_option render_options[] = {
     {.name = "--stats", .help = "print the engine, kernel and instruction set used, rays, N and I per 2x2 packet, "
                                 "stage times",
      .kind = CLI_FLAG, CLI_FIELD(render_args, render.stats)},
+    CLI_OPTION_MAX_MEMORY(render_args, max_memory),
 };
 
 /* What the parsed options ask that the engine, the scene file or the
@@ -202,7 +205,10 @@ static int render(void *opaque, const cli_parsed *parsed)
     if (status != CLI_CONTINUE) return status;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    const char *inputs[] = {args->scene_path};
+    rtt_scene *scene = cli_check_outputs(args->outputs, args->output_count, inputs, 1, &err)
+                           ? cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err)
+                           : NULL;
     status = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (status != CLI_CONTINUE) {
@@ -220,7 +226,9 @@ static int render(void *opaque, const cli_parsed *parsed)
     memset(&stats, 0, sizeof stats);
     char engine_used[256] = "";
     bool ok = image && render_with_engine(scene, args, image, &stats, engine_used, sizeof engine_used, &err);
+    rtt_atomic_files_hold(); /* all the outputs or none */
     for (uint32_t i = 0; ok && i < args->output_count; i++) ok = rtt_image_write(image, args->outputs[i], &err);
+    ok = rtt_atomic_files_release(ok, &err) && ok;
     if (ok && args->render.stats) print_stats(&stats, engine_used, args);
     rtt_image_free(image);
     rtt_scene_free(scene);

@@ -4,14 +4,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <sys/stat.h>
+
 #include "cli.h"
 #include "options.h"
 #include "rtt/engine.h"
+#include "rtt/memory_budget.h"
 
 typedef struct trace_args {
     const char *scene_path, *rays_path, *out_path, *engine_name;
     bool occluded;
     rtt_engine_options engine;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } trace_args;
 
 static const cli_option trace_options[] = {
@@ -24,6 +28,8 @@ static const cli_option trace_options[] = {
      .kind = CLI_FLAG, CLI_FIELD(trace_args, occluded)},
     CLI_OPTION_ENGINE(trace_args, engine_name),
     CLI_OPTIONS_KD_ENGINE(trace_args, engine),
+    CLI_OPTION_BUILD_THREADS(trace_args, engine),
+    CLI_OPTION_MAX_MEMORY(trace_args, max_memory),
 };
 
 static bool ends_with(const char *text, const char *suffix)
@@ -33,9 +39,13 @@ static bool ends_with(const char *text, const char *suffix)
 }
 
 /* A scene from raw triangles (rtt triangles' output format). */
-static rtt_scene *load_triangle_file(const char *path, rtt_error *err)
+static rtt_scene *load_triangle_file(const char *path, uint64_t max_memory, rtt_error *err)
 {
     size_t size = 0;
+    struct stat info;
+    if (stat(path, &info) == 0 && S_ISREG(info.st_mode) &&
+        !rtt_memory_budget_check(path, (uint64_t)info.st_size / 36, 0, max_memory, err))
+        return NULL;
     float *xyz = cli_read_file(path, &size, err);
     if (!xyz) return NULL;
     rtt_scene *scene = NULL;
@@ -70,6 +80,8 @@ static int trace(void *opaque, const cli_parsed *parsed)
     if ((rc = cli_check_scene_options(parsed, args->scene_path, args->engine_name)) != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
+    const char *inputs[] = {args->scene_path, args->rays_path};
+    if (!cli_check_outputs(&args->out_path, 1, inputs, 2, &err)) return cli_fail(&err);
     size_t size = 0;
     rtt_ray *rays = cli_read_file(args->rays_path, &size, &err);
     if (!rays) return cli_fail(&err);
@@ -79,8 +91,8 @@ static int trace(void *opaque, const cli_parsed *parsed)
         return cli_fail(&err);
     }
     size_t count = size / sizeof(rtt_ray);
-    rtt_scene *scene = ends_with(args->scene_path, ".bin") ? load_triangle_file(args->scene_path, &err)
-                                                          : cli_load_scene(args->scene_path, 0, &err);
+    rtt_scene *scene = ends_with(args->scene_path, ".bin") ? load_triangle_file(args->scene_path, args->max_memory, &err)
+                                                          : cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     rtt_engine *engine = scene ? rtt_engine_create(args->engine_name, scene, &args->engine, &err) : NULL;
     size_t record = args->occluded ? 1 : sizeof(rtt_hit);
     void *results = engine ? malloc(count * record + 1) : NULL;

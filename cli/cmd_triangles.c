@@ -10,12 +10,14 @@
 typedef struct triangles_args {
     const char *scene_path, *out_path;
     uint32_t bezier_level;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } triangles_args;
 
 static const cli_option triangles_options[] = {
     {.name = "--output", .short_name = 'o', .value_name = "FILE", .help = "the file to write (required)",
      .kind = CLI_STRING, CLI_FIELD(triangles_args, out_path)},
     CLI_OPTION_BEZIER_LEVEL(triangles_args, bezier_level),
+    CLI_OPTION_MAX_MEMORY(triangles_args, max_memory),
 };
 
 static int triangles(void *opaque, const cli_parsed *parsed)
@@ -26,7 +28,9 @@ static int triangles(void *opaque, const cli_parsed *parsed)
     if (rc != CLI_CONTINUE) return rc;
 
     rtt_error err = {0};
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    const char *inputs[] = {args->scene_path};
+    if (!cli_check_outputs(&args->out_path, 1, inputs, 1, &err)) return cli_fail(&err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     if (!scene) return cli_fail(&err);
     size_t size = (size_t)scene->triangle_count * 9 * sizeof(float);
     float *xyz = malloc(size ? size : 1);

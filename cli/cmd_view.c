@@ -23,6 +23,7 @@ typedef struct view_args {
     view_settings settings;
     const char *script, *screenshot;
     cli_camera_args camera;
+    uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
 } view_args;
 
 static bool parse_view_shadows(const char *value, void *field, rtt_error *why)
@@ -59,6 +60,7 @@ static const cli_option view_options[] = {
     {.name = "--screenshot", .value_name = "FILE",
      .help = "write the last picture to FILE (.png or .exr) when the viewer exits",
      .kind = CLI_CUSTOM, CLI_FIELD(view_args, screenshot), .parse = parse_image_path},
+    CLI_OPTION_MAX_MEMORY(view_args, max_memory),
 };
 
 static void view_defaults(void *opaque)
@@ -81,7 +83,7 @@ static int view(void *opaque, const cli_parsed *parsed)
 #ifdef RTT_HAVE_VIEWER
     rc = cli_camera_check(parsed, &args->camera, args->scene_path);
     if (rc != CLI_CONTINUE) return rc;
-    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, &err);
+    rtt_scene *scene = cli_load_scene(args->scene_path, args->bezier_level, args->max_memory, &err);
     rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (rc != CLI_CONTINUE) {

@@ -18,12 +18,14 @@ static void print_usage(FILE *out)
     fprintf(out, "usage: rtt COMMAND [options]   (rtt COMMAND --help for each)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(out, "  %-10s %s\n", commands[i]->name, commands[i]->summary);
-    fprintf(out, "\nexit codes: 0 success, 1 bad input, 2 bad usage\n");
+    fprintf(out, "\nexit codes: 0 success, 1 bad input, 2 bad usage, 130 and 143 interrupted (SIGINT, SIGTERM:\n"
+                 "no output is left half-written, no temporary is left behind)\n");
 }
 
 int main(int argc, char **argv)
 {
     rtt_error err = {0};
+    cli_handle_signals();
     if (!rtt_conform_register_engines(&err)) return cli_fail(&err);
     if (argc < 2) {
         print_usage(stderr);

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "options.h"
+#include "rtt/memory_budget.h"
 
 #define HELP_WIDTH 80
 #define HELP_COLUMN 26 /* where an option's text starts */
@@ -503,4 +504,11 @@ void cli_help_isas(char *out, size_t size)
 {
     for (int isa = RTT_ISA_AUTO + 1; isa < RTT_ISA_COUNT; isa++)
         append(out, size, "%s %s", isa > RTT_ISA_AUTO + 1 ? "," : "", rtt_isa_name((rtt_isa)isa));
+}
+
+bool cli_parse_memory_size(const char *value, void *field, rtt_error *why)
+{
+    if (!rtt_memory_size_parse(value, field))
+        return rtt_error_set(why, "not a size (bytes, or a number with K, M, G or T: 512M, 4G, 1.5GiB)");
+    return true;
 }

@@ -165,6 +165,19 @@ extern const char *const cli_on_off[];
         CLI_OPTION_LEAF_CULLING(type, engine), CLI_OPTION_ISA(type, engine), CLI_OPTION_MAX_DEPTH(type, engine)
 /* The options of building a kd-tree (bake, info). */
 #define CLI_OPTIONS_KD_TREE(type, engine) CLI_OPTION_ACCEL(type, engine), CLI_OPTION_MAX_DEPTH(type, engine)
+/* --threads N for the commands that build a tree but do not render. */
+#define CLI_OPTION_BUILD_THREADS(type, engine)                                                                  \
+    {.name = "--threads", .value_name = "N",                                                                    \
+     .help = "threads for the kd-tree build and the check of a baked tree, 1 to 1024 (default: one per core)",   \
+     .kind = CLI_U32, CLI_FIELD(type, engine.threads), .lo = 1, .hi = 1024}
+
+/* --max-memory SIZE into a uint64_t of bytes (rtt_memory_size_parse). */
+bool cli_parse_memory_size(const char *value, void *field, rtt_error *why);
+#define CLI_OPTION_MAX_MEMORY(type, member)                                                                     \
+    {.name = "--max-memory", .value_name = "SIZE",                                                              \
+     .help = "refuse a scene that would need more memory than SIZE (512M, 4G, ...; default: the machine's "      \
+             "memory or the process's limit, whichever is lower)",                                              \
+     .kind = CLI_CUSTOM, CLI_FIELD(type, member), .parse = cli_parse_memory_size}
 #define CLI_OPTION_BEZIER_LEVEL(type, member)                                                                   \
     {.name = "--bezier-level", .value_name = "N", .help = "Quake III patch tessellation, 1 to 64 (default 4)",  \
      .kind = CLI_U32, CLI_FIELD(type, member), .lo = 1, .hi = 64}

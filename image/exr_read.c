@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "exr_stream.h"
+#include "rtt/files.h"
 #include "rtt/image.h"
 #include "rtt/render.h"
 
@@ -183,7 +184,10 @@ static exr_result_t read_chunks(exr_const_context_t ctxt, rtt_image *image, cons
 
 rtt_image *rtt_image_read_exr(const char *path, rtt_error *err)
 {
-    rtt_exr_stream stream = { .fd = open(path, O_RDONLY | O_CLOEXEC) };
+    FILE *file = rtt_file_open_regular(path, err); /* a FIFO or a device is refused, not read */
+    if (!file) return NULL;
+    rtt_exr_stream stream = { .fd = dup(fileno(file)) };
+    fclose(file);
     if (stream.fd < 0) {
         rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
         return NULL;

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic_file.h"
+#include "rtt/atomic_file.h"
 #include "exr_stream.h"
 #include "rtt/image.h"
 

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic_file.h"
+#include "rtt/atomic_file.h"
 #include "rtt/image.h"
 
 typedef struct png_failure {

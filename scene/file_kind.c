@@ -3,6 +3,7 @@
  * the JSON scene file's "file" references and the command line (which
  * refuses options a kind of file does not use) always agree. */
 #include <assimp/cimport.h>
+#include <stdio.h>
 #include <string.h>
 #include <strings.h>
 
@@ -23,4 +24,13 @@ rtt_file_kind rtt_file_kind_of(const char *path)
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
         if (strcasecmp(ext, kinds[i].extension) == 0) return kinds[i].kind;
     return aiIsExtensionSupported(ext - 1) ? RTT_FILE_MESH : RTT_FILE_UNKNOWN; /* Assimp wants the dot */
+}
+
+void rtt_path_beside(const char *path, const char *name, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (name[0] == '/' || !slash)
+        snprintf(out, size, "%s", name);
+    else
+        snprintf(out, size, "%.*s/%s", (int)(slash - path), path, name);
 }

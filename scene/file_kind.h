@@ -11,4 +11,9 @@
  * folder name ("a.b/scene") is not an extension.  Points into path. */
 const char *rtt_file_extension(const char *path);
 
+/* `name` as seen from the file at `path`: itself when absolute or when path
+ * has no directory, else "DIR/name" with path's directory (how a scene file
+ * names its meshes and a glTF its buffers).  Truncated to `size`. */
+void rtt_path_beside(const char *path, const char *name, char *out, size_t size);
+
 #endif

@@ -1,16 +1,23 @@
-/* rtt_file_read: a whole file into one buffer (see file_read.h).
+/* rtt_file_read: a whole file into one buffer, and the regular-file test
+ * every input goes through (include/rtt/files.h).
+ *
+ * The file is opened with O_NONBLOCK, so that opening a FIFO without a
+ * writer returns at once, then fstat'ed: only a regular file is kept (and
+ * its descriptor made blocking again).  A stat() before open() would leave
+ * a window in which the name could be swapped for a FIFO.
  *
  * A regular file's size is known before reading, so its buffer is allocated
  * once at the right size and an oversized file is refused without reading
  * it; anything else (a pipe, a file that grows while read) is read in
- * doubling steps.  A directory opens but fails to read, with the system's
- * reason ("Is a directory"). */
+ * doubling steps. */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "file_read.h"
 
@@ -24,10 +31,56 @@ static bool too_large(const char *path, size_t max_bytes, rtt_error *err)
     return rtt_error_set(err, "%s: larger than %zu %s", path, max_bytes / units[u].bytes, units[u].unit);
 }
 
+static const char *kind_of(mode_t mode)
+{
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a file";
+}
+
+FILE *rtt_file_open_regular(const char *path, rtt_error *err)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
+        int code = errno;
+        rtt_error_set(err, "%s: cannot open: %s", path, strerror(code));
+        errno = code; /* callers may tell a missing file from the rest */
+        return NULL;
+    }
+    struct stat info;
+    if (fstat(fd, &info) != 0) {
+        int code = errno;
+        close(fd);
+        return rtt_error_set(err, "%s: cannot open: %s", path, strerror(code)), NULL;
+    }
+    if (!S_ISREG(info.st_mode)) {
+        close(fd);
+        if (S_ISDIR(info.st_mode)) return rtt_error_set(err, "%s: is a directory", path), NULL;
+        return rtt_error_set(err, "%s: not a regular file (%s)", path, kind_of(info.st_mode)), NULL;
+    }
+    int flags = fcntl(fd, F_GETFL);
+    FILE *f = flags >= 0 && fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) == 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        int code = errno;
+        close(fd);
+        return rtt_error_set(err, "%s: cannot open: %s", path, strerror(code)), NULL;
+    }
+    return f;
+}
+
+bool rtt_file_check_regular(const char *path, rtt_error *err)
+{
+    FILE *f = rtt_file_open_regular(path, err);
+    if (f) fclose(f);
+    return f != NULL;
+}
+
 char *rtt_file_read(const char *path, size_t max_bytes, size_t *length, rtt_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno)), NULL;
+    FILE *f = rtt_file_open_regular(path, err);
+    if (!f) return NULL;
     struct stat info;
     size_t capacity = 4096; /* bytes allocated, the final NUL included */
     if (fstat(fileno(f), &info) == 0 && S_ISREG(info.st_mode)) {

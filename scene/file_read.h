@@ -8,18 +8,11 @@
 
 #include <stddef.h>
 
-#include "rtt/error.h"
+#include "rtt/files.h"
 
 /* Text files (scene files, glTF) are refused past this: they are edited by
  * hand or exported, and a larger one is a mistake that would only exhaust
  * memory. */
 #define RTT_FILE_TEXT_MAX ((size_t)1 << 30)
-
-/* The whole of `path`, followed by a NUL byte that is not counted in
- * *length (so text can be parsed in place; the bytes themselves may hold
- * NULs).  A file longer than max_bytes is refused.  The buffer comes from
- * malloc, so it is aligned for any record type; the caller frees it.
- * NULL after filling err. */
-char *rtt_file_read(const char *path, size_t max_bytes, size_t *length, rtt_error *err);
 
 #endif

@@ -68,8 +68,11 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "assimp_io.h"
 #include "file_kind.h"
 #include "file_read.h"
+#include "mesh_header_check.h"
+#include "rtt/memory_budget.h"
 #include "scene_build.h"
 #include "transform.h"
 
@@ -273,6 +276,20 @@ static bool append_mesh(import_state *st, const struct aiMesh *mesh, const float
     return ok;
 }
 
+/* What the scene will hold of a format without counts in its header, once
+ * Assimp has read it: instanced meshes count once per node using them. */
+static uint64_t node_triangles(const struct aiScene *ai, const struct aiNode *node, unsigned depth)
+{
+    uint64_t count = 0;
+    for (unsigned int i = 0; node && depth <= 1024 && i < node->mNumMeshes; i++)
+        if (node->mMeshes[i] < ai->mNumMeshes) count += mesh_triangle_count(ai->mMeshes[node->mMeshes[i]]);
+    for (unsigned int c = 0; node && depth <= 1024 && c < node->mNumChildren; c++)
+        count += node_triangles(ai, node->mChildren[c], depth + 1);
+    return count;
+}
+
+static uint64_t imported_triangles(const struct aiScene *ai) { return node_triangles(ai, ai->mRootNode, 0); }
+
 /* Depth first: the node's own meshes, then its children, in order. */
 static bool append_node(import_state *st, const struct aiNode *node, const float parent[16], unsigned depth,
                         rtt_error *err)
@@ -307,10 +324,12 @@ static bool assimp_error(const char *path, rtt_error *err)
 
 static bool check_file(const char *path, rtt_error *err)
 {
+    FILE *f = rtt_file_open_regular(path, err);
+    if (!f) return false;
     struct stat info;
-    if (stat(path, &info) != 0) return rtt_error_set(err, "%s: cannot open the file", path);
-    if (!S_ISREG(info.st_mode)) return rtt_error_set(err, "%s: not a regular file", path);
-    if (info.st_size == 0) return rtt_error_set(err, "%s: the file is empty", path);
+    bool empty = fstat(fileno(f), &info) == 0 && info.st_size == 0;
+    fclose(f);
+    if (empty) return rtt_error_set(err, "%s: the file is empty", path);
     return true;
 }
 
@@ -338,7 +357,8 @@ static bool check_signature(const char *path, rtt_error *err)
     for (size_t i = 0; i < sizeof magics / sizeof magics[0]; i++) {
         if (strcasecmp(ext, magics[i].ext) != 0) continue;
         char head[8] = { 0 };
-        FILE *f = fopen(path, "rb");
+        FILE *f = rtt_file_open_regular(path, err);
+        if (!f) return false;
         size_t n = f ? fread(head, 1, strlen(magics[i].magic), f) : 0;
         if (f) fclose(f);
         if (n != strlen(magics[i].magic) || memcmp(head, magics[i].magic, n) != 0)
@@ -354,8 +374,24 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
     if (!check_file(path, err) || !check_signature(path, err)) return false;
     if (material_override != UINT32_MAX && material_override >= scene->material_count)
         return rtt_error_set(err, "%s: material index %u is out of range", path, material_override);
-    const struct aiScene *ai = aiImportFile(path, 0);
+    rtt_mesh_header header;
+    if (!rtt_mesh_header_check_file(path, &header, err) ||
+        !rtt_scene_budget_reserve(scene, path, header.triangles, header.bytes, err))
+        return false;
+    rtt_assimp_io io;
+    rtt_assimp_io_init(&io);
+    const struct aiScene *ai = aiImportFileEx(path, 0, &io.io);
+    if (io.refused) {
+        aiReleaseImport(ai);
+        *err = io.error;
+        return false;
+    }
     if (!ai) return assimp_error(path, err);
+    if (!rtt_mesh_header_check_import(path, &header, ai, err) ||
+        (!header.counted && !rtt_scene_budget_reserve(scene, path, imported_triangles(ai), 0, err))) {
+        aiReleaseImport(ai);
+        return false;
+    }
     if (!ai->mRootNode) {
         aiReleaseImport(ai);
         return rtt_error_set(err, "%s: the file has no meshes", path);

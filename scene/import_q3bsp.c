@@ -63,6 +63,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
+#include "rtt/memory_budget.h"
 #include "scene_build.h"
 
 #define BSP_HEADER_SIZE 144u /* magic, version, 17 lump entries of (offset, length) */
@@ -202,8 +204,8 @@ static bool read_header(FILE *file, bsp_map *map, uint8_t header[BSP_HEADER_SIZE
 
 static bool read_map(const char *path, bsp_map *map, rtt_error *err)
 {
-    FILE *file = fopen(path, "rb");
-    if (!file) return rtt_error_set(err, "%s: cannot open the file", path);
+    FILE *file = rtt_file_open_regular(path, err);
+    if (!file) return false;
     uint8_t header[BSP_HEADER_SIZE];
     bool ok = read_header(file, map, header, err) &&
               read_lump(file, map, header, BSP_LUMP_VERTICES, BSP_VERTEX_SIZE, &map->vertex_lump,
@@ -480,7 +482,7 @@ bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[
     bsp_totals totals;
     bsp_mesh mesh = {0};
     bool ok = read_map(path, &map, err) && check_vertices(&map, err) && check_faces(&map, &totals, err) &&
-              build_mesh(&map, &totals, &mesh, err);
+              rtt_scene_budget_reserve(scene, path, totals.triangles, 0, err) && build_mesh(&map, &totals, &mesh, err);
     uint32_t material = ok ? map_material(scene, &map, material_override, err) : UINT32_MAX;
     ok = ok && material != UINT32_MAX &&
          rtt_scene_add_mesh(scene, path, base_name(path), mesh.positions, mesh.normals, mesh.vertex_count,

@@ -17,6 +17,7 @@
 
 #include "file_read.h"
 #include "kdt_format.h"
+#include "rtt/atomic_file.h"
 #include "scene_build.h"
 
 _Static_assert(sizeof(rtt_vec3) == 12, "vertices are written as 3 float32");
@@ -184,16 +185,9 @@ bool rtt_kdt_write(const char *path, const rtt_scene *scene, const rtt_baked_tre
     kdt_header header;
     fill_header(&header, scene, tree, file_size);
 
-    size_t tmp_size = strlen(path) + 32;
-    char *tmp = malloc(tmp_size);
-    if (!tmp) return rtt_error_set(err, "%s: out of memory", path);
-    snprintf(tmp, tmp_size, "%s.tmp.%ld", path, (long)getpid());
-    kdt_writer w = {.stream = fopen(tmp, "wb"), .hash = KDT_CHECKSUM_INIT, .ok = true};
-    if (!w.stream) {
-        rtt_error_set(err, "%s: cannot write: %s", path, strerror(errno));
-        free(tmp);
-        return false;
-    }
+    rtt_atomic_file file;
+    if (!rtt_atomic_file_open(&file, path, err)) return false;
+    kdt_writer w = {.stream = file.stream, .hash = KDT_CHECKSUM_INIT, .ok = true};
     emit(&w, &header, sizeof header);
     emit(&w, table, sizeof table);
     emit_scene_sections(&w, scene, table);
@@ -207,19 +201,12 @@ bool rtt_kdt_write(const char *path, const rtt_scene *scene, const rtt_baked_tre
     header.checksum = w.hash;
     ok = ok && fseek(w.stream, (long)offsetof(kdt_header, checksum), SEEK_SET) == 0 &&
          fwrite(&header.checksum, sizeof header.checksum, 1, w.stream) == 1;
-    int saved = errno;
-    ok = fclose(w.stream) == 0 && ok;
-    if (!ok) saved = saved ? saved : errno;
-    if (ok && rename(tmp, path) != 0) {
-        saved = errno;
-        ok = false;
-    }
     if (!ok) {
-        remove(tmp);
-        rtt_error_set(err, "%s: cannot write: %s", path, strerror(saved ? saved : EIO));
+        int saved = errno;
+        rtt_atomic_file_abort(&file);
+        return rtt_error_set(err, "%s: cannot write: %s", path, strerror(saved ? saved : EIO));
     }
-    free(tmp);
-    return ok;
+    return rtt_atomic_file_commit(&file, err);
 }
 
 /* ---- reading: the file and its section table ----------------------------- */

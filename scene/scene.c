@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
+#include "rtt/memory_budget.h"
 #include "rtt/scene.h"
 #include "rtt/shade.h"
 #include "scene_build.h"
@@ -365,6 +367,10 @@ rtt_scene *rtt_scene_from_triangles(const float *xyz9, uint32_t triangle_count, 
         return NULL;
     }
     rtt_scene *scene = rtt_scene_new("triangles", err);
+    if (scene && !rtt_scene_budget_reserve(scene, "triangles", triangle_count, 0, err)) {
+        rtt_scene_free(scene);
+        return NULL;
+    }
     uint32_t *indices = malloc((size_t)triangle_count * 3 * sizeof *indices + 1);
     rtt_material m = rtt_material_default();
     if (!scene || !indices || rtt_scene_add_material(scene, &m) == UINT32_MAX) {
@@ -390,19 +396,23 @@ _Static_assert(sizeof(rtt_vec3) == 3 * sizeof(float), "rtt_vec3 is three packed 
 rtt_scene *rtt_scene_load(const char *path, const rtt_scene_load_options *opt, rtt_error *err)
 {
     const rtt_file_kind kind = rtt_file_kind_of(path);
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        rtt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    fclose(probe);
-    if (kind == RTT_FILE_KDT) return rtt_kdt_read_scene(path, err);
-
+    if (!rtt_file_check_regular(path, err)) return NULL;
     rtt_scene_load_options defaults = {.bezier_level = 0};
     if (!opt) opt = &defaults;
+    if (kind == RTT_FILE_KDT) { /* the file holds the tree: its triangles are all there is to reserve */
+        rtt_scene *baked = rtt_kdt_read_scene(path, err);
+        if (baked) baked->memory_budget = opt->max_memory;
+        if (baked && !rtt_scene_budget_reserve(baked, path, baked->triangle_count, 0, err)) {
+            rtt_scene_free(baked);
+            return NULL;
+        }
+        return baked;
+    }
+
     uint32_t level = opt->bezier_level ? opt->bezier_level : RTT_DEFAULT_BEZIER_LEVEL;
     rtt_scene *scene = rtt_scene_new(path, err);
     if (!scene) return NULL;
+    scene->memory_budget = opt->max_memory;
     bool ok;
     if (kind == RTT_FILE_SCENE_JSON) {
         ok = rtt_scene_parse_json(scene, path, opt, err); /* bezier_level 0: the file's own, else the default */

@@ -335,7 +335,8 @@ static bool parse_root(rtt_schema_parser *p, const cJSON *root)
     RTT_SCHEMA_OPTIONAL(root, &place, "bezier_level",
                         rtt_schema_read_uint(p, v, at, 1, MAX_BEZIER_LEVEL, &bezier_level));
     if (!p->bezier_level) p->bezier_level = bezier_level;
-    return parse_list(p, root, &place, "materials", parse_material, false) &&
+    return rtt_schema_meshes_reserve(p, cJSON_GetObjectItemCaseSensitive(root, "meshes")) &&
+           parse_list(p, root, &place, "materials", parse_material, false) &&
            parse_list(p, root, &place, "lights", parse_light, false) &&
            parse_list(p, root, &place, "meshes", rtt_schema_parse_mesh, true);
 }

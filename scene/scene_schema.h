@@ -21,6 +21,11 @@ typedef struct rtt_schema_parser {
     uint32_t bezier_level;     /* for .bsp meshes: the caller's, else the file's */
 } rtt_schema_parser;
 
+/* Reserves the memory budget of the shapes and inline meshes of the
+ * "meshes" array (files reserve their own when imported); one line naming
+ * the scene file when over it. */
+bool rtt_schema_meshes_reserve(rtt_schema_parser *p, const cJSON *meshes);
+
 /* The error located at and named by `place`; returns false. */
 __attribute__((format(printf, 3, 4))) bool rtt_schema_fail(rtt_schema_parser *p, const rtt_json_place *place,
                                                            const char *fmt, ...);

@@ -12,6 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rtt/files.h"
+#include "file_kind.h"
+#include "rtt/memory_budget.h"
 #include "scene_schema.h"
 #include "shapes.h"
 #include "transform.h"
@@ -262,15 +265,13 @@ static bool parse_file(rtt_schema_parser *p, const cJSON *v, const rtt_json_plac
         return rtt_schema_fail(p, at, ": \"%s\" is not a mesh file (scene files and baked trees cannot be meshes)",
                                file);
     char resolved[1024];
-    const char *scene_path = p->src.path, *slash = strrchr(scene_path, '/');
-    if (file[0] == '/' || !slash)
-        snprintf(resolved, sizeof resolved, "%s", file);
-    else
-        snprintf(resolved, sizeof resolved, "%.*s/%s", (int)(slash - scene_path), scene_path, file);
-    FILE *probe = fopen(resolved, "rb");
-    if (!probe) return rtt_schema_fail(p, at, ": cannot open \"%s\" (%s): %s", file, resolved, strerror(errno));
-    fclose(probe);
+    rtt_path_beside(p->src.path, file, resolved, sizeof resolved);
     rtt_error inner;
+    FILE *probe = rtt_file_open_regular(resolved, &inner);
+    if (!probe && errno == ENOENT)
+        return rtt_schema_fail(p, at, ": cannot open \"%s\" (%s): %s", file, resolved, strerror(errno));
+    if (!probe) return rtt_schema_fail(p, at, ": %s", inner.message);
+    fclose(probe);
     uint32_t material = material_given ? target->material : UINT32_MAX;
     bool ok = kind == RTT_FILE_Q3BSP
                   ? rtt_import_q3bsp(p->scene, resolved, target->transform, material, p->bezier_level, &inner)
@@ -321,4 +322,41 @@ bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_jso
     if (file) return parse_file(p, file, &file_at, &target, material != NULL);
     if (shape) return parse_shape(p, shape, &shape_at, &target);
     return parse_inline(p, obj, place, &target);
+}
+
+/* ---- the memory budget, before any mesh is built ---- */
+
+static uint32_t member_uint(const cJSON *obj, const char *key, uint32_t otherwise, uint32_t lo, uint32_t hi)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!cJSON_IsNumber(v) || !(v->valuedouble >= lo && v->valuedouble <= hi)) return otherwise; /* the parse says why */
+    return (uint32_t)v->valuedouble;
+}
+
+bool rtt_schema_meshes_reserve(rtt_schema_parser *p, const cJSON *meshes)
+{
+    uint64_t triangles = 0;
+    const cJSON *mesh;
+    cJSON_ArrayForEach(mesh, meshes) {
+        const cJSON *shape = cJSON_GetObjectItemCaseSensitive(mesh, "shape");
+        const cJSON *inline_triangles = cJSON_GetObjectItemCaseSensitive(mesh, "triangles");
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(shape, "type");
+        if (cJSON_IsString(type)) {
+            const cJSON *segments = cJSON_GetObjectItemCaseSensitive(shape, "segments");
+            uint32_t around = 48, tube = 24;
+            if (cJSON_IsArray(segments) && cJSON_GetArraySize(segments) == 2) {
+                const cJSON *a = cJSON_GetArrayItem(segments, 0), *t = cJSON_GetArrayItem(segments, 1);
+                if (cJSON_IsNumber(a) && a->valuedouble >= RTT_SHAPE_MIN_SEGMENTS && a->valuedouble <= RTT_SHAPE_MAX_SEGMENTS)
+                    around = (uint32_t)a->valuedouble;
+                if (cJSON_IsNumber(t) && t->valuedouble >= RTT_SHAPE_MIN_SEGMENTS && t->valuedouble <= RTT_SHAPE_MAX_SEGMENTS)
+                    tube = (uint32_t)t->valuedouble;
+            }
+            triangles += rtt_shape_triangle_count(
+                type->valuestring, member_uint(shape, "subdivisions", 3, 0, RTT_SHAPE_MAX_SUBDIVISIONS),
+                member_uint(shape, "segments", 32, RTT_SHAPE_MIN_SEGMENTS, RTT_SHAPE_MAX_SEGMENTS), around, tube);
+        } else if (cJSON_IsArray(inline_triangles)) {
+            triangles += (uint64_t)cJSON_GetArraySize(inline_triangles);
+        }
+    }
+    return rtt_scene_budget_reserve(p->scene, p->src.path, triangles, 0, p->err);
 }

@@ -221,3 +221,14 @@ bool rtt_shape_torus(rtt_vec3 center, float major_radius, float minor_radius, ui
     }
     return true;
 }
+
+uint64_t rtt_shape_triangle_count(const char *type, uint32_t subdivisions, uint32_t segments, uint32_t around,
+                                  uint32_t tube)
+{
+    if (strcmp(type, "quad") == 0) return 2;
+    if (strcmp(type, "box") == 0) return 12;
+    if (strcmp(type, "sphere") == 0) return (uint64_t)20 << (2 * (subdivisions > 30 ? 30 : subdivisions));
+    if (strcmp(type, "cylinder") == 0) return 4 * (uint64_t)segments;
+    if (strcmp(type, "torus") == 0) return 2 * (uint64_t)around * tube;
+    return 0;
+}

@@ -46,4 +46,11 @@ bool rtt_shape_torus(rtt_vec3 center, float major_radius, float minor_radius, ui
 
 void rtt_shape_mesh_free(rtt_shape_mesh *mesh);
 
+/* The triangles a shape of `type` makes with these parameters (what the
+ * builder above allocates), for the memory budget before any is built;
+ * `segments` is the cylinder's, `around` and `tube` the torus's.  0 for an
+ * unknown type. */
+uint64_t rtt_shape_triangle_count(const char *type, uint32_t subdivisions, uint32_t segments, uint32_t around,
+                                  uint32_t tube);
+
 #endif

@@ -220,7 +220,7 @@ static void test_bake_replaces_a_file_only_when_complete(void **state)
     rtt_scene *scene = make_scene();
     rtt_error err = {{0}};
     assert_false(rtt_optimized_bake(scene, NULL, "no-such-directory/x.kdt", &err));
-    assert_non_null(strstr(err.message, "no-such-directory/x.kdt: cannot write"));
+    assert_non_null(strstr(err.message, "no-such-directory/x.kdt: cannot create"));
     bake(scene, BAKED);
     bake(scene, BAKED); /* over an existing one */
     rtt_scene *loaded = rtt_scene_load(BAKED, NULL, &err);

@@ -9,6 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -151,15 +153,21 @@ static void test_read_accepts_the_limit_and_refuses_one_byte_more(void **state)
     assert_string_equal(err.message, want);
 }
 
-/* A character device has no size to allocate by: it is read in steps, and
- * the limit still holds for one that never ends. */
-static void test_read_stops_an_endless_file_at_the_limit(void **state)
+/* Only regular files are read: a device that never ends, or a FIFO that
+ * would block, is refused before a byte is read. */
+static void test_read_refuses_what_is_not_a_regular_file(void **state)
 {
-    (void)state;
     size_t length = 0;
     rtt_error err = {{0}};
     assert_null(rtt_file_read("/dev/zero", (size_t)1 << 20, &length, &err));
-    assert_string_equal(err.message, "/dev/zero: larger than 1 MiB");
+    assert_string_equal(err.message, "/dev/zero: not a regular file (a character device)");
+    const char *fifo = scratch_path(state, "fifo.json");
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    char want[300];
+    assert_null(rtt_file_read(fifo, RTT_FILE_TEXT_MAX, &length, &err));
+    snprintf(want, sizeof want, "%s: not a regular file (a FIFO)", fifo);
+    assert_string_equal(err.message, want);
+    unlink(fifo);
 }
 
 /* /proc files say they are empty and are not. */
@@ -188,7 +196,7 @@ static void test_read_failures_are_one_line_naming_the_file(void **state)
 
     scratch *s = *state;
     assert_null(rtt_file_read(s->dir, RTT_FILE_TEXT_MAX, &length, &err));
-    snprintf(want, sizeof want, "%s: cannot read: Is a directory", s->dir);
+    snprintf(want, sizeof want, "%s: is a directory", s->dir);
     assert_string_equal(err.message, want);
 }
 
@@ -207,7 +215,7 @@ int main(void)
                                         remove_scratch),
         cmocka_unit_test_setup_teardown(test_read_accepts_the_limit_and_refuses_one_byte_more, make_scratch,
                                         remove_scratch),
-        cmocka_unit_test(test_read_stops_an_endless_file_at_the_limit),
+        cmocka_unit_test_setup_teardown(test_read_refuses_what_is_not_a_regular_file, make_scratch, remove_scratch),
         cmocka_unit_test(test_read_does_not_trust_a_reported_size_of_zero),
         cmocka_unit_test_setup_teardown(test_read_failures_are_one_line_naming_the_file, make_scratch,
                                         remove_scratch),

@@ -7,20 +7,28 @@
 #  - T, G and I change what the overlay reports (traversal, shadows, ISA),
 #    Home resets the camera, resize follows the window;
 #  - a bad script is one line naming file and line, exit 1.
-# Skipped (77) when xvfb-run is missing or rtt was built without the viewer.
+# One Xvfb for the whole test, on a display it picks itself (-displayfd), so
+# parallel runs of the suite never race for a display number as xvfb-run -a
+# can.  Skipped (77) when Xvfb is missing or rtt was built without the viewer.
 set -uo pipefail
 rtt=$1
 src=$2
-if ! command -v xvfb-run >/dev/null || ! command -v jq >/dev/null; then
-  echo "viewer_headless: xvfb-run or jq missing: skipped"; exit 77
+if ! command -v Xvfb >/dev/null || ! command -v jq >/dev/null; then
+  echo "viewer_headless: Xvfb or jq missing: skipped"; exit 77
 fi
 if ! "$rtt" view --help >/dev/null 2>&1; then
   echo "viewer_headless: rtt has no view command: skipped"; exit 77
 fi
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+xvfb_pid=
+trap '[ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null; rm -rf "$work"' EXIT
 fail() { echo "viewer_headless: FAIL: $*"; exit 1; }
-view() { xvfb-run -a -s "-screen 0 1024x768x24" "$rtt" view "$@"; }
+Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>"$work/display" >"$work/xvfb.log" 2>&1 &
+xvfb_pid=$!
+for _ in $(seq 100); do [ -s "$work/display" ] && break; sleep 0.1; done
+[ -s "$work/display" ] || fail "Xvfb did not start: $(cat "$work/xvfb.log")"
+export DISPLAY=":$(cat "$work/display")"
+view() { "$rtt" view "$@"; }
 scene=$src/scenes/demo.json
 size=(--width 96 --height 80)
 

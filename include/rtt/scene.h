@@ -132,10 +132,15 @@ typedef struct rtt_scene {
 
     rtt_baked_tree *baked;            /* non-NULL for scenes loaded from .kdt */
     void (*baked_free)(rtt_baked_tree *);
+
+    /* the memory budget (rtt/memory_budget.h): bytes allowed (0: the
+     * machine's default), bytes and triangles the loaders reserved */
+    uint64_t memory_budget, memory_reserved, memory_triangles;
 } rtt_scene;
 
 typedef struct rtt_scene_load_options {
     uint32_t bezier_level;            /* 0 → RTT_DEFAULT_BEZIER_LEVEL */
+    uint64_t max_memory;              /* the scene's memory budget in bytes; 0 → rtt_memory_budget_default() */
 } rtt_scene_load_options;
 
 /* What a file is by its extension: the text after the last dot of the last
