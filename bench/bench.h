@@ -55,6 +55,9 @@ typedef struct rtt_bench_config {
     bool embree;                            /* race the peer (default when built with it) */
     bool quick;                             /* one frame, no warm-up, one tile per family */
     uint32_t max_tree_depth;                /* the kd-tree's depth bound, 0 → the builder's default */
+    rtt_accel accel;                        /* our rows: RTT_ACCEL_DEFAULT (default) every structure's,
+                                               else only that one's (kd, pgrid) */
+    uint32_t pgrid_cell;                    /* the eye grid's cell side in pixels, 0 → its default */
     rtt_isa isa;                            /* the kernels' instruction set; RTT_ISA_AUTO (default):
                                                $RTT_ISA when set, else the widest the CPU has */
     rtt_isect isect;                        /* the kernels' triangle test; RTT_ISECT_DEFAULT: the engine's */
@@ -67,7 +70,7 @@ typedef struct rtt_bench_config {
 
 typedef struct rtt_bench_row {
     rtt_bench_kind kind;
-    char engine[8];            /* "rtt" or "embree" */
+    char engine[12];           /* "rtt", "embree" or "llvmpipe" */
     char method[48];           /* "mft 16x16", "packet 2x2", "rtcIntersect16", "edgewidth" */
     char family[16];           /* "mft", "frustum", "packet", ... / "embree" */
     char variant[32];          /* embree: "native robust" ...; rtt: "cull on" / "cull off" */

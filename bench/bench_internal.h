@@ -74,6 +74,19 @@ bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t 
 bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *kernel_name,
                    const bench_trace_spec *spec, rtt_bench_row *row, uint32_t *result);
 
+/* Times the perspective grid's eye rays (bench_pgrid.c): each frame the
+ * grid's build, every cell and every pixel's hit.  Fills row (fps, rays/s)
+ * and build_row (the build's median, its memory); result as above. */
+bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t width, uint32_t height,
+                     uint32_t cell, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
+
+/* The software Z-buffer anchor (bench_llvmpipe.c): Mesa's llvmpipe through
+ * OSMesa drawing the view with the prim as colour; result gets each pixel's
+ * prim (RTT_MISS for the background).  Unavailable without OSMesa. */
+bool bench_llvmpipe_available(void);
+bool bench_llvmpipe_row(const rtt_scene *scene, uint32_t width, uint32_t height, const bench_trace_spec *spec,
+                        rtt_bench_row *row, uint32_t *result, rtt_error *err);
+
 /* The Embree peer: one device and scene per variant. */
 typedef struct bench_embree bench_embree;
 

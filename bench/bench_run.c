@@ -239,11 +239,80 @@ static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *
     return true;
 }
 
+static bool runs_accel(const bench_state *s, rtt_accel accel)
+{
+    return s->config->accel == RTT_ACCEL_DEFAULT || s->config->accel == accel;
+}
+
+/* The software Z-buffer anchor on the same view: its agree column is the
+ * share of pixels whose prim equals the perspective grid's (`ours`). */
+static bool run_llvmpipe(bench_state *s, const bench_rays *rays, const uint32_t *ours)
+{
+    if (!bench_llvmpipe_available()) return true;
+    for (uint32_t t = 0; t < s->config->thread_count; t++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_PRIMARY, "llvmpipe", s->config->threads[t]);
+        snprintf(row.method, sizeof row.method, "z-buffer prim id");
+        snprintf(row.family, sizeof row.family, "llvmpipe");
+        row.rays = rays->active;
+        progress(s, &row);
+        bench_trace_spec spec = {false, row.threads, s->warmup, s->frames, false, RTT_ISA_AUTO};
+        rtt_error err = {{0}};
+        if (!bench_llvmpipe_row(s->scene, s->width, s->height, &spec, &row, t == 0 ? s->result : NULL, &err))
+            row_error(&row, "", err.message);
+        if (t == 0 && !row.error[0]) {
+            uint64_t same = 0, pixels = (uint64_t)s->width * s->height;
+            for (uint64_t i = 0; i < pixels; i++) same += s->result[i] == ours[i];
+            row.agree = pixels ? (double)same / (double)pixels : 1.0;
+        }
+        if (!bench_report_push(s->report, &row)) return false;
+    }
+    return true;
+}
+
+/* Hunt & Mark's Table 1, primary: the perspective grid per frame, its
+ * build as a build row of the same method. */
+static bool run_pgrid_rows(bench_state *s, const bench_rays *rays, uint32_t *ours)
+{
+    for (uint32_t t = 0; t < s->config->thread_count; t++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_PRIMARY, "rtt", s->config->threads[t]);
+        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
+        snprintf(row.method, sizeof row.method, "pgrid");
+        snprintf(build.method, sizeof build.method, "pgrid");
+        snprintf(row.family, sizeof row.family, "pgrid");
+        snprintf(build.family, sizeof build.family, "build");
+        row.rays = rays->active;
+        build.rays = s->scene->triangle_count;
+        progress(s, &row);
+        bench_trace_spec spec = {false, row.threads, s->warmup, s->frames, false, s->config->isa};
+        bool check = t == 0 && s->have_oracle;
+        if (!bench_pgrid_row(s->scene, optimized_engine_degenerate(s->engine), s->width, s->height,
+                             s->config->pgrid_cell, &spec, &row,
+                             &build, check ? s->result : NULL))
+            return false;
+        if (check && !row.error[0]) row.agree = agreement(s, rays);
+        if (!bench_report_push(s->report, &row) || !bench_report_push(s->report, &build)) return false;
+        if (t == 0 && !row.error[0]) memcpy(ours, s->result, (size_t)s->width * s->height * sizeof *s->result);
+    }
+    return true;
+}
+
+static bool run_pgrid_primary(bench_state *s, const bench_rays *rays)
+{
+    uint32_t *ours = malloc((size_t)s->width * s->height * sizeof *ours);
+    if (ours) memset(ours, 0xFF, (size_t)s->width * s->height * sizeof *ours); /* RTT_MISS until the row runs */
+    bool ok = ours && run_pgrid_rows(s, rays, ours) && run_llvmpipe(s, rays, ours);
+    free(ours);
+    return ok;
+}
+
 static bool run_primary(bench_state *s, const bench_rays *rays)
 {
     static const uint32_t lanes[] = {1, 4, 8, 16}, quick_lanes[] = {1, 16};
     if (!run_peer_rows(s, RTT_BENCH_PRIMARY, rays, s->config->quick ? quick_lanes : lanes, s->config->quick ? 2 : 4))
         return false;
+    if (runs_accel(s, RTT_ACCEL_PGRID) && !run_pgrid_primary(s, rays)) return false;
+
+    if (!runs_accel(s, RTT_ACCEL_KD)) return true;
     kernel_method methods[32];
     size_t n = 0;
     methods[n++] = (kernel_method){"mono", 0, 1};

@@ -16,7 +16,7 @@
 typedef struct bench_args {
     const char *scene_path, *views, *markdown, *tsv;
     bool json, progress, no_embree;
-    uint32_t size, kinds; /* kinds: bit k for kind_names[k] */
+    uint32_t size, height, kinds; /* kinds: bit k for kind_names[k] */
     rtt_bench_config config;
     rtt_engine_options engine; /* the optimized engine's options the bench takes */
     uint64_t max_memory; /* the scene's memory budget in bytes; 0: the machine's */
@@ -51,6 +51,14 @@ static const cli_option bench_options[] = {
     {.name = "--size", .value_name = "N",
      .help = "render N x N, 8 to 16384 (the benchmarks use 512 and 1024; default: the scene's)",
      .kind = CLI_U32, CLI_FIELD(bench_args, size), .lo = 8, .hi = 16384},
+    {.name = "--height", .value_name = "N", .help = "with --size: render SIZE x N instead (1920 x 1200: Hunt & Mark's)",
+     .kind = CLI_U32, CLI_FIELD(bench_args, height), .lo = 8, .hi = 16384},
+    {.name = "--accel", .value_name = "NAME",
+     .help = "only our rows of this acceleration structure (default: every one's):", .kind = CLI_CUSTOM,
+     CLI_FIELD(bench_args, config.accel), .parse = cli_parse_accel, .help_more = cli_help_accels},
+    {.name = "--pgrid-cell", .value_name = "N",
+     .help = "the perspective grid's cell side in pixels, a multiple of 4 from 4 to 512 (default 128)",
+     .kind = CLI_U32, CLI_FIELD(bench_args, config.pgrid_cell), .lo = 4, .hi = 512},
     {.name = "--frames", .value_name = "N", .help = "timed frames per row, 1 to 64, median reported (default 5)",
      .kind = CLI_U32, CLI_FIELD(bench_args, config.frames), .lo = 1, .hi = 64},
     {.name = "--warmup", .value_name = "N", .help = "untimed frames before them, 0 to 64 (default 1)",
@@ -92,6 +100,9 @@ static int check_applicable(const cli_parsed *parsed, bench_args *a)
     if (a->views && a->camera.view) return cli_refuse(parsed, "--views", "does not go with --view");
     if (a->config.compare_isects && cli_given(parsed, "--isect"))
         return cli_refuse(parsed, "--compare-isects", "times both triangle tests: give no --isect");
+    if (cli_given(parsed, "--height") && !cli_given(parsed, "--size"))
+        return cli_refuse(parsed, "--height", "needs --size N");
+    if (a->config.pgrid_cell % 4u) return cli_refuse(parsed, "--pgrid-cell", "must be a multiple of 4");
     if (a->config.quick && cli_given(parsed, "--frames"))
         return cli_refuse(parsed, "--frames", "--quick times one frame per row");
     if (a->config.quick && cli_given(parsed, "--warmup"))
@@ -125,6 +136,7 @@ static int configure(bench_args *a, const cli_parsed *parsed)
         a->config.thread_count = 1;
     }
     a->config.width = a->config.height = a->size;
+    if (a->height) a->config.height = a->height;
     a->config.max_tree_depth = a->engine.max_tree_depth;
     a->config.isa = a->engine.isa;
     a->config.isect = a->engine.isect;

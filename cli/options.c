@@ -491,6 +491,15 @@ void cli_help_kernels(char *out, size_t size)
         append(out, size, "%s %s:", any ? ";" : "", cls->name);
         for (uint32_t k = 0; (name = cls->kernel(RTT_ACCEL_DEFAULT, k)); k++)
             append(out, size, "%s %s", k ? "," : "", name);
+        /* the accels whose kernels are not the default's (e.g. pgrid) */
+        for (int a = RTT_ACCEL_DEFAULT + 1; a < RTT_ACCEL_COUNT; a++) {
+            const char *first = cls->kernel((rtt_accel)a, 0);
+            if (!first || strcmp(first, cls->kernel(RTT_ACCEL_DEFAULT, 0)) == 0) continue;
+            append(out, size, " (--accel %s:", rtt_accel_name((rtt_accel)a));
+            for (uint32_t k = 0; (name = cls->kernel((rtt_accel)a, k)); k++)
+                append(out, size, "%s %s", k ? "," : "", name);
+            append(out, size, ")");
+        }
         any = true;
     }
     if (!any) append(out, size, " no engine of this build has a choice of kernels");

@@ -7,7 +7,7 @@
 
 #include "rtt/engine.h"
 
-static const char *const accel_names[RTT_ACCEL_COUNT] = {"default", "kd", "bvh"};
+static const char *const accel_names[RTT_ACCEL_COUNT] = {"default", "kd", "bvh", "pgrid"};
 static const char *const isect_names[RTT_ISECT_COUNT] = {"default", "watertight", "projected"};
 
 void rtt_engine_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *hits, size_t n)

@@ -17,7 +17,10 @@
  *     projected test only) and each answer is checked against brute force
  *     (fuzz_oracle.h: strict for the reference and the watertight test,
  *     which is the reference's arithmetic; lenient near edges for the
- *     projected test).
+ *     projected test);
+ *  4. the perspective grid (optimized/pgrid/) is built for a camera at the
+ *     bundle's eye looking at the scene's centre, and its eye rays, at
+ *     every instruction set and two cell sizes, are checked the same way.
  *
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
@@ -36,7 +39,9 @@
 #include "fuzz_common.h"
 #include "rtt/rtt.h"
 #include "fuzz_oracle.h"
+#include "pgrid_eye.h"
 #include "rtt/engine.h"
+#include "rtt/shade.h"
 
 #define MAX_TRIANGLES 48u
 #define MAX_RAYS 48u
@@ -114,6 +119,15 @@ static rtt_vec3 palette_point(byte_reader *in, float scale, float offset)
     return rtt_v3(x, y, z);
 }
 
+/* A palette point placed like the triangles: the scene stores its vertices
+ * relative to its origin (rtt/scene.h), so eyes and ray origins go there
+ * too, and a mesh far from the origin is seen from near it. */
+static rtt_vec3 stored_point(const rtt_scene *scene, rtt_vec3 p)
+{
+    const double file[3] = {p.x, p.y, p.z};
+    return rtt_scene_point_to_stored(scene, file);
+}
+
 static void aim(rtt_ray *ray, rtt_vec3 org, rtt_vec3 target)
 {
     rtt_vec3 d = rtt_v3_sub(target, org);
@@ -125,7 +139,7 @@ static rtt_ray decode_ray(byte_reader *in, const rtt_scene *scene, float scale, 
 {
     uint8_t control = next_byte(in);
     rtt_ray ray;
-    rtt_vec3 org = palette_point(in, scale, offset);
+    rtt_vec3 org = stored_point(scene, palette_point(in, scale, offset));
     switch (control % 5) {
     case 0:   /* exactly at a vertex */
         aim(&ray, org, scene_vertex(scene, next_byte(in)));
@@ -228,6 +242,75 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     fuzz_oracle_free(oracle);
 }
 
+/* The perspective grid's eye rays as an engine for the oracle: its hits
+ * were traced before, for exactly these rays in this order. */
+typedef struct pgrid_answers {
+    rtt_engine base;
+    const rtt_hit *hits;
+} pgrid_answers;
+
+static void answers_intersect(rtt_engine *e, const rtt_ray *rays, rtt_hit *hits, size_t n)
+{
+    (void)rays;
+    memcpy(hits, ((pgrid_answers *)e)->hits, n * sizeof *hits);
+}
+
+static void answers_occluded(rtt_engine *e, const rtt_ray *rays, uint8_t *occluded, size_t n)
+{
+    (void)rays;
+    for (size_t i = 0; i < n; i++) occluded[i] = ((pgrid_answers *)e)->hits[i].prim != RTT_MISS;
+}
+
+static const rtt_engine_vtable answers_vtable = {.name = "pgrid", .intersect = answers_intersect,
+                                                 .occluded = answers_occluded};
+
+#define PGRID_W 20u
+#define PGRID_H 12u
+
+/* The perspective grid's build and cell kernels (every instruction set,
+ * two cell sizes) on the eye rays of a camera at `eye` looking at the
+ * scene's centre, against brute force (lenient: its edge test is not the
+ * reference's). */
+static void check_pgrid(rtt_scene *scene, rtt_vec3 eye, uint8_t fov_byte)
+{
+    scene->camera.eye = eye;
+    scene->camera.look_at = rtt_v3_add(rtt_v3_scale(scene->bounds.lo, 0.5f), rtt_v3_scale(scene->bounds.hi, 0.5f));
+    scene->camera.fov_deg = 10.0f + (float)(fov_byte % 160);
+    rtt_camera_frame frame = rtt_camera_frame_make(&scene->camera, PGRID_W, PGRID_H);
+    rtt_ray rays[PGRID_W * PGRID_H];
+    for (uint32_t y = 0; y < PGRID_H; y++)
+        for (uint32_t x = 0; x < PGRID_W; x++) rays[y * PGRID_W + x] = rtt_camera_ray(&frame, x, y);
+    uint8_t degenerate[MAX_TRIANGLES];
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        rtt_vec3 c[3];
+        rtt_scene_triangle(scene, i, c);
+        degenerate[i] = rtt_triangle_is_degenerate(c);
+    }
+    fuzz_oracle *oracle = fuzz_oracle_create(scene, rays, PGRID_W * PGRID_H);
+    rtt_hit hits[PGRID_W * PGRID_H];
+    static const uint32_t cells[] = {4, 8};
+    for (rtt_isa isa = RTT_ISA_SSE4; isa < RTT_ISA_COUNT; isa = (rtt_isa)(isa + 1)) {
+        const pgrid_kernel *kernel = pgrid_kernel_find("pgrid", isa);
+        if (!kernel || kernel->isa != isa) continue;
+        for (size_t c = 0; c < sizeof cells / sizeof cells[0]; c++) {
+            pgrid_eye grid = {0};
+            rtt_error err = {""};
+            if (!pgrid_eye_trace_frame(&grid, kernel, scene, degenerate, &frame, PGRID_W, PGRID_H, cells[c], 1, hits,
+                                       NULL, &err))
+                fuzz_fail("pgrid refused a valid scene: %s", err.message);
+            pgrid_eye_free(&grid);
+            for (uint32_t i = 0; i < PGRID_W * PGRID_H; i++)
+                if (hits[i].prim != RTT_MISS && hits[i].prim >= scene->triangle_count)
+                    fuzz_fail("pgrid reported prim %u of %u", hits[i].prim, scene->triangle_count);
+            pgrid_answers answers = {{&answers_vtable, scene}, hits};
+            char label[48];
+            snprintf(label, sizeof label, "pgrid/%s cell %u", rtt_isa_name(isa), cells[c]);
+            fuzz_oracle_check(oracle, &answers.base, label, true);
+        }
+    }
+    fuzz_oracle_free(oracle);
+}
+
 static bool all_finite(const float *v, size_t n)
 {
     for (size_t i = 0; i < n; i++)
@@ -266,11 +349,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     rtt_ray rays[MAX_RAYS + GRID * GRID];
     size_t ray_count = 0;
-    camera_grid(scene, palette_point(&in, scale, offset), rays);
+    const rtt_vec3 eye = stored_point(scene, palette_point(&in, scale, offset));
+    camera_grid(scene, eye, rays);
     ray_count = GRID * GRID;
     while (in.at < in.size && ray_count < MAX_RAYS + GRID * GRID)
         rays[ray_count++] = decode_ray(&in, scene, scale, offset);
     check_engines(scene, rays, ray_count, depth_byte, flags);
+    check_pgrid(scene, eye, depth_byte);
     rtt_scene_free(scene);
     return 0;
 }

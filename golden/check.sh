@@ -11,8 +11,14 @@ golden="$src/golden/$name.exr"
 [ -f "$golden" ] || { echo "no golden image $golden (run golden/regenerate)"; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# each traversal is its accel's: the perspective grid's, the BVH's (bvh-*), else the kd-tree's
+case "$traversal" in
+    pgrid) accel=pgrid ;;
+    bvh-*) accel=bvh ;;
+    *) accel=kd ;;
+esac
 # shellcheck disable=SC2086  # options is a list of words
-"$rtt" render "$src/$scene" --engine optimized --traversal "$traversal" $options --threads 2 -o "$work/out.exr" ||
+"$rtt" render "$src/$scene" --engine optimized --accel "$accel" --traversal "$traversal" $options --threads 2 -o "$work/out.exr" ||
     exit 1
 "$rtt" compare "$golden" "$work/out.exr" --json \
     --max-rmse "$max_rmse" --max-error "$max_error" --max-share "$max_share"

@@ -4,7 +4,8 @@
 #   golden_max_rmse, golden_max_error, golden_max_share,
 #   golden_image (the image compared with: another entry's, or its own),
 #   golden_optimized_options (the optimized render's; default: the reference's),
-#   golden_modes (a list; default: all seven traversal modes).
+#   golden_modes (a list; default: all seven kd traversal modes and pgrid,
+#   the perspective grid's eye rays).
 # Used by tests.cmake (the ctest cases) and manifest_list.cmake (the shell
 # scripts), so both read the manifest the same way.
 function(rtt_golden_entry manifest index)
@@ -20,7 +21,7 @@ function(rtt_golden_entry manifest index)
   endif()
   string(JSON modes ERROR_VARIABLE missing GET "${manifest}" images ${index} modes)
   if(missing)
-    set(modes "mono packet omni frustum mft cone mft-cone")
+    set(modes "mono packet omni frustum mft cone mft-cone pgrid")
   endif()
   separate_arguments(modes UNIX_COMMAND "${modes}")
   string(JSON scene GET "${manifest}" images ${index} scene)

@@ -1,5 +1,7 @@
 /* The optimized engine behind the engine interface: the SAH kd-tree of
- * kd_build_sah.c, or the tree of a baked .kdt
+ * kd_build_sah.c (also under --accel pgrid, whose per-frame eye-ray grid
+ * lives in the renderer: the tree serves every other ray and the engine's
+ * ray streams), or the tree of a baked .kdt
  * adopted as is (scene->baked, validated by scene/kdt_file.c; its arrays
  * have kd_tree.h's layout, asserted below, so nothing is rebuilt or copied).
  *
@@ -28,6 +30,7 @@
 #include "kd_build.h"
 #include "kdt_format.h"
 #include "kernels.h"
+#include "pgrid_eye.h"
 #include "rtt/optimized.h"
 
 _Static_assert(sizeof(kd_node) == sizeof(kdt_node) && offsetof(kd_node, bits) == offsetof(kdt_node, bits),
@@ -57,9 +60,11 @@ typedef struct optimized_engine {
     bool owns_tree;           /* false when the arrays belong to scene->baked */
     kd_corners *corners;      /* the watertight test's corners (tree.corners), NULL for the projected test */
     rtt_engine_options opt;
-    const kd_kernel *kernel;  /* the descriptor-table row the options name (kd) */
+    const kd_kernel *kernel;  /* the descriptor-table row the options name (kd; the kd default under pgrid) */
     bvh_tree bvh;             /* --accel bvh: the BVH and its kernel row instead */
     const bvh_kernel *bvh_kernel;
+    const pgrid_kernel *pgrid; /* --accel pgrid: the eye rays' cell kernel; streams go through the kd-tree */
+    uint8_t *degenerate;      /* per triangle, 1 = never hits; NULL when the scene has none */
     char kernel_label[48];    /* "mft/avx512" */
 } optimized_engine;
 
@@ -100,6 +105,8 @@ static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
                                   "kd-tree's (use --accel kd, or --isect projected)");
     if (opt->accel == RTT_ACCEL_BVH)
         return bvh_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, bvh_kernel_name_at, err);
+    if (opt->accel == RTT_ACCEL_PGRID)
+        return pgrid_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, pgrid_kernel_name_at, err);
     if (opt->accel != RTT_ACCEL_DEFAULT && opt->accel != RTT_ACCEL_KD)
         return rtt_error_set(err, "engine \"optimized\" has no %s acceleration structure", rtt_accel_name(opt->accel));
     return kd_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, kd_kernel_name_at, err);
@@ -108,12 +115,14 @@ static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
 static const char *optimized_kernel_at(rtt_accel accel, uint32_t i)
 {
     if (accel == RTT_ACCEL_BVH) return bvh_kernel_name_at(i);
+    if (accel == RTT_ACCEL_PGRID) return pgrid_kernel_name_at(i);
     return accel == RTT_ACCEL_DEFAULT || accel == RTT_ACCEL_KD ? kd_kernel_name_at(i) : NULL;
 }
 
 const rtt_engine_class rtt_optimized_engine_class = {
     .name = "optimized",
-    .summary = "production path: SAH kd-tree (packet/frustum/MFT/cone kernels, every shadow method) or BVH",
+    .summary = "production path: SAH kd-tree (packet/frustum/MFT/cone kernels, every shadow method), BVH, "
+               "perspective grids",
     .uses = RTT_OPTION_ACCEL | RTT_OPTION_TRAVERSAL | RTT_OPTION_TILE | RTT_OPTION_LEAF_CULLING |
             RTT_OPTION_MAX_DEPTH | RTT_OPTION_ISA | RTT_OPTION_ISECT,
     .shadow_methods = RTT_SHADOWS_ALL,
@@ -162,6 +171,33 @@ const bvh_kernel *bvh_engine_kernel(rtt_engine *engine)
     return e ? e->bvh_kernel : NULL;
 }
 
+const uint8_t *optimized_engine_degenerate(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->degenerate : NULL;
+}
+
+const pgrid_kernel *pgrid_engine_kernel(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    return e ? e->pgrid : NULL;
+}
+
+/* The triangles that never hit, for the structures that skip them (the
+ * perspective grid); NULL when there are none. */
+static bool flag_degenerate(optimized_engine *e, const rtt_scene *scene, rtt_error *err)
+{
+    if (scene->degenerate_count == 0) return true;
+    e->degenerate = malloc(scene->triangle_count);
+    if (!e->degenerate) return rtt_error_set(err, "%s: out of memory creating the optimized engine", scene->path);
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        rtt_vec3 corners[3];
+        rtt_scene_triangle(scene, i, corners);
+        e->degenerate[i] = rtt_triangle_is_degenerate(corners);
+    }
+    return true;
+}
+
 static void adopt_baked(kd_tree *tree, const rtt_baked_tree *baked)
 {
     memset(tree, 0, sizeof *tree);
@@ -207,9 +243,10 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     e->base.scene = scene;
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
+    const rtt_isa isa = rtt_isa_resolve(opt->isa);
     if (opt->accel == RTT_ACCEL_BVH) {
         /* a baked .kdt holds a kd-tree: the BVH is built whatever the scene carries */
-        e->bvh_kernel = bvh_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
+        e->bvh_kernel = bvh_kernel_find(opt->traversal, isa);
         snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->bvh_kernel->name,
                  rtt_isa_name(e->bvh_kernel->isa));
         bvh_build_options build = {.leaf_size = 0, .max_depth = opt->max_tree_depth, .threads = opt->threads};
@@ -219,19 +256,31 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
         }
         return &e->base;
     }
-    e->kernel = kd_kernel_find(opt->traversal, rtt_isa_resolve(opt->isa));
+    if (opt->accel == RTT_ACCEL_PGRID) {
+        e->pgrid = pgrid_kernel_find(opt->traversal, isa);
+        e->kernel = kd_kernel_find("", isa);
+        snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->pgrid->name, rtt_isa_name(e->pgrid->isa));
+    } else {
+        e->kernel = kd_kernel_find(opt->traversal, isa);
+        snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
+    }
     const rtt_isect isect = opt->isect == RTT_ISECT_DEFAULT ? RTT_OPTIMIZED_DEFAULT_ISECT : opt->isect;
-    snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
+    if (!flag_degenerate(e, scene, err)) {
+        free(e);
+        return NULL;
+    }
     if (scene->baked) {
         /* the tree the file carries, whatever max_tree_depth asks: rebake to change it */
         adopt_baked(&e->tree, scene->baked);
         if (!kd_baked_tree_verify(scene, &e->tree, opt->threads, err)) {
+            free(e->degenerate);
             free(e);
             return NULL;
         }
     } else {
         kd_build_options build = {.max_depth = opt->max_tree_depth, .threads = opt->threads};
         if (!kd_build_sah(scene, &build, &e->tree, err)) {
+            free(e->degenerate);
             free(e);
             return NULL;
         }
@@ -252,6 +301,7 @@ static void optimized_destroy(rtt_engine *base)
     e->tree.corners = NULL;
     if (e->owns_tree) kd_tree_free(&e->tree);
     if (e->bvh_kernel) bvh_tree_free(&e->bvh);
+    free(e->degenerate);
     free(e);
 }
 

@@ -7,6 +7,7 @@
 #include "bvh_kernels.h"
 #include "kd_tree.h"
 #include "kernels.h"
+#include "pgrid_eye.h"
 #include "rtt/engine.h"
 
 /* NULL when `engine` is not an optimized engine. */
@@ -16,5 +17,10 @@ const kd_kernel *kd_engine_kernel(rtt_engine *engine);
  * accessors above are NULL for such an engine). */
 const bvh_tree *bvh_engine_tree(rtt_engine *engine);
 const bvh_kernel *bvh_engine_kernel(rtt_engine *engine);
+/* Per triangle 1 when it never hits (rtt_triangle_is_degenerate); NULL when
+ * the scene has no such triangle or `engine` is not an optimized engine. */
+const uint8_t *optimized_engine_degenerate(rtt_engine *engine);
+/* The eye rays' cell kernel of an engine created with --accel pgrid, else NULL. */
+const pgrid_kernel *pgrid_engine_kernel(rtt_engine *engine);
 
 #endif

@@ -34,9 +34,9 @@ check "top-level fields" '(.scene | type == "string") and (.triangles | type == 
     and (.magnitude | type == "number") and (.pass | type == "boolean") and (.rows | type == "array")'
 check "thresholds" '.thresholds.grazing_share_optimized == 0.0005 and .thresholds.grazing_share_embree == 0.01'
 # optimized expands to the seven kd and three BVH traversal modes, plus the reference: 11 engines x 4 sets.
-check "one row per engine and set" '(.rows | length) == 44
+check "one row per engine and set" '(.rows | length) == 48
     and ([.rows[].rays] | unique) == ["extreme", "primary", "random", "shadow"]
-    and ([.rows[].engine] | unique | length) == 11 and all(.rows[]; .oracle == "reference")'
+    and ([.rows[].engine] | unique | length) == 12 and all(.rows[]; .oracle == "reference")'
 check "every count is a non-negative integer" 'all(.rows[]; [.count, .agree, .tie, .boundary, .t_mismatch,
     .hitmiss_grazing, .hitmiss_other, .occluded_mismatch][] | type == "number" and . >= 0 and . == floor)'
 check "categories sum to the rays of the row" 'all(.rows[];

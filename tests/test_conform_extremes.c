@@ -269,7 +269,7 @@ static size_t watertight_rows(const rtt_extremes_report *report, bool asserted)
 static uint32_t optimized_kernel_count(void)
 {
     uint32_t kernels = 0;
-    const rtt_accel accels[] = {RTT_ACCEL_KD, RTT_ACCEL_BVH};
+    const rtt_accel accels[] = {RTT_ACCEL_KD, RTT_ACCEL_BVH, RTT_ACCEL_PGRID};
     for (size_t a = 0; a < sizeof accels / sizeof accels[0]; a++)
         for (uint32_t k = 0; rtt_engine_find("optimized")->kernel(accels[a], k); k++) kernels++;
     return kernels;
@@ -280,7 +280,7 @@ static void test_optimized_with_the_projected_test_holds_every_asserted_check_an
     (void)state;
     rtt_extremes_report report = run_suite_with("optimized", RTT_ISECT_PROJECTED);
     expect_asserted_checks_pass(&report);
-    /* four spheres, every traversal mode of both structures */
+    /* four spheres, every traversal mode of every structure (pgrid: its streams go through the kd-tree) */
     assert_int_equal(watertight_rows(&report, false), 4 * optimized_kernel_count());
     char *table = rtt_extremes_report_table(&report), *json = rtt_extremes_report_json(&report);
     assert_non_null(table);

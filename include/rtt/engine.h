@@ -40,6 +40,7 @@ typedef enum rtt_accel {
     RTT_ACCEL_DEFAULT = 0,   /* the engine's own choice */
     RTT_ACCEL_KD,            /* SAH kd-tree with perfect splits (the thesis) */
     RTT_ACCEL_BVH,           /* binned SAH BVH, two child boxes per 64-byte node (Benthin & Wald 2009) */
+    RTT_ACCEL_PGRID,         /* per-frame perspective grids for eye rays (Hunt & Mark 2008) */
     RTT_ACCEL_COUNT
 } rtt_accel;
 

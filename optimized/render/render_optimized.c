@@ -28,6 +28,7 @@
 #include "engine/threads.h"
 #include "engine_optimized.h"
 #include "kernels.h"
+#include "render_pgrid.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
 
@@ -41,6 +42,7 @@ typedef struct render_job {
     sp_tracer tracer;
     sp_scratch **scratch;           /* one per thread */
     uint32_t threads;
+    pgrid_render *pgrid;            /* --accel pgrid: the frame's grid, its cells the tiles; else NULL */
 } render_job;
 
 /* Primary rays of the tile as quads, for anti-aliasing sample `sample` of
@@ -160,10 +162,14 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     sp_scratch *s = job->scratch[thread];
     if (sp_scratch_failed(s)) return;
     const uint32_t side = job->tile / 2u;
-    sp_tile_begin(s, side * side * job->spp);
-    /* samples in the reference's order, last to first: the same sums */
-    for (uint32_t sample = job->spp; sample-- > 0;) push_primary_packets(job, s, x0, y0, x1, y1, sample);
-    sp_primary_trace(&job->tracer, s);
+    sp_tile_begin(s, job->pgrid ? 0 : side * side * job->spp);
+    if (job->pgrid) { /* one eye ray per pixel centre: spp is 1 (refused otherwise) */
+        pgrid_render_cell(job->pgrid, thread, s, x0, y0, x1, y1);
+    } else {
+        /* samples in the reference's order, last to first: the same sums */
+        for (uint32_t sample = job->spp; sample-- > 0;) push_primary_packets(job, s, x0, y0, x1, y1, sample);
+        sp_primary_trace(&job->tracer, s);
+    }
     sp_tile_shade(&job->shading, &job->tracer, s);
     const uint32_t pixels = (x1 - x0) * (y1 - y0), count = sp_tile_pixel_count(s);
     for (uint32_t i = 0; i < count; i++) write_sample(job, sp_tile_pixel(s, i), i < pixels, i >= count - pixels);
@@ -237,7 +243,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                     .edge_model = rtt_edge_width_model_make(scene, opt->edge_radius, opt->edge_leak_fix),
                     .width = width},
         .tracer = {.tree = tree,
-                   .kernel = kd_kernel_find(engine_opt->traversal, isa),
+                   /* under pgrid the traversal names the grid's kernel: shadows take the kd default */
+                   .kernel = kd_kernel_find(engine_opt->accel == RTT_ACCEL_PGRID ? "" : engine_opt->traversal, isa),
                    .secondary = kd_kernel_for_secondary_rays(isa),
                    .pyramid = kd_kernel_for_pyramid_groups(isa),
                    .shadows = kd_shadow_kernels_find(isa),
@@ -248,6 +255,9 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     };
     if (bvh && !job.tracer.bvh_kernel)
         return rtt_error_set(err, "%s: traversal \"%s\" is not a BVH kernel", scene->path, engine_opt->traversal);
+    if (engine_opt->accel == RTT_ACCEL_PGRID && job.spp > 1)
+        return rtt_error_set(err, "%s: the perspective grid traces one eye ray through each pixel centre: %u samples "
+                                  "per pixel need --accel kd or bvh", scene->path, job.spp);
     rtt_shadow_planes planes;
     if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
         if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
@@ -258,10 +268,24 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     frame_memory *memory = frame_memory_get(opt->cache, threads, job.shading.max_bounces + 1,
                                             opt->stats || stats != NULL);
     bool ok = memory != NULL;
+    /* --accel pgrid: the frame's grid is built here, its cells are the tiles
+     * (its arrays are the frame's own: a render cache keeps none of them) */
+    pgrid_render pgrid;
+    const bool use_pgrid = engine_opt->accel == RTT_ACCEL_PGRID;
+    if (ok && use_pgrid) {
+        job.pgrid = &pgrid;
+        if (!pgrid_render_begin(&pgrid, pgrid_kernel_find(engine_opt->traversal, isa), scene,
+                                optimized_engine_degenerate(engine), &job.frame, width, height, 0, threads, err)) {
+            pgrid_render_end(&pgrid);
+            frame_memory_free(memory);
+            if (job.shading.planes) rtt_shadow_planes_free(&planes);
+            return false;
+        }
+    }
     if (ok) {
         job.scratch = memory->scratch;
-        rtt_tiles_run_from(opt->tile_source, width, height, tile, threads, render_tile, &job, opt->progress,
-                           opt->progress_context);
+        rtt_tiles_run_from(opt->tile_source, width, height, use_pgrid ? pgrid.grid.cell : tile, threads, render_tile,
+                           &job, opt->progress, opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     if (job.shading.planes) {
@@ -270,8 +294,10 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     }
     if (ok && stats) {
         gather_stats(&job, stats);
+        if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
+    if (job.pgrid) pgrid_render_end(job.pgrid);
     if (ok && opt->cache && frame_memory_even_out(memory))
         rtt_render_cache_keep(opt->cache, &rtt_optimized_engine_class, memory, frame_memory_free);
     else

@@ -102,6 +102,11 @@ void sp_primary_push(sp_scratch *s, const rtt_ray *rays, const uint32_t *pixels,
 /* Traces the pushed packets through tracer->kernel as blocks of
  * tracer->block_packets (timed and counted with timing on). */
 void sp_primary_trace(const sp_tracer *tracer, sp_scratch *s);
+/* Instead of push and trace, for primary hits found elsewhere (the
+ * perspective grid): appends a primary ray with its hit... */
+void sp_primary_push_hit(sp_scratch *s, const rtt_ray *ray, const rtt_hit *hit, uint32_t pixel);
+/* ...and once the tile's are in, counts them and the `ns` spent finding them. */
+void sp_primary_hits_done(sp_scratch *s, uint64_t ns);
 /* Shades the primary hits and every level below, then combines colours. */
 void sp_tile_shade(const sp_shading *shading, const sp_tracer *tracer, sp_scratch *s);
 /* The tile's primary rays, in push order, with their hits and colours. */

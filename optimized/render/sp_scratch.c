@@ -215,6 +215,20 @@ void sp_primary_trace(const sp_tracer *tr, sp_scratch *s)
     s->stats.primary_rays += s->levels[0].count;
 }
 
+void sp_primary_push_hit(sp_scratch *s, const rtt_ray *ray, const rtt_hit *hit, uint32_t pixel)
+{
+    if (s->failed) return;
+    int32_t i = sp_level_push(s, 0, ray, pixel);
+    if (i >= 0) sp_level_nodes(s, 0)[i].hit = *hit;
+}
+
+void sp_primary_hits_done(sp_scratch *s, uint64_t ns)
+{
+    if (s->failed) return;
+    s->stats.primary_rays += s->levels[0].count;
+    if (s->timing) s->stats.ns_primary_traversal += ns;
+}
+
 uint32_t sp_tile_pixel_count(const sp_scratch *s) { return s->failed ? 0 : s->levels[0].count; }
 
 const sp_node *sp_tile_pixel(const sp_scratch *s, uint32_t i) { return &sp_level_nodes(s, 0)[i]; }

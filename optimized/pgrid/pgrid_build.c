@@ -1,0 +1,268 @@
+/* Hunt & Mark 2008, section 4 and 5.1: the per-frame build of the eye
+ * rays' perspective grid (pgrid_eye.h).  Each triangle is transformed to
+ * the camera's perspective space (depth along the view axis, pixel-centre
+ * coordinates), its projected bounds widened by a pixel and binned into
+ * the cells they meet by a counting sort, so each cell lists its triangles
+ * in the global order (ties then go to the smaller prim by keeping the
+ * first of equal depths).
+ *
+ * Corners are taken relative to the eye and scaled by a power of two that
+ * brings the scene's extent seen from the eye to about 1 (exact), so the
+ * products of the edge functions neither underflow at 1e-20 nor overflow
+ * at 1e20; t is scaled back when hits are resolved.
+ *
+ * The near plane, and what it trades against the paper: the paper clips
+ * geometry to a near plane and loses what lies in front of it.  Here a
+ * triangle with every corner beyond the near plane (depth >= z_near, a
+ * 2^-20 fraction of the scene's extent seen from the eye) is binned by its
+ * projected corners, which bound its projection exactly; one with every
+ * corner behind the eye (depth < -z_near) is dropped, as no eye ray meets
+ * it at t > 0; one in between is clipped to a plane that no eye ray
+ * meets it in front of (from the distance of its plane, triangle_rect) and
+ * binned by the clipped polygon; only one whose plane passes within about
+ * z_near of the eye is kept in every cell (its projection is unbounded),
+ * counted in near_count.  Exact for every scene. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pgrid_eye.h"
+
+static bool grow(void **array, size_t *capacity, size_t need, size_t element)
+{
+    if (need <= *capacity) return true;
+    size_t cap = *capacity ? *capacity : 1024;
+    while (cap < need) cap *= 2;
+    void *p = aligned_alloc(64, (cap * element + 63) / 64 * 64);
+    if (!p) return false;
+    free(*array);
+    *array = p;
+    *capacity = cap;
+    return true;
+}
+
+void pgrid_eye_free(pgrid_eye *grid)
+{
+    free(grid->triangles);
+    free(grid->surfaces);
+    free(grid->cell_first);
+    free(grid->refs);
+    memset(grid, 0, sizeof *grid);
+}
+
+/* The pixel-centre coordinate range [lo, hi] of a projected extent, as
+ * pixel indices 0 .. size-1; false when it misses the image.  The centre
+ * of pixel p is p + 0.5; one pixel of margin covers the rounding of the
+ * projection and of the triangle test. */
+static inline float min_float(float a, float b) { return b < a ? b : a; }
+static inline float max_float(float a, float b) { return b > a ? b : a; }
+
+static bool pixel_range(float lo, float hi, uint32_t size, uint16_t *first, uint16_t *last)
+{
+    const float margin = 1.0f;
+    float a = lo - margin - 0.5f, b = hi + margin - 0.5f;
+    if (!(b >= 0.0f) || !(a <= (float)size - 1.0f)) return false; /* NaN is outside too */
+    a = a < 0.0f ? 0.0f : ceilf(a);
+    b = b > (float)size - 1.0f ? (float)size - 1.0f : floorf(b);
+    if (a > b) return false;
+    *first = (uint16_t)a;
+    *last = (uint16_t)b;
+    return true;
+}
+
+/* What the build needs of the frame: the view axis and the projection of
+ * a point relative to the eye onto pixel-centre coordinates. */
+typedef struct projection {
+    rtt_vec3 forward, du, dv;
+    float corner_du, corner_dv, inv_du2, inv_dv2;   /* corner . du, corner . dv, 1 / |du|^2, 1 / |dv|^2 */
+    float corner_length;                            /* |corner|: 1 / the smallest cosine of an eye ray */
+    float z_near;
+    float scale;        /* a power of two bringing the scene's extent seen from the eye to about 1 */
+} projection;
+
+static projection projection_make(const rtt_camera_frame *f, const rtt_scene *scene)
+{
+    projection p;
+    p.forward = rtt_v3_normalize(rtt_v3_cross(f->du, f->dv));
+    p.du = f->du;
+    p.dv = f->dv;
+    p.corner_du = rtt_v3_dot(f->corner, f->du);
+    p.corner_dv = rtt_v3_dot(f->corner, f->dv);
+    p.inv_du2 = 1.0f / rtt_v3_dot(f->du, f->du);
+    p.inv_dv2 = 1.0f / rtt_v3_dot(f->dv, f->dv);
+    p.corner_length = rtt_v3_length(f->corner);
+    rtt_vec3 lo = scene->bounds.lo, hi = scene->bounds.hi;
+    float extent = rtt_v3_length(rtt_v3_sub(hi, lo)) +
+                   rtt_v3_length(rtt_v3_sub(rtt_v3_scale(rtt_v3_add(lo, hi), 0.5f), f->eye));
+    const bool usable = isfinite(extent) && extent > 0.0f;
+    p.scale = usable ? ldexpf(1.0f, -ilogbf(extent)) : 1.0f;
+    p.z_near = usable ? extent * p.scale * 0x1p-20f : 0x1p-100f;
+    return p;
+}
+
+/* The edge functions of one triangle relative to the eye (pgrid_eye.h). */
+static void triangle_setup(pgrid_triangle *t, pgrid_surface *surface, const rtt_camera_frame *f,
+                           const rtt_vec3 rel[3])
+{
+    const rtt_vec3 e1 = rtt_v3_sub(rel[1], rel[0]), e2 = rtt_v3_sub(rel[2], rel[0]);
+    const rtt_vec3 normal = rtt_v3_cross(e1, e2);
+    const float inv_n2 = 1.0f / rtt_v3_dot(normal, normal);
+    const rtt_vec3 m_u = rtt_v3_scale(rtt_v3_cross(e2, normal), inv_n2);
+    const rtt_vec3 m_v = rtt_v3_scale(rtt_v3_cross(normal, e1), inv_n2);
+    *surface = (pgrid_surface){{rel[0].x, rel[0].y, rel[0].z}, {m_u.x, m_u.y, m_u.z}, {m_v.x, m_v.y, m_v.z}, {0}};
+    for (int e = 0; e < 4; e++) {
+        rtt_vec3 n = e < 3 ? rtt_v3_cross(rel[(e + 1) % 3], rel[(e + 2) % 3]) : normal;
+        t->a[e] = rtt_v3_dot(n, f->du);
+        t->b[e] = rtt_v3_dot(n, f->dv);
+        t->c[e] = rtt_v3_dot(n, f->corner);
+    }
+    t->det = rtt_v3_dot(normal, rel[0]);
+}
+
+/* The pixel-centre bounds of points relative to the eye, all at depth
+ * >= z_near (z their depths). */
+static void project_bounds(const projection *p, const rtt_vec3 *rel, const float *z, int count, float box[4])
+{
+    box[0] = box[2] = INFINITY;
+    box[1] = box[3] = -INFINITY;
+    for (int i = 0; i < count; i++) {
+        const float inv_z = 1.0f / z[i];
+        float fx = (rtt_v3_dot(rel[i], p->du) * inv_z - p->corner_du) * p->inv_du2;
+        float fy = (rtt_v3_dot(rel[i], p->dv) * inv_z - p->corner_dv) * p->inv_dv2;
+        box[0] = min_float(box[0], fx);
+        box[1] = max_float(box[1], fx);
+        box[2] = min_float(box[2], fy);
+        box[3] = max_float(box[3], fy);
+    }
+}
+
+/* The triangle clipped to depth >= z_clip (Sutherland-Hodgman, one plane):
+ * at most four corners. */
+static int clip_near(float z_clip, const rtt_vec3 rel[3], const float z[3], rtt_vec3 out[4], float zout[4])
+{
+    int n = 0;
+    for (int i = 0; i < 3; i++) {
+        const int j = (i + 1) % 3;
+        const bool in_i = z[i] >= z_clip, in_j = z[j] >= z_clip;
+        if (in_i) out[n] = rel[i], zout[n++] = z[i];
+        if (in_i != in_j) {
+            const float s = (z_clip - z[i]) / (z[j] - z[i]);
+            out[n] = rtt_v3_add(rel[i], rtt_v3_scale(rtt_v3_sub(rel[j], rel[i]), s));
+            zout[n++] = z_clip; /* on the plane up to rounding: the bounds are widened for it */
+        }
+    }
+    return n;
+}
+
+/* The pixel rectangle of a triangle; false when no eye ray can hit it. */
+static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t width, uint32_t height,
+                          pgrid_triangle *t, bool *near)
+{
+    float z[3], zmin = INFINITY, zmax = -INFINITY;
+    for (int i = 0; i < 3; i++) {
+        z[i] = rtt_v3_dot(rel[i], p->forward);
+        zmin = min_float(zmin, z[i]);
+        zmax = max_float(zmax, z[i]);
+    }
+    *near = false;
+    if (zmax < -p->z_near) return false;
+    float box[4];
+    if (zmin >= p->z_near) {
+        project_bounds(p, rel, z, 3, box);
+    } else {
+        /* Crossing the near plane.  Every point of the triangle's plane is
+         * at least its distance h from the eye, and an eye ray's depth is
+         * at least its length / |corner| (|corner| = 1 / the smallest cosine
+         * of an eye ray with the view axis), so no eye ray meets the plane
+         * at a depth below h / |corner|: the triangle clipped to half that
+         * bounds every hit.  When that clip plane would lie nearer than
+         * z_near, the triangle is kept in every cell. */
+        const rtt_vec3 normal = rtt_v3_cross(rtt_v3_sub(rel[1], rel[0]), rtt_v3_sub(rel[2], rel[0]));
+        const float h = fabsf(rtt_v3_dot(normal, rel[0])) / rtt_v3_length(normal);
+        const float z_clip = 0.5f * h / p->corner_length;
+        if (!(z_clip >= p->z_near && zmax > z_clip)) {
+            *near = true;
+            t->x0 = t->y0 = 0;
+            t->x1 = (uint16_t)(width - 1);
+            t->y1 = (uint16_t)(height - 1);
+            return true;
+        }
+        rtt_vec3 clipped[4];
+        float zc[4];
+        const int n = clip_near(z_clip, rel, z, clipped, zc);
+        project_bounds(p, clipped, zc, n, box);
+        /* a crossing is off the plane by a few ulps of the corners' size:
+         * over z_clip, 2^-18 of that in the projection, in pixels */
+        float size = 0.0f;
+        for (int i = 0; i < 3; i++) size = max_float(size, rtt_v3_length(rel[i]));
+        const float widen = size / z_clip * 0x1p-18f * sqrtf(p->inv_du2 > p->inv_dv2 ? p->inv_du2 : p->inv_dv2);
+        box[0] -= widen, box[1] += widen, box[2] -= widen, box[3] += widen;
+    }
+    return pixel_range(box[0], box[1], width, &t->x0, &t->x1) && pixel_range(box[2], box[3], height, &t->y0, &t->y1);
+}
+
+bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
+                     const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
+{
+    if (cell == 0) cell = PGRID_EYE_CELL_DEFAULT;
+    if (cell % 4u || cell > PGRID_EYE_CELL_MAX || width == 0 || height == 0 || width > PGRID_IMAGE_MAX ||
+        height > PGRID_IMAGE_MAX)
+        return rtt_error_set(err,
+                             "perspective grid: cell %u for %ux%u pixels (cells are 4 .. %u, a multiple of 4; "
+                             "images 1 .. %u a side)",
+                             cell, width, height, PGRID_EYE_CELL_MAX, PGRID_IMAGE_MAX);
+    g->width = width;
+    g->height = height;
+    g->cell = cell;
+    g->cells_x = (width + cell - 1) / cell;
+    g->cells_y = (height + cell - 1) / cell;
+    g->frame = *frame;
+    const uint32_t cells = g->cells_x * g->cells_y;
+    size_t cap = g->cell_capacity, tcap = g->triangle_capacity, scap = g->triangle_capacity;
+    const size_t triangles = scene->triangle_count ? scene->triangle_count : 1;
+    if (!grow((void **)&g->cell_first, &cap, (size_t)cells + 1, sizeof(uint32_t)) ||
+        !grow((void **)&g->triangles, &tcap, triangles, sizeof(pgrid_triangle)) ||
+        !grow((void **)&g->surfaces, &scap, triangles, sizeof(pgrid_surface)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->cell_capacity = (uint32_t)cap;
+    g->triangle_capacity = (uint32_t)tcap;
+
+    /* transform, clip against the near plane, set up; count references per cell */
+    const projection p = projection_make(frame, scene);
+    memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
+    uint32_t kept = 0, near_count = 0;
+    size_t refs = 0;
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        if (degenerate && degenerate[i]) continue;
+        rtt_vec3 corners[3], rel[3];
+        rtt_scene_triangle(scene, i, corners);
+        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_scale(rtt_v3_sub(corners[k], frame->eye), p.scale);
+        pgrid_triangle *t = &g->triangles[kept];
+        bool near;
+        if (!triangle_rect(&p, rel, width, height, t, &near)) continue;
+        triangle_setup(t, &g->surfaces[kept], frame, rel);
+        t->prim = i;
+        near_count += near;
+        kept++;
+        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
+            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
+        refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
+    }
+    g->triangle_count = kept;
+    g->inv_scale = 1.0f / p.scale;
+    g->near_count = near_count;
+    if (!grow((void **)&g->refs, &g->ref_capacity, refs ? refs : 1, sizeof(uint32_t)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->ref_count = refs;
+
+    /* counting sort: each cell's references in triangle order */
+    for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
+    for (uint32_t k = 0; k < kept; k++) {
+        const pgrid_triangle *t = &g->triangles[k];
+        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
+            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->refs[g->cell_first[cy * g->cells_x + cx]++] = k;
+    }
+    for (uint32_t c = cells; c > 0; c--) g->cell_first[c] = g->cell_first[c - 1];
+    g->cell_first[0] = 0;
+    return true;
+}

@@ -1,0 +1,140 @@
+/* Hunt & Mark 2008, sections 4 and 5.1: the perspective grid of the eye
+ * rays, rebuilt every frame.  A 2D grid over the image with no depth
+ * splits: cell (cx, cy) holds every triangle whose projected bounds meet
+ * its cell-by-cell pixel square, in the global triangle order.  The eye
+ * rays are never stored: a cell's rays are the pixel formula of
+ * rtt_camera_ray (scene/shade.c), so a cell is processed like a tiled
+ * Z-buffer, in object order (pgrid_cell.c).
+ *
+ * The triangle test is per triangle an edge function of the pixel centre
+ * (fx, fy) = (px + 0.5, py + 0.5): with A, B, C the corners relative to the
+ * eye and D(fx, fy) = corner + du fx + dv fy the unnormalised direction of
+ * rtt_camera_frame,
+ *
+ *     w_A = (B x C) . D,  w_B = (C x A) . D,  w_C = (A x B) . D,
+ *
+ * each w_e = (c_e + b_e fy) + a_e fx with a_e = n_e . du, b_e = n_e . dv,
+ * c_e = n_e . corner computed once per frame.  The ray through the pixel
+ * hits the triangle when the three have one sign (zeros included).  Its
+ * distance comes from the plane, not from the sum of the w_e (which
+ * cancels: each w_e is the edge's length times the distance larger than
+ * their sum): t_D = det / (N . D) along D, with N = (B - A) x (C - A) and
+ * det = N . A, N . D evaluated like an edge function (index 3 of a, b, c).
+ * Watertight on shared edges: the neighbour computes the shared edge's
+ * normal as q x p = -(p x q) exactly, and every later operation negates
+ * exactly with it, so a pixel centre is inside one of two triangles sharing
+ * an edge, or on it and inside both.  The barycentrics u, v of vertices 1
+ * and 2 are computed in world space from the hit point p = t_D D relative
+ * to vertex 0 (u = (p - A) . m_u, v = (p - A) . m_v, pgrid_surface), so they
+ * need no perspective correction: they never pass through perspective
+ * space.  (The edge functions would give them as w_B / (N . D), but those
+ * cancel: errors of 1e-3 on the demo scene's spheres against 1e-5.) */
+#ifndef RTT_OPTIMIZED_PGRID_EYE_H
+#define RTT_OPTIMIZED_PGRID_EYE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rtt/engine.h"
+#include "rtt/error.h"
+#include "rtt/shade.h"
+
+#define PGRID_NO_TRIANGLE UINT32_MAX
+/* The cell side in pixels when the caller gives none (bench/results/pgrid.md,
+ * "Cell size": the sweep on this machine's 1 MiB-per-core L2). */
+#define PGRID_EYE_CELL_DEFAULT 128u
+#define PGRID_EYE_CELL_MAX 512u
+
+/* One triangle set up for one frame (64 bytes: one cache line, read once
+ * per pixel block of its rectangle; pixel indices in 16 bits, so images
+ * are at most PGRID_IMAGE_MAX wide and high). */
+typedef struct pgrid_triangle {
+    float a[4], b[4], c[4];    /* edge functions of the edges opposite vertices 0, 1, 2; [3]: N . D */
+    float det;                 /* N . A */
+    uint32_t prim;             /* global triangle order */
+    uint16_t x0, y0, x1, y1;   /* pixels whose centre may lie in its projection, inclusive */
+} pgrid_triangle;
+#define PGRID_IMAGE_MAX 65535u
+
+/* What the hits of a triangle need beyond the test (48 bytes, read only
+ * for the pixels it wins): vertex 0 relative to the eye and the two rows of
+ * the barycentric map, m_u = (e2 x N) / |N|^2, m_v = (N x e1) / |N|^2. */
+typedef struct pgrid_surface {
+    float origin[3], m_u[3], m_v[3];
+    float pad[3];
+} pgrid_surface;
+_Static_assert(sizeof(pgrid_surface) == 48, "pgrid_surface: three rows of 16 bytes");
+_Static_assert(sizeof(pgrid_triangle) == 64, "pgrid_triangle is one cache line");
+
+/* The grid of one frame.  Arrays grow and are kept from frame to frame. */
+typedef struct pgrid_eye {
+    uint32_t width, height, cell, cells_x, cells_y;
+    rtt_camera_frame frame;
+    pgrid_triangle *triangles; /* the triangles whose rectangle is not empty, in global order */
+    pgrid_surface *surfaces;   /* the same triangles' barycentric maps */
+    uint32_t triangle_count, triangle_capacity;
+    uint32_t *cell_first;      /* cells_x * cells_y + 1: cell c's references are refs[cell_first[c] ..) */
+    uint32_t cell_capacity;
+    uint32_t *refs;            /* indices into triangles */
+    size_t ref_count, ref_capacity;
+    uint32_t near_count;       /* triangles reaching in front of the near plane: every cell holds them */
+    float inv_scale;           /* the build works on corners scaled by 1 / inv_scale (a power of two) */
+} pgrid_eye;
+
+/* Builds the grid of `frame` at width x height in cells of `cell` pixels
+ * (a multiple of 4, 4 .. PGRID_EYE_CELL_MAX; 0 → the default) over the
+ * triangles not flagged in `degenerate` (one byte per triangle, 1 = never
+ * hits; NULL: none).  False (err filled) when out of memory. */
+bool pgrid_eye_build(pgrid_eye *grid, const rtt_scene *scene, const uint8_t *degenerate,
+                     const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err);
+void pgrid_eye_free(pgrid_eye *grid);
+
+static inline uint32_t pgrid_eye_cell_count(const pgrid_eye *grid) { return grid->cells_x * grid->cells_y; }
+
+/* A cell's depth and triangle buffers, cell x cell entries each, in blocks
+ * of 4 x (lanes / 4) pixels (one vector each, row-major blocks), the layout
+ * of the kernel that fills them. */
+static inline size_t pgrid_cell_offset(uint32_t cell, uint32_t lanes, uint32_t x, uint32_t y)
+{
+    const uint32_t block_h = lanes / 4u;
+    return ((size_t)(y / block_h) * (cell / 4u) + x / 4u) * lanes + (y % block_h) * 4u + x % 4u;
+}
+
+
+/* The per-cell kernel (pgrid_cell.c, one copy per instruction set): fills
+ * the buffers of cell `cell` with the closest triangle per pixel and its
+ * t_D (PGRID_NO_TRIANGLE and +inf where none). */
+typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, float *depth, uint32_t *triangle);
+/* ...and the hits of the cell's pixels from them: pixel (X0 + x, Y0 + y)
+ * of the cell with corner (X0, Y0) into hits[y * stride + x]; t along
+ * rtt_camera_ray's normalised direction, u, v, prim (a miss where none). */
+typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, const float *depth, const uint32_t *triangle,
+                                 rtt_hit *hits, size_t stride);
+
+/* The perspective grid's kernel descriptor table (pgrid_table.c): one row
+ * per instruction set. */
+typedef struct pgrid_kernel {
+    const char *name;          /* what --traversal calls it */
+    const char *implements;
+    pgrid_cell_fn trace_cell;
+    pgrid_resolve_fn resolve_cell;
+    uint32_t lanes;            /* pixels per packet: 16 (AVX-512), 8 (AVX2), 4 (SSE4.1) */
+    rtt_isa isa;
+} pgrid_kernel;
+
+/* The row for `name` ("" → "pgrid") of the widest instruction set not
+ * wider than `isa` (resolved) that this CPU runs; NULL for an unknown name. */
+const pgrid_kernel *pgrid_kernel_find(const char *name, rtt_isa isa);
+const char *pgrid_kernel_name_at(uint32_t i);
+const pgrid_kernel *pgrid_kernel_row_at(uint32_t i);
+
+/* One frame of eye rays alone (the bench and the tests): build, every cell
+ * through `kernel` on `threads` threads, each pixel's hit into hits[py *
+ * width + px].  build_seconds (may be NULL) gets the build's share. */
+bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
+                           const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
+                           uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,
+                           rtt_error *err);
+
+#endif

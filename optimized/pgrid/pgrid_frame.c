@@ -1,0 +1,55 @@
+/* One frame of eye rays through the perspective grid alone, without
+ * shading (pgrid_eye_trace_frame): what the bench races against Embree and
+ * llvmpipe and what the tests compare with the reference.  The build runs
+ * on the calling thread and is part of the frame; the cells go to the
+ * thread pool, each worker with its own depth and triangle buffers. */
+#include <stdlib.h>
+
+#include "engine/clock.h"
+#include "engine/threads.h"
+#include "pgrid_eye.h"
+
+typedef struct frame_job {
+    const pgrid_eye *grid;
+    const pgrid_kernel *kernel;
+    rtt_hit *hits;
+    float **depth;
+    uint32_t **triangle;
+} frame_job;
+
+static void trace_cell(void *context, uint32_t thread, uint32_t cell)
+{
+    const frame_job *job = context;
+    const pgrid_eye *g = job->grid;
+    const uint32_t X0 = (cell % g->cells_x) * g->cell, Y0 = (cell / g->cells_x) * g->cell;
+    job->kernel->trace_cell(g, cell, job->depth[thread], job->triangle[thread]);
+    job->kernel->resolve_cell(g, cell, job->depth[thread], job->triangle[thread],
+                              job->hits + (size_t)Y0 * g->width + X0, g->width);
+}
+
+bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
+                           const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
+                           uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,
+                           rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    if (!pgrid_eye_build(grid, scene, degenerate, frame, width, height, cell, err)) return false;
+    if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
+    threads = rtt_thread_count(threads);
+    const size_t entries = (size_t)grid->cell * grid->cell;
+    frame_job job = {grid, kernel, hits, calloc(threads, sizeof(float *)), calloc(threads, sizeof(uint32_t *))};
+    bool ok = job.depth && job.triangle;
+    for (uint32_t t = 0; ok && t < threads; t++) {
+        job.depth[t] = aligned_alloc(64, entries * sizeof(float));
+        job.triangle[t] = aligned_alloc(64, entries * sizeof(uint32_t));
+        ok = job.depth[t] && job.triangle[t];
+    }
+    if (ok) rtt_parallel_run(pgrid_eye_cell_count(grid), threads, trace_cell, &job);
+    for (uint32_t t = 0; t < threads && job.depth && job.triangle; t++) {
+        free(job.depth[t]);
+        free(job.triangle[t]);
+    }
+    free(job.depth);
+    free(job.triangle);
+    return ok || rtt_error_set(err, "%s: out of memory tracing the perspective grid", scene->path);
+}

@@ -1,0 +1,284 @@
+/* The perspective grid's eye rays (optimized/pgrid/) against the reference
+ * engine and a double-precision brute force, at every instruction set this
+ * CPU runs and at several cell sizes; every copy bit for bit equal to the
+ * SSE4.1 one; the renderer's --accel pgrid images against the reference
+ * renderer's; bad cell sizes refused.  demo.json's camera stands inside the
+ * room, so its floor, walls and ceiling cross the eye's plane: the build's
+ * near-plane clipping is checked there.
+ *
+ * Hits: the same prim as the reference, with t within 1e-5 (|t| + S) (S the
+ * scene's extent seen from the eye).  A different prim (or a hit against a
+ * miss) is accepted only as a tie: the double-precision test puts the ray
+ * within 1e-4 (barycentric) of an edge of the triangle(s) involved, at the
+ * same t; at most 1% of the pixels may be ties. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "engine_optimized.h"
+#include "pgrid_eye.h"
+#include "rtt/image.h"
+#include "rtt/optimized.h"
+#include "rtt/reference.h"
+#include "rtt/shade.h"
+#include "test_isa.h"
+
+#define EDGE_MARGIN 1e-4
+#define MAX_TIE_SHARE 0.01
+
+/* Moller-Trumbore in double, unclamped: false only for a ray parallel to
+ * the plane. */
+static bool ray_triangle_double(const rtt_scene *s, uint32_t prim, const rtt_ray *r, double *t, double *u, double *v)
+{
+    rtt_vec3 c[3];
+    rtt_scene_triangle(s, prim, c);
+    double e1[3], e2[3], o[3], d[3], p[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)rtt_v3_get(c[1], k) - rtt_v3_get(c[0], k);
+        e2[k] = (double)rtt_v3_get(c[2], k) - rtt_v3_get(c[0], k);
+        o[k] = (double)r->org[k] - rtt_v3_get(c[0], k);
+        d[k] = r->dir[k];
+    }
+    p[0] = d[1] * e2[2] - d[2] * e2[1], p[1] = d[2] * e2[0] - d[0] * e2[2], p[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0.0) return false;
+    q[0] = o[1] * e1[2] - o[2] * e1[1], q[1] = o[2] * e1[0] - o[0] * e1[2], q[2] = o[0] * e1[1] - o[1] * e1[0];
+    *u = (o[0] * p[0] + o[1] * p[1] + o[2] * p[2]) / det;
+    *v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    *t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return true;
+}
+
+/* Smallest barycentric of the ray's crossing with prim, or -inf. */
+static double crossing(const rtt_scene *s, uint32_t prim, const rtt_ray *r, double *t)
+{
+    double u, v;
+    if (!ray_triangle_double(s, prim, r, t, &u, &v)) return -INFINITY;
+    double w = 1.0 - u - v;
+    return fmin(w, fmin(u, v));
+}
+
+static float scene_extent(const rtt_scene *s)
+{
+    rtt_vec3 mid = rtt_v3_scale(rtt_v3_add(s->bounds.lo, s->bounds.hi), 0.5f);
+    return rtt_v3_length(rtt_v3_sub(s->bounds.hi, s->bounds.lo)) + rtt_v3_length(rtt_v3_sub(mid, s->camera.eye));
+}
+
+/* Our hit against the reference's for one ray; returns 1 for a tie. */
+static int check_hit(const rtt_scene *s, const rtt_ray *ray, const rtt_hit *ref, const rtt_hit *ours, float extent,
+                     uint32_t pixel)
+{
+    const double tol = 1e-5 * (fabs((double)ref->t) + extent);
+    if (ref->prim == ours->prim) {
+        if (ref->prim != RTT_MISS && fabs((double)ref->t - ours->t) > tol)
+            fail_msg("pixel %u prim %u: t %.9g, reference %.9g", pixel, ours->prim, ours->t, ref->t);
+        return 0;
+    }
+    for (int k = 0; k < 2; k++) {
+        const rtt_hit *h = k ? ours : ref;
+        if (h->prim == RTT_MISS) continue;
+        double t = INFINITY, inside = crossing(s, h->prim, ray, &t);
+        bool other_hits = (k ? ref : ours)->prim != RTT_MISS;
+        /* both hit: a tie at the same t, each (nearly) inside; one misses: the hit grazes an edge */
+        if (other_hits ? inside < -EDGE_MARGIN || fabs(t - h->t) > tol : inside > EDGE_MARGIN)
+            fail_msg("pixel %u: prim %u (t %.9g) against the reference's %u (t %.9g): not a tie (%g)", pixel,
+                     ours->prim, ours->t, ref->prim, ref->t, inside);
+    }
+    if (ref->prim != RTT_MISS && ours->prim != RTT_MISS && fabs((double)ref->t - ours->t) > tol)
+        fail_msg("pixel %u: tie at different t %.9g, %.9g", pixel, ours->t, ref->t);
+    return 1;
+}
+
+static rtt_scene *load_scene(const char *name)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/scenes/%s", RTT_SOURCE_DIR, name);
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) fail_msg("%s: %s", path, err.message);
+    return s;
+}
+
+static rtt_hit *trace_pgrid(const rtt_scene *s, const uint8_t *degenerate, const pgrid_kernel *k, uint32_t w,
+                            uint32_t h, uint32_t cell, uint32_t threads)
+{
+    rtt_hit *hits = malloc((size_t)w * h * sizeof *hits);
+    assert_non_null(hits);
+    rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    pgrid_eye grid = {0};
+    rtt_error err = {{0}};
+    if (!pgrid_eye_trace_frame(&grid, k, s, degenerate, &frame, w, h, cell, threads, hits, NULL, &err))
+        fail_msg("pgrid: %s", err.message);
+    pgrid_eye_free(&grid);
+    return hits;
+}
+
+/* Every scene, size, cell and instruction set against the reference. */
+static void test_pgrid_hits_match_reference(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"demo.json", "mesh_obj.json", "mat_transparent.json",
+                                         "shadow_thin_plate.json", "shadow_on_shadow.json"};
+    static const uint32_t sizes[][2] = {{61, 47}, {128, 128}, {203, 97}};
+    static const uint32_t cells[] = {4, 16, 0};
+    for (size_t sc = 0; sc < sizeof scenes / sizeof scenes[0]; sc++) {
+        rtt_scene *s = load_scene(scenes[sc]);
+        rtt_error err = {{0}};
+        rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+        assert_non_null(ref);
+        const float extent = scene_extent(s);
+        for (size_t z = 0; z < sizeof sizes / sizeof sizes[0]; z++) {
+            const uint32_t w = sizes[z][0], h = sizes[z][1];
+            rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+            rtt_ray *rays = malloc((size_t)w * h * sizeof *rays);
+            rtt_hit *expect = malloc((size_t)w * h * sizeof *expect);
+            assert_non_null(rays);
+            assert_non_null(expect);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) rays[y * w + x] = rtt_camera_ray(&frame, x, y);
+            rtt_engine_intersect(ref, rays, expect, (size_t)w * h);
+            for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+                if (!isa_runs(isa)) continue;
+                const pgrid_kernel *k = pgrid_kernel_find("pgrid", isa);
+                assert_int_equal(k->isa, isa);
+                for (size_t c = 0; c < sizeof cells / sizeof cells[0]; c++) {
+                    rtt_hit *hits = trace_pgrid(s, NULL, k, w, h, cells[c], 2);
+                    uint32_t ties = 0;
+                    for (uint32_t i = 0; i < w * h; i++) ties += check_hit(s, &rays[i], &expect[i], &hits[i], extent, i);
+                    if (ties > MAX_TIE_SHARE * w * h)
+                        fail_msg("%s %ux%u cell %u %s: %u ties", scenes[sc], w, h, cells[c], rtt_isa_name(isa), ties);
+                    free(hits);
+                }
+            }
+            free(rays);
+            free(expect);
+        }
+        rtt_engine_destroy(ref);
+        rtt_scene_free(s);
+    }
+}
+
+/* Every copy gives the SSE4.1 copy's hits bit for bit, for any thread count. */
+static void test_pgrid_isa_bit_identical(void **state)
+{
+    (void)state;
+    rtt_scene *s = load_scene("demo.json");
+    const uint32_t w = 150, h = 90;
+    rtt_hit *base = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", RTT_ISA_SSE4), w, h, 32, 1);
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 32, 2);
+        assert_memory_equal(hits, base, (size_t)w * h * sizeof *hits);
+        free(hits);
+    }
+    free(base);
+    rtt_scene_free(s);
+}
+
+/* A degenerate triangle never hits, even where it would cover the view. */
+static void test_pgrid_skips_degenerate(void **state)
+{
+    (void)state;
+    /* a big triangle in front of the default camera and a zero-area one nearer */
+    const float xyz[] = {-5, -5, 0, 5, -5, 0, 0, 5, 0, -5, -5, 1, 5, 5, 1, 0, 0, 1};
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_from_triangles(xyz, 2, &err);
+    assert_non_null(s);
+    assert_int_equal(s->degenerate_count, 1);
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.accel = RTT_ACCEL_PGRID;
+    rtt_engine *e = rtt_optimized_engine_create(s, &opt, &err);
+    assert_non_null(e);
+    const uint8_t *degenerate = optimized_engine_degenerate(e);
+    assert_non_null(degenerate);
+    rtt_hit *hits = trace_pgrid(s, degenerate, pgrid_kernel_find("", RTT_ISA_SSE4), 16, 16, 8, 1);
+    for (uint32_t i = 0; i < 256; i++) assert_true(hits[i].prim != 1u);
+    free(hits);
+    rtt_engine_destroy(e);
+    rtt_scene_free(s);
+}
+
+static void test_pgrid_refuses_bad_cells(void **state)
+{
+    (void)state;
+    rtt_scene *s = load_scene("mesh_obj.json");
+    rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, 32, 32);
+    pgrid_eye grid = {0};
+    rtt_error err = {{0}};
+    assert_false(pgrid_eye_build(&grid, s, NULL, &frame, 32, 32, 6, &err));
+    assert_non_null(strstr(err.message, "multiple of 4"));
+    assert_false(pgrid_eye_build(&grid, s, NULL, &frame, 32, 32, PGRID_EYE_CELL_MAX + 4, &err));
+    assert_false(pgrid_eye_build(&grid, s, NULL, &frame, PGRID_IMAGE_MAX + 1, 32, 0, &err));
+    pgrid_eye_free(&grid);
+    rtt_scene_free(s);
+}
+
+/* The renderer with --accel pgrid against the reference renderer (both
+ * shade the same hits with the same formulas; shadows and secondary rays
+ * go through the kd-tree). */
+static void test_pgrid_render_matches_reference(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"demo.json", "mat_transparent.json", "light_sphere.json"};
+    static const rtt_shadow_method shadows[] = {RTT_SHADOWS_NONE, RTT_SHADOWS_HARD};
+    for (size_t sc = 0; sc < sizeof scenes / sizeof scenes[0]; sc++) {
+        rtt_scene *s = load_scene(scenes[sc]);
+        rtt_error err = {{0}};
+        rtt_engine_options eo;
+        rtt_engine_options_default(&eo);
+        eo.accel = RTT_ACCEL_PGRID;
+        rtt_engine *opt_engine = rtt_optimized_engine_create(s, &eo, &err);
+        rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+        assert_non_null(opt_engine);
+        assert_non_null(ref);
+        for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+            if (!isa_runs(isa)) continue;
+            for (size_t m = 0; m < 2; m++) {
+                rtt_render_options ro;
+                rtt_render_options_default(&ro);
+                ro.width = 96, ro.height = 72, ro.threads = 2, ro.shadows = shadows[m];
+                ro.engine.accel = RTT_ACCEL_PGRID;
+                ro.engine.isa = isa;
+                if (m) snprintf(ro.engine.traversal, sizeof ro.engine.traversal, "pgrid"); /* named or default */
+                rtt_image *a = rtt_image_create(96, 72, 0, &err), *b = rtt_image_create(96, 72, 0, &err);
+                assert_non_null(a);
+                assert_non_null(b);
+                if (!rtt_optimized_render(opt_engine, &ro, a, NULL, &err)) fail_msg("pgrid render: %s", err.message);
+                ro.engine.accel = RTT_ACCEL_DEFAULT;
+                ro.engine.isa = RTT_ISA_AUTO;
+                ro.engine.traversal[0] = '\0';
+                if (!rtt_reference_render(s, ref, &ro, b, NULL, &err)) fail_msg("reference: %s", err.message);
+                rtt_image_metrics mt;
+                assert_true(rtt_image_compare(a, b, &mt, &err));
+                if (mt.rmse > 2e-3 || mt.share_over_1_255 > 0.005)
+                    fail_msg("%s %s %s: RMSE %g, %.3f%% over 1/255", scenes[sc], rtt_shadow_method_name(shadows[m]),
+                             rtt_isa_name(isa), mt.rmse, 100.0 * mt.share_over_1_255);
+                rtt_image_free(a);
+                rtt_image_free(b);
+            }
+        }
+        rtt_engine_destroy(opt_engine);
+        rtt_engine_destroy(ref);
+        rtt_scene_free(s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pgrid_hits_match_reference),
+        cmocka_unit_test(test_pgrid_isa_bit_identical),
+        cmocka_unit_test(test_pgrid_skips_degenerate),
+        cmocka_unit_test(test_pgrid_refuses_bad_cells),
+        cmocka_unit_test(test_pgrid_render_matches_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
