@@ -49,6 +49,9 @@ static const cli_option view_options[] = {
     {.name = "--shadows", .value_name = "METHOD",
      .help = "the shadow method to start with (as rtt render; the G key cycles them)",
      .kind = CLI_CUSTOM, CLI_FIELD(view_args, settings), .parse = parse_view_shadows},
+    {.name = "--spp", .value_name = "N",
+     .help = "the samples per pixel a resting picture converges to, 1 to 256 (default 16; moving: 1)",
+     .kind = CLI_U32, CLI_FIELD(view_args, settings.render.spp), .lo = 1, .hi = RTT_MAX_SPP},
     CLI_OPTION_RENDER_THREADS(view_args, settings.render),
     CLI_OPTION_RENDER_SIZE(view_args, settings.render),
     CLI_OPTION_MAX_BOUNCES(view_args, settings.render),
@@ -115,7 +118,8 @@ const cli_command view_command = {
     .synopsis = "SCENE [render options] [--script FILE] [--screenshot OUT]",
     .description =
         "Opens a window on SCENE and renders it continuously with the chosen engine on every\n"
-        "core; when the camera and the settings rest, nothing is rendered.  Keys:\n"
+        "core; when the camera and the settings rest, the picture converges (1, 2, 4, ...\n"
+        "samples per pixel up to --spp), then nothing is rendered.  Keys:\n"
         "  W/A/S/D or the arrows  move          mouse with a button held  look around\n"
         "  E or R / Q or F        up / down     + or ] / - or [           faster / slower\n"
         "  Home                   reset camera  T / G / I                 next traversal /\n"

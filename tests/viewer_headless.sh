@@ -4,6 +4,7 @@
 #  - after moving (keys held, a mouse drag) the screenshot equals `rtt render
 #    --view` of the camera the viewer prints as a views.json entry;
 #  - --eye/--look-at start the viewer where rtt render looks from;
+#  - at rest the picture converges to rtt render --spp N's, moving restarts at 1;
 #  - T, G and I change what the overlay reports (traversal, shadows, ISA),
 #    Home resets the camera, resize follows the window;
 #  - a bad script is one line naming file and line, exit 1.
@@ -31,10 +32,11 @@ export DISPLAY=":$(cat "$work/display")"
 view() { "$rtt" view "$@"; }
 scene=$src/scenes/demo.json
 size=(--width 96 --height 80)
+one=(--spp 1) # no converging: each frame is the one-sample picture rtt render makes
 
 # 1. the start camera: the same picture as rtt render
 printf 'frames 1\n' >"$work/still.txt"
-view "$scene" "${size[@]}" --script "$work/still.txt" --screenshot "$work/still.exr" >/dev/null ||
+view "$scene" "${size[@]}" "${one[@]}" --script "$work/still.txt" --screenshot "$work/still.exr" >/dev/null ||
   fail "still script"
 "$rtt" render "$scene" "${size[@]}" -o "$work/render.exr" || fail "render"
 "$rtt" compare "$work/still.exr" "$work/render.exr" --max-error 0 >/dev/null ||
@@ -48,7 +50,7 @@ key e 2
 drag 25 -10  # look right and up
 print-camera
 SCRIPT
-view "$scene" "${size[@]}" --script "$work/move.txt" --screenshot "$work/moved.exr" >"$work/move.out" ||
+view "$scene" "${size[@]}" "${one[@]}" --script "$work/move.txt" --screenshot "$work/moved.exr" >"$work/move.out" ||
   fail "move script"
 grep -q '^"view": {"camera": {"eye": \[' "$work/move.out" || fail "no camera printed: $(cat "$work/move.out")"
 # the printed line is a views.json entry: wrapped in braces it is a views file
@@ -63,11 +65,22 @@ fi
 
 # 2b. the camera options of rtt render start the viewer there
 eye=(--eye 0.3,1.2,2.5 --look-at 0,0.8,0 --fov 50)
-view "$scene" "${size[@]}" "${eye[@]}" --script "$work/still.txt" --screenshot "$work/eye.exr" >/dev/null ||
+view "$scene" "${size[@]}" "${one[@]}" "${eye[@]}" --script "$work/still.txt" --screenshot "$work/eye.exr" >/dev/null ||
   fail "--eye script"
 "$rtt" render "$scene" "${size[@]}" "${eye[@]}" -o "$work/eye_render.exr" || fail "render --eye"
 "$rtt" compare "$work/eye.exr" "$work/eye_render.exr" --max-error 0 >/dev/null ||
   fail "--eye screenshot differs from rtt render --eye"
+
+# 2c. at rest the picture converges: 1, 2, 4, 8 samples per pixel, the last
+# exactly rtt render --spp 8; moving starts again from one
+printf 'print-overlay\nconverge\nprint-overlay\nscreenshot %s\nkey w 2\nprint-overlay\n' "$work/conv.exr" >"$work/conv.txt"
+view "$scene" "${size[@]}" --spp 8 --script "$work/conv.txt" >"$work/conv.out" || fail "converge script"
+"$rtt" render "$scene" "${size[@]}" --spp 8 -o "$work/conv_render.exr" || fail "render --spp 8"
+"$rtt" compare "$work/conv.exr" "$work/conv_render.exr" --max-error 0 >/dev/null ||
+  fail "converged screenshot differs from rtt render --spp 8"
+mapfile -t conv < <(grep '^rtt view |' "$work/conv.out")
+[[ "${conv[0]}" == *"| spp 1/8" ]] && [[ "${conv[1]}" == *"| spp 8/8" ]] && [[ "${conv[2]}" == *"| spp 1/8" ]] ||
+  fail "converging overlay: ${conv[*]}"
 
 # 3. the keys change what the overlay reports; Home resets; resize follows
 cat >"$work/keys.txt" <<'SCRIPT'
@@ -87,7 +100,7 @@ print-overlay
 screenshot RESIZED
 SCRIPT
 sed -i "s|RESIZED|$work/resized.png|" "$work/keys.txt"
-view "$scene" "${size[@]}" --isa avx2 --script "$work/keys.txt" >"$work/keys.out" 2>"$work/keys.err" ||
+view "$scene" "${size[@]}" "${one[@]}" --isa avx2 --script "$work/keys.txt" >"$work/keys.out" 2>"$work/keys.err" ||
   fail "keys script: $(cat "$work/keys.err")"
 mapfile -t overlay < <(grep '^rtt view |' "$work/keys.out")
 [ "${#overlay[@]}" -eq 5 ] || fail "expected 5 overlay lines: $(cat "$work/keys.out")"

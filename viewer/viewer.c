@@ -50,6 +50,7 @@ typedef struct viewer {
     uint8_t srgb[SRGB_LUT_SIZE + 1];
     bool held[HOLD_COUNT];
     bool dirty;                 /* the picture on screen is not the current camera's and settings' */
+    uint32_t target_spp;        /* samples per pixel the picture converges to at rest (--spp, default 16) */
     bool quit;
     bool scripted;
     double fps, mrays;          /* of the last rendered frame */
@@ -76,6 +77,13 @@ static rtt_engine *engine_for(viewer *v, rtt_accel accel, rtt_error *err)
     return v->engines[accel];
 }
 
+/* The samples per pixel of a resting picture: --spp's (16 by default), 1
+ * for the perspective grid, which traces pixel centres only. */
+static uint32_t target_spp(const viewer *v)
+{
+    return v->render.engine.accel == RTT_ACCEL_PGRID ? 1u : v->target_spp;
+}
+
 static void build_overlay(viewer *v)
 {
     const char *kernel = view_choices_label(&v->choices, VIEW_CHOICE_TRAVERSAL);
@@ -85,8 +93,9 @@ static void build_overlay(viewer *v)
         snprintf(method, sizeof method, "%s %s/%s", rtt_accel_name(v->render.engine.accel), kernel, isa[0] ? isa : "-");
     else
         snprintf(method, sizeof method, "%s", v->opt->engine);
-    snprintf(v->overlay, sizeof v->overlay, "rtt view | %.1f fps | %.1f Mrays/s | %s | shadows %s | %ux%u", v->fps,
-             v->mrays, method, view_choices_label(&v->choices, VIEW_CHOICE_SHADOWS), v->width, v->height);
+    snprintf(v->overlay, sizeof v->overlay, "rtt view | %.1f fps | %.1f Mrays/s | %s | shadows %s | %ux%u | spp %u/%u",
+             v->fps, v->mrays, method, view_choices_label(&v->choices, VIEW_CHOICE_SHADOWS), v->width, v->height,
+             rtt_render_spp(&v->render), target_spp(v));
 }
 
 static void present(viewer *v)
@@ -306,13 +315,29 @@ static void move_camera(viewer *v, float seconds)
     v->dirty = true;
 }
 
-/* One step of the loop: events, movement, and a render when something changed
- * (or `force`, for benchmarks). */
+/* Whether the resting picture has fewer samples than it converges to. */
+static bool refining(const viewer *v)
+{
+    return rtt_render_spp(&v->render) < target_spp(v);
+}
+
+/* One step of the loop: events, movement, and a render when something
+ * changed (one sample per pixel, so moving stays fast), when the resting
+ * picture can converge further (twice the samples of the last, up to the
+ * target: each such frame is exactly `rtt render --spp N`'s image), or when
+ * `force` (benchmarks: the same frame again). */
 static bool frame(viewer *v, float seconds, bool force, rtt_error *err)
 {
     if (!pump_events(v, err)) return false;
     move_camera(v, seconds);
-    if (!v->dirty && !force) return true;
+    if (v->dirty) {
+        v->render.spp = 1;
+    } else if (refining(v)) {
+        const uint32_t doubled = 2u * rtt_render_spp(&v->render), target = target_spp(v);
+        v->render.spp = doubled < target ? doubled : target;
+    } else if (!force) {
+        return true;
+    }
     return render_frame(v, err);
 }
 
@@ -421,7 +446,10 @@ static bool run_command(viewer *v, const view_command *c, rtt_error *err)
                                  why.message);
         return run_frames(v, 1, false, err);
     }
-    case VIEW_CMD_CONVERGE: return run_frames(v, 1, false, err);
+    case VIEW_CMD_CONVERGE:
+        for (int i = 0; i < 16 && (v->dirty || refining(v)); i++)
+            if (!frame(v, 0.0f, false, err)) return false;
+        return true;
     case VIEW_CMD_BENCH: return run_bench(v, c->a, err);
     case VIEW_CMD_PRINT_OVERLAY:
         build_overlay(v);
@@ -452,7 +480,7 @@ static bool run_interactive(viewer *v, rtt_error *err)
     while (!v->quit) {
         const bool moving = v->held[HOLD_FORWARD] || v->held[HOLD_BACK] || v->held[HOLD_LEFT] ||
                             v->held[HOLD_RIGHT] || v->held[HOLD_UP] || v->held[HOLD_DOWN];
-        if (!moving && !v->dirty) SDL_WaitEventTimeout(NULL, 100); /* at rest: sleep until something happens */
+        if (!moving && !v->dirty && !refining(v)) SDL_WaitEventTimeout(NULL, 100); /* at rest: sleep until something happens */
         const uint64_t now = rtt_clock_ns();
         const float seconds = (float)(1e-9 * (double)(now - last));
         last = now;
@@ -487,6 +515,8 @@ bool rtt_viewer_run(rtt_scene *scene, const rtt_viewer_options *opt, rtt_error *
     v.scene = scene;
     v.scripted = opt->script_path != NULL;
     v.render = opt->render;
+    v.target_spp = opt->render.spp ? opt->render.spp : 16u;
+    v.render.spp = 1;
     v.scene_size = rtt_v3_length(rtt_v3_sub(scene->bounds.hi, scene->bounds.lo));
     v.camera = v.home = fly_camera_from(&scene->camera, v.scene_size);
     make_srgb_table(&v);
