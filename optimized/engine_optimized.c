@@ -18,6 +18,7 @@
  *
  * The engine holds no mutable state after creation, so any number of
  * threads may trace through it at once (scratch lives on the stack). */
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -332,26 +333,79 @@ static void trace_stream(const optimized_engine *e, const rtt_ray *rays, size_t 
     }
 }
 
+static void trace_rays(const optimized_engine *e, const rtt_ray *rays, size_t n, rtt_hit *hits, uint8_t *occluded)
+{
+    if (e->bvh_kernel)
+        e->bvh_kernel->trace(&e->bvh, &(bvh_query){.rays = rays, .count = n, .hits = hits, .occluded = occluded});
+    else if (e->tree.triangle_count == 0 && hits)
+        for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+    else if (e->tree.triangle_count == 0)
+        memset(occluded, 0, n);
+    else
+        trace_stream(e, rays, n, hits, occluded);
+}
+
+/* The power of two that makes a ray's subnormal direction components normal
+ * (1 when it has none, or when the largest would overflow).  The kernels
+ * step through split planes with 1 / dir, which overflows to infinity for a
+ * subnormal component, and a ray creeping towards a plane along one would
+ * then never cross it; scaled by a power of two the ray is the same ray, its
+ * t scaled exactly. */
+static float subnormal_rescale(const rtt_ray *r)
+{
+    float smallest = INFINITY, largest = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float a = fabsf(r->dir[k]);
+        if (a > 0.0f && a < smallest) smallest = a;
+        if (a > largest) largest = a;
+    }
+    if (!(smallest < FLT_MIN) || !isfinite(largest)) return 1.0f;
+    float scale = 1.0f;
+    while (smallest * scale < FLT_MIN) scale *= 2.0f;
+    return largest * scale < 0x1p100f ? scale : 1.0f;
+}
+
+/* Rays with subnormal direction components are traced scaled
+ * (subnormal_rescale) and their t scaled back; the others as they are. */
+static void trace_rescaled(const optimized_engine *e, const rtt_ray *rays, size_t n, rtt_hit *hits, uint8_t *occluded)
+{
+    size_t first = 0;
+    while (first < n && subnormal_rescale(&rays[first]) == 1.0f) first++;
+    if (first == n) {
+        trace_rays(e, rays, n, hits, occluded);
+        return;
+    }
+    rtt_ray *scaled = malloc(n * sizeof *scaled);
+    float *scales = malloc(n * sizeof *scales);
+    if (!scaled || !scales) { /* out of memory: the rays as they are */
+        free(scaled);
+        free(scales);
+        trace_rays(e, rays, n, hits, occluded);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        scaled[i] = rays[i];
+        scales[i] = subnormal_rescale(&rays[i]);
+        if (scales[i] == 1.0f) continue;
+        for (int k = 0; k < 3; k++) scaled[i].dir[k] *= scales[i];
+        scaled[i].tnear /= scales[i];
+        scaled[i].tfar /= scales[i];
+    }
+    trace_rays(e, scaled, n, hits, occluded);
+    for (size_t i = 0; hits && i < n; i++)
+        if (hits[i].prim != RTT_MISS) hits[i].t *= scales[i];
+    free(scaled);
+    free(scales);
+}
+
 static void optimized_intersect(rtt_engine *base, const rtt_ray *rays, rtt_hit *hits, size_t n)
 {
-    const optimized_engine *e = (const optimized_engine *)base;
-    if (e->bvh_kernel)
-        e->bvh_kernel->trace(&e->bvh, &(bvh_query){.rays = rays, .count = n, .hits = hits});
-    else if (e->tree.triangle_count == 0)
-        for (size_t i = 0; i < n; i++) hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-    else
-        trace_stream(e, rays, n, hits, NULL);
+    trace_rescaled((const optimized_engine *)base, rays, n, hits, NULL);
 }
 
 static void optimized_occluded(rtt_engine *base, const rtt_ray *rays, uint8_t *occluded, size_t n)
 {
-    const optimized_engine *e = (const optimized_engine *)base;
-    if (e->bvh_kernel)
-        e->bvh_kernel->trace(&e->bvh, &(bvh_query){.rays = rays, .count = n, .occluded = occluded});
-    else if (e->tree.triangle_count == 0)
-        memset(occluded, 0, n);
-    else
-        trace_stream(e, rays, n, NULL, occluded);
+    trace_rescaled((const optimized_engine *)base, rays, n, NULL, occluded);
 }
 
 static bool optimized_tree_info(rtt_engine *base, rtt_tree_info *info)

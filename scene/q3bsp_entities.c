@@ -350,6 +350,8 @@ static bool read_pass(entity_reader *r, int pass, rtt_scene *scene, camera_candi
         rtt_light light;
         bool usable;
         if (!light_of(r, e, &light, &usable)) return false;
+        /* a light whose numbers overflow float (a hostile or broken map) is skipped like a dark one */
+        usable = usable && rtt_light_is_finite(&light);
         if (usable && !rtt_scene_add_light(scene, &light, r->err)) return false;
     }
     return end;
@@ -370,8 +372,11 @@ bool rtt_q3bsp_read_entities(rtt_scene *scene, const char *path, rtt_error *err)
         memcpy(r.text, lump, r.length + 1);
         ok = read_pass(&r, pass, scene, &camera, &map, e);
     }
-    if (ok && camera.rank >= 0) {
-        scene->camera = camera_of(&camera);
+    const rtt_camera entity_camera = ok && camera.rank >= 0 ? camera_of(&camera) : scene->camera;
+    /* an entity whose numbers overflow float (a broken map) gives no camera: the default frames the map */
+    if (ok && camera.rank >= 0 && rtt_v3_is_finite(entity_camera.eye) && rtt_v3_is_finite(entity_camera.look_at) &&
+        rtt_v3_is_finite(entity_camera.up) && isfinite(entity_camera.fov_deg)) {
+        scene->camera = entity_camera;
         scene->camera_source = camera.rank == 0 ? RTT_CAMERA_INTERMISSION : RTT_CAMERA_SPAWN_POINT;
     }
     if (ok && scene->light_count > lights_before) {

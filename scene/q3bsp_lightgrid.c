@@ -135,6 +135,7 @@ static bool add_grid_light(rtt_scene *scene, const light_grid *g, uint32_t index
                        .color = rtt_v3(cell[3] / largest, cell[4] / largest, cell[5] / largest),
                        .intensity = brightness * (FALL_OFF_CONSTANT + REFERENCE_DISTANCE * REFERENCE_DISTANCE),
                        .attenuation = {FALL_OFF_CONSTANT, 0.0f, 1.0f}, .radius = GRID_LIGHT_RADIUS};
+    if (!rtt_light_is_finite(&light)) return true; /* a grid past float's range lights nothing */
     return rtt_scene_add_light(scene, &light, err);
 }
 

@@ -340,7 +340,15 @@ static void default_camera(rtt_scene *scene)
     float distance = radius / sinf(half_fov) * 1.05f;
     /* looking down -z at the centre, from a little above, so that boxes show depth */
     rtt_vec3 offset = rtt_v3_normalize(rtt_v3(0.35f, 0.3f, 1.0f));
-    scene->camera.eye = rtt_v3_madd(centre, offset, distance);
+    /* bounds near float's limit: the eye comes in as far as it must to stay finite */
+    double d = distance, eye[3];
+    for (int i = 0; i < 256; i++, d *= 0.5) {
+        eye[0] = (double)centre.x + (double)offset.x * d;
+        eye[1] = (double)centre.y + (double)offset.y * d;
+        eye[2] = (double)centre.z + (double)offset.z * d;
+        if (fabs(eye[0]) <= FLT_MAX && fabs(eye[1]) <= FLT_MAX && fabs(eye[2]) <= FLT_MAX) break;
+    }
+    scene->camera.eye = rtt_v3((float)eye[0], (float)eye[1], (float)eye[2]);
     scene->camera.look_at = centre;
     scene->camera.up = rtt_v3(0.0f, 1.0f, 0.0f);
     scene->camera.fov_deg = RTT_DEFAULT_FOV_DEG;

@@ -4,6 +4,8 @@
 #ifndef RTT_SCENE_BUILD_H
 #define RTT_SCENE_BUILD_H
 
+#include <math.h>
+
 #include "rtt/scene.h"
 
 /* An empty scene with no geometry, materials or lights; path is kept for messages. */
@@ -12,6 +14,14 @@ rtt_scene *rtt_scene_new(const char *path, rtt_error *err);
 /* Appends a material and returns its index, or UINT32_MAX when out of memory. */
 uint32_t rtt_scene_add_material(rtt_scene *scene, const rtt_material *material);
 bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *err);
+/* Every number of the light is finite (position, colour, intensity,
+ * attenuation, radius, quad edges). */
+static inline bool rtt_light_is_finite(const rtt_light *l)
+{
+    return rtt_v3_is_finite(l->position) && rtt_v3_is_finite(l->color) && isfinite(l->intensity) &&
+           isfinite(l->attenuation[0]) && isfinite(l->attenuation[1]) && isfinite(l->attenuation[2]) &&
+           isfinite(l->radius) && rtt_v3_is_finite(l->edge_u) && rtt_v3_is_finite(l->edge_v);
+}
 /* The default material: grey diffuse (see rtt_material in scene.h). */
 rtt_material rtt_material_default(void);
 
