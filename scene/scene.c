@@ -337,11 +337,11 @@ static void default_camera(rtt_scene *scene)
     float radius = 0.5f * rtt_v3_length(rtt_v3_sub(b.hi, b.lo));
     if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
     float half_fov = 0.5f * RTT_DEFAULT_FOV_DEG * 3.14159265f / 180.0f;
-    float distance = radius / sinf(half_fov) * 1.05f;
     /* looking down -z at the centre, from a little above, so that boxes show depth */
     rtt_vec3 offset = rtt_v3_normalize(rtt_v3(0.35f, 0.3f, 1.0f));
     /* bounds near float's limit: the eye comes in as far as it must to stay finite */
-    double d = distance, eye[3];
+    /* in double: the distance itself overflows float for bounds near FLT_MAX */
+    double d = (double)radius / sin((double)half_fov) * 1.05, eye[3];
     for (int i = 0; i < 256; i++, d *= 0.5) {
         eye[0] = (double)centre.x + (double)offset.x * d;
         eye[1] = (double)centre.y + (double)offset.y * d;
