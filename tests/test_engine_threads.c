@@ -150,7 +150,7 @@ static void test_one_thread_runs_inline_on_the_caller(void **state)
  * after its tiles. */
 typedef struct third_source {
     atomic_uint next_run;
-    uint32_t total;
+    atomic_uint total; /* written by every worker (the same value) */
     atomic_uint runs_rendered, bad_runs;
     coverage *c;
 } third_source;
@@ -159,7 +159,7 @@ static bool take_third(void *context, const rtt_tile_grid *grid, uint32_t thread
 {
     (void)thread;
     third_source *s = context;
-    s->total = grid->total;
+    atomic_store_explicit(&s->total, grid->total, memory_order_relaxed);
     uint32_t run = atomic_fetch_add(&s->next_run, 1);
     if (run * 9 >= grid->total) return false;
     *first = run * 9;
@@ -186,7 +186,7 @@ static void test_tiles_from_a_source_renders_its_runs_only(void **state)
         atomic_init(&s.next_run, 0);
         rtt_tile_source source = {.take = take_third, .rendered = third_rendered, .context = &s};
         rtt_tiles_run_from(&source, width, height, tile, threads, count_tile, &c, NULL, NULL);
-        assert_int_equal(s.total, 77);
+        assert_int_equal(atomic_load(&s.total), 77);
         for (uint32_t y = 0; y < height; y++)
             for (uint32_t x = 0; x < width; x++) {
                 uint32_t t = (y / tile) * tiles_x + x / tile;
