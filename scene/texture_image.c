@@ -1,6 +1,7 @@
 /* Image files for textures through stb_image (Debian's libstb-dev; its
- * implementation is compiled here, once, with the formats textures use:
- * JPEG and TGA (Quake III's pk3 archives), PNG (OBJ/MTL and glTF)).
+ * implementation is compiled once, in stb_image_impl.c, with the formats
+ * textures use: JPEG and TGA (Quake III's pk3 archives), PNG (OBJ/MTL and
+ * glTF)).
  * Everything is decoded to 8-bit RGB; the size is checked with stbi_info
  * before decoding so a small hostile file cannot ask for a huge image. */
 #include <stdio.h>
@@ -9,26 +10,7 @@
 
 #include "textures.h"
 
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_JPEG
-#define STBI_ONLY_PNG
-#define STBI_ONLY_TGA
-#define STBI_NO_STDIO
-#define STBI_NO_LINEAR
-#define STBI_NO_HDR
-#define STBI_MAX_DIMENSIONS RTT_TEXTURE_MAX_SIDE
-#define STBI_NO_FAILURE_STRINGS_DEFAULT
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wdouble-promotion"
-#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
-#pragma GCC diagnostic ignored "-Wcast-qual"
-#pragma GCC diagnostic ignored "-Wshadow"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
+#include "stb_image_config.h"
 
 bool rtt_texture_decode(const uint8_t *bytes, size_t size, rtt_texture *out, char *why, size_t why_size)
 {
