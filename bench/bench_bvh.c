@@ -165,8 +165,8 @@ bool bench_frusta_row(const bvh_tree *tree, const bench_soft *soft, const bench_
     bvh_shadow_point *points = malloc((pixels ? pixels : 1) * sizeof *points);
     uint32_t *first = malloc((tiles + 1) * sizeof *first), *pixel = malloc((pixels ? pixels : 1) * sizeof *pixel);
     uint32_t *masks = calloc(pixels ? pixels : 1, sizeof *masks);
-    bvh_thread_counters *counters = sum ? calloc(spec->threads, sizeof *counters) : NULL;
-    if (!points || !first || !pixel || !masks || (sum && !counters)) {
+    bvh_thread_counters *counters = sum && spec->count ? calloc(spec->threads, sizeof *counters) : NULL;
+    if (!points || !first || !pixel || !masks || (sum && spec->count && !counters)) {
         free(points), free(first), free(pixel), free(masks), free(counters);
         return false;
     }
