@@ -62,7 +62,8 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
  * test decides which sign the edge tests must have).  A frustum is culled
  * when over its whole direction box one edge's n.d has the wrong sign; an
  * origin (nearly) in the triangle's plane culls nothing. */
-static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds *g, vm active)
+static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
+                                               vf corner_grow, vm active)
 {
     vf rel[3][3];
     for (int v = 0; v < 3; v++)
@@ -81,11 +82,27 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
                 det_mag = vf_add(det_mag, vf_abs(x));
             }
         vf hi = zero, lo = zero, mag = zero;
-        for (int k = 0; k < 3; k++) {
-            const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
-            hi = vf_add(hi, vf_max(x, y));
-            lo = vf_add(lo, vf_min(x, y));
-            mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
+        if (corner) { /* over the cone of four corner directions: n.d at its corners */
+            hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
+            vf spread = zero;
+            for (int k = 0; k < 3; k++) spread = vf_add(spread, vf_abs(n[k]));
+            for (int c = 0; c < 4; c++) {
+                vf dot = zero, m = zero;
+                for (int k = 0; k < 3; k++) {
+                    const vf x = vf_mul(n[k], corner[c][k]);
+                    dot = vf_add(dot, x);
+                    m = vf_add(m, vf_abs(x));
+                }
+                hi = vf_max(dot, hi), lo = vf_min(dot, lo), mag = vf_max(m, mag);
+            }
+            mag = vf_add(mag, vf_div(vf_mul(spread, corner_grow), eps)); /* the corners known to corner_grow */
+        } else { /* over the direction box */
+            for (int k = 0; k < 3; k++) {
+                const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
+                hi = vf_add(hi, vf_max(x, y));
+                lo = vf_add(lo, vf_min(x, y));
+                mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
+            }
         }
         const vf margin = vf_mul(mag, eps);
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
@@ -94,6 +111,21 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
     const vf det_margin = vf_mul(det_mag, eps);
     const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+}
+
+static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds *g, vm active)
+{
+    return frusta_triangle_bounded(tri, g, NULL, vf_set1(0.0f), active);
+}
+
+/* The same test over the cone of four corner directions per frustum
+ * (corner[c][axis], each known to within corner_grow per axis): every
+ * direction of the frustum is a positive combination of them (the paper's
+ * corner rays), a tighter bound than their box. */
+static inline uint32_t frusta_triangle_cone(const bvh_corners *tri, const mft_bounds *g, const vf corner[4][3],
+                                            vf corner_grow, vm active)
+{
+    return frusta_triangle_bounded(tri, g, corner, corner_grow, active);
 }
 
 typedef struct mft_entry {

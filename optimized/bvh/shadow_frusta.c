@@ -16,7 +16,10 @@
  *    (bvh_frusta.h: open-ended interval bounds with the zero fix); the
  *    active-frusta mask travels on the stack.
  *  - At a leaf, per triangle: the common-origin Pluecker test against every
- *    active frustum at once (bvh_frusta.h); then, only for the survivors
+ *    active frustum at once over the cone of its four corner rays (the
+ *    vectors to the 2D bounds' corners: every target is a convex
+ *    combination of them; bvh_frusta.h), with a margin for the corners'
+ *    rounding; then, only for the survivors
  *    (bitscan), the frustum's rays are generated from the point, its light
  *    frame and the set's domain coordinates (never stored) and tested with
  *    the projected barycentric test (bvh_isect_wide.h) in packets of
@@ -41,6 +44,8 @@
 
 typedef struct sf_group {
     mft_bounds b;
+    vf corner[4][3];                /* per frustum: the vectors to the 2D bounds' corners */
+    vf corner_grow;                 /* how far off they may be per axis (rounding) */
     const bvh_shadow_point *point[SF_FRUSTA];
     uint32_t occ[SF_FRUSTA];        /* occluded samples */
     uint32_t live[SF_FRUSTA];       /* samples with a ray, once known */
@@ -120,7 +125,8 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
         for (uint32_t i = 0; lanes && i < c->count; i++) {
             const uint32_t rec = c->index + i;
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
-            uint32_t survive = frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(lanes));
+            uint32_t survive = frusta_triangle_cone(&tree->corners[rec], &g->b, g->corner, g->corner_grow,
+                                                    vm_of_bits(lanes));
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
@@ -136,7 +142,7 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
 /* Lane f's frustum: the point and the box of the vectors to the corners of
  * its set's 2D bounds, grown (see the top). */
 static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, float org[3], float dlo[3],
-                           float dhi[3])
+                           float dhi[3], float corner[4][3], float *grow_out)
 {
     const float *lo = sets->lo[pt->set], *hi = sets->hi[pt->set];
     float size = 0.0f;
@@ -150,6 +156,7 @@ static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *se
         const float x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
         for (int k = 0; k < 3; k++) {
             const float d = ((pt->base[k] + pt->du[k] * x) + pt->dv[k] * y) - pt->org[k];
+            corner[c][k] = d;
             dlo[k] = d < dlo[k] ? d : dlo[k];
             dhi[k] = d > dhi[k] ? d : dhi[k];
             size = fabsf(d) > size ? fabsf(d) : size;
@@ -157,6 +164,7 @@ static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *se
     }
     const float grow = size * 0x1p-16f;
     for (int k = 0; k < 3; k++) dlo[k] -= grow, dhi[k] += grow;
+    *grow_out = grow;
 }
 
 void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
@@ -165,13 +173,18 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
     for (size_t first = 0; first < q->count; first += SF_FRUSTA) {
         const uint32_t n = q->count - first < SF_FRUSTA ? (uint32_t)(q->count - first) : SF_FRUSTA;
         float org[3][SF_FRUSTA], dlo[3][SF_FRUSTA], dhi[3][SF_FRUSTA], rlo[3][SF_FRUSTA], rhi[3][SF_FRUSTA];
+        float corner[4][3][SF_FRUSTA], grow[SF_FRUSTA];
         sf_group g;
         g.known = 0;
         for (uint32_t f = 0; f < SF_FRUSTA; f++) {
             g.occ[f] = g.live[f] = 0;
             g.point[f] = f < n ? &q->points[first + f] : NULL;
             float o[3] = {0.0f, 0.0f, 0.0f}, lo[3] = {1.0f, 1.0f, 1.0f}, hi[3] = {1.0f, 1.0f, 1.0f};
-            if (f < n) frustum_bounds(g.point[f], sets, o, lo, hi);
+            float c4[4][3] = {{1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}};
+            grow[f] = 0.0f;
+            if (f < n) frustum_bounds(g.point[f], sets, o, lo, hi, c4, &grow[f]);
+            for (int c = 0; c < 4; c++)
+                for (int k = 0; k < 3; k++) corner[c][k][f] = c4[c][k];
             for (int k = 0; k < 3; k++) {
                 org[k][f] = o[k], dlo[k][f] = lo[k], dhi[k][f] = hi[k];
                 rlo[k][f] = 1.0f / lo[k], rhi[k][f] = 1.0f / hi[k];
@@ -182,6 +195,9 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
             g.b.dlo[k] = vf_load(dlo[k]), g.b.dhi[k] = vf_load(dhi[k]);
             g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
         }
+        for (int c = 0; c < 4; c++)
+            for (int k = 0; k < 3; k++) g.corner[c][k] = vf_load(corner[c][k]);
+        g.corner_grow = vf_load(grow);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
         if (q->counters) q->counters->packets += n;
