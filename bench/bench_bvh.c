@@ -191,7 +191,8 @@ bool bench_frusta_row(const bvh_tree *tree, const bench_soft *soft, const bench_
         job.counters = counters;
         bvh_frame_run(&frame);
         counters_sum(counters, spec->threads, sum);
-        const double quads = (double)soft->rays.active / 4.0; /* per 2x2 rays, as the BVH rows count N and I */
+        /* per 2x2 rays of the rays' image, as the BVH rows count N and I on it */
+        const double quads = (double)soft->rays.width * soft->rays.height / 4.0;
         row->n = quads > 0 ? (double)sum->aabb_tests / quads : 0.0;
         row->i = quads > 0 ? (double)sum->isect_tests / quads : 0.0;
     }
