@@ -3,7 +3,7 @@
  * 6.2).  Library code: it never prints; reports come back as text (table,
  * Markdown, JSON, TSV) for cli/ to print or write.
  *
- * Four kinds of row, each measured as the median of `frames` timed frames
+ * Five kinds of row, each measured as the median of `frames` timed frames
  * after `warmup` untimed ones, with the thread count of the row:
  *
  *   primary  the traversal kernels alone on the camera's primary rays,
@@ -19,6 +19,11 @@
  *            every traversal, and every shadow method the renderer has.
  *   build    kd-tree and BVH build time and memory (one thread) against
  *            Embree's BVH build (high quality, one thread) per Embree variant.
+ *   soft     soft shadows: each primary hit's 16 interleaved samples of the
+ *            first light (which must have area): our frusta:16 kernel
+ *            (rays made on demand), our bvh-packet and Embree's
+ *            rtcOccluded16 (coherent flag) with one pixel's 16 rays per
+ *            packet (bench_frusta.c).
  *   The BVH kernels (bvh-mono, bvh-packet) race on the same primary and
  *   shadow rays, 16x16 tiles of 4x4 pixel blocks (bench_bvh.c).
  *
@@ -42,6 +47,7 @@ typedef enum rtt_bench_kind {
     RTT_BENCH_SHADOW,
     RTT_BENCH_RENDER,
     RTT_BENCH_BUILD,
+    RTT_BENCH_SOFT,
     RTT_BENCH_KIND_COUNT
 } rtt_bench_kind;
 

@@ -8,6 +8,7 @@
 
 #include "bench.h"
 #include "engine/clock.h"
+#include "bvh_kernels.h"
 #include "bvh_tree.h"
 #include "kd_tree.h"
 #include "packet.h"
@@ -70,9 +71,35 @@ bool bench_kernel_row(const kd_tree *tree, const bench_blocks *blocks, uint32_t 
 
 /* Times one of our BVH kernels (bench_bvh.c) on the rays in 16x16 tiles of
  * 4x4 pixel blocks; result as bench_kernel_row's.  N and I: AABB tests and
- * packet-wide triangle tests per 2x2 rays. */
-bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *kernel_name,
-                   const bench_trace_spec *spec, rtt_bench_row *row, uint32_t *result);
+ * packet-wide triangle tests per 2x2 rays.  toward (may be NULL): the point
+ * every ray heads to (bvh_query.toward: the hard-shadow rays' light); sum
+ * (may be NULL, with spec->count): the counting frame's totals. */
+bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *kernel_name, const float *toward,
+                   const bench_trace_spec *spec, rtt_bench_row *row, bvh_counters *sum, uint32_t *result);
+
+/* The soft-shadow rows' work (bench_frusta.c): per pixel of the image its
+ * primary hit point and the first light's frame from it (the light must
+ * have area), the 16 samples of its interleaved set, and the same samples as
+ * rays laid out 4x4 per pixel (an image 4x wider and higher: a 4x4 block is
+ * one pixel's rays). */
+#define BENCH_SOFT_SAMPLES 16u
+typedef struct bench_soft {
+    uint32_t width, height;
+    bvh_shadow_point *points;   /* per pixel */
+    uint8_t *has;               /* per pixel: a primary hit */
+    bvh_shadow_sets sets;
+    float epsilon;
+    bench_rays rays;            /* 4 width x 4 height */
+} bench_soft;
+bool bench_soft_make(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
+                     bench_soft *out, rtt_error *err);
+void bench_soft_free(bench_soft *soft);
+/* Times the soft-shadow frusta kernel (frusta:16) on the points in 16x16
+ * tiles of 4x4 pixel blocks; sum (with spec->count) the counting frame's
+ * totals and N, I per 2x2 rays; result (may be NULL) each ray's occlusion
+ * bit at its place in soft->rays. */
+bool bench_frusta_row(const bvh_tree *tree, const bench_soft *soft, const bench_trace_spec *spec, rtt_bench_row *row,
+                      bvh_counters *sum, uint32_t *result);
 
 /* Times the perspective grid's eye rays (bench_pgrid.c): each frame the
  * grid's build, every cell and every pixel's hit.  Fills row (fps, rays/s)

@@ -59,7 +59,7 @@ static char *finish(text *t)
 
 static const char *kind_name(rtt_bench_kind k)
 {
-    static const char *const names[] = {"primary", "shadow", "render", "build"};
+    static const char *const names[] = {"primary", "shadow", "render", "build", "soft"};
     return k < RTT_BENCH_KIND_COUNT ? names[k] : "?";
 }
 

@@ -71,13 +71,16 @@ void rtt_bench_report_free(rtt_bench_report *report)
     memset(report, 0, sizeof *report);
 }
 
+/* Shadow and soft rows trace occlusion; primary rows closest hits. */
+static bool is_occlusion(rtt_bench_kind kind) { return kind == RTT_BENCH_SHADOW || kind == RTT_BENCH_SOFT; }
+
 static void progress(const bench_state *s, const rtt_bench_row *row)
 {
     if (!s->config->progress) return;
     char line[200];
     snprintf(line, sizeof line, "%s %s %s%s%s%s%s, %u thread%s, %ux%u",
              row->kind == RTT_BENCH_PRIMARY ? "primary" : row->kind == RTT_BENCH_SHADOW ? "shadow"
-             : row->kind == RTT_BENCH_RENDER ? "render" : "build",
+             : row->kind == RTT_BENCH_RENDER ? "render" : row->kind == RTT_BENCH_BUILD ? "build" : "soft",
              row->engine, row->method, row->variant[0] ? " " : "", row->variant, row->shadows[0] ? " shadows " : "",
              row->shadows, row->threads,
              row->threads == 1 ? "" : "s", row->width, row->height);
@@ -112,7 +115,7 @@ static rtt_bench_row row_start(const bench_state *s, rtt_bench_kind kind, const 
 static double agreement(const bench_state *s, const bench_rays *rays)
 {
     uint64_t same = 0, active = 0;
-    size_t pixels = (size_t)s->width * s->height;
+    size_t pixels = (size_t)rays->width * rays->height;
     for (size_t i = 0; i < pixels; i++) {
         if (!bench_ray_active(&rays->rays[i])) continue;
         active++;
@@ -162,7 +165,7 @@ static bool run_kernel_rows(bench_state *s, rtt_bench_kind kind, const bench_ray
                 row.leaf_culling = methods[m].leaf_culling;
                 row.rays = rays->active;
                 progress(s, &row);
-                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0,
+                bench_trace_spec spec = {is_occlusion(kind), row.threads, s->warmup, s->frames, t == 0,
                                          s->config->isa};
                 bool check = t == 0 && s->have_oracle;
                 if (!bench_kernel_row(tree, &blocks, s->width, s->height, methods[m].family,
@@ -192,13 +195,13 @@ static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays 
         for (size_t l = 0; l < lane_count; l++)
             for (uint32_t t = 0; t < s->config->thread_count; t++) {
                 rtt_bench_row row = row_start(s, kind, "embree", s->config->threads[t]);
-                snprintf(row.method, sizeof row.method, "%s%u", names[kind == RTT_BENCH_SHADOW], lanes[l]);
+                snprintf(row.method, sizeof row.method, "%s%u", names[is_occlusion(kind)], lanes[l]);
                 snprintf(row.family, sizeof row.family, "embree");
                 snprintf(row.variant, sizeof row.variant, "%s", bench_embree_variant(s->peers[v]));
                 row.lanes = lanes[l];
                 row.rays = rays->active;
                 progress(s, &row);
-                bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, false,
+                bench_trace_spec spec = {is_occlusion(kind), row.threads, s->warmup, s->frames, false,
                                          RTT_ISA_AUTO};
                 /* The first Embree result becomes the oracle the others are checked against. */
                 bool make_oracle = !s->have_oracle && t == 0;
@@ -220,6 +223,9 @@ static bool run_peer_rows(bench_state *s, rtt_bench_kind kind, const bench_rays 
  * thread count, checked against Embree's answers on the first. */
 static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *rays)
 {
+    /* hard-shadow rays head to the first light: bvh-mft bounds them from there */
+    const rtt_vec3 light = s->scene->light_count ? s->scene->lights[0].position : rtt_v3(0, 0, 0);
+    const float toward[3] = {light.x, light.y, light.z};
     const char *name;
     for (uint32_t k = 0; (name = bvh_kernel_name_at(k)); k++)
         for (uint32_t t = 0; t < s->config->thread_count; t++) {
@@ -229,14 +235,88 @@ static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *
             snprintf(row.variant, sizeof row.variant, "bvh");
             row.rays = rays->active;
             progress(s, &row);
-            bench_trace_spec spec = {kind == RTT_BENCH_SHADOW, row.threads, s->warmup, s->frames, t == 0,
+            bench_trace_spec spec = {is_occlusion(kind), row.threads, s->warmup, s->frames, t == 0,
                                      s->config->isa};
             bool check = t == 0 && s->have_oracle;
-            if (!bench_bvh_row(s->bvh, rays, name, &spec, &row, check ? s->result : NULL)) return false;
+            if (!bench_bvh_row(s->bvh, rays, name, kind == RTT_BENCH_SHADOW && s->scene->light_count ? toward : NULL,
+                               &spec, &row, NULL, check ? s->result : NULL))
+                return false;
             if (check && !row.error[0]) row.agree = agreement(s, rays);
             if (!bench_report_push(s->report, &row)) return false;
         }
     return true;
+}
+
+/* "tris 3575K" or "tris 3575K/725K": Table 1's triangles reached (and
+ * passed on after the frusta's culling). */
+static void table1_variant(rtt_bench_row *row, const bvh_counters *c, bool culled)
+{
+    char text[64];
+    if (culled)
+        snprintf(text, sizeof text, "bvh tris %lluK/%lluK", (unsigned long long)(c->triangles / 1000),
+                 (unsigned long long)(c->isect_tests / 1000));
+    else
+        snprintf(text, sizeof text, "bvh tris %lluK", (unsigned long long)(c->triangles / 1000));
+    memcpy(row->variant, text, sizeof row->variant - 1);
+    row->variant[sizeof row->variant - 1] = '\0';
+}
+
+/* Soft shadows (bench_frusta.c, Benthin & Wald 2009 Table 1's S rows): each
+ * primary hit's 16 interleaved samples of the first light.  Embree's
+ * rtcOccluded16 with one pixel's 16 rays per packet (coherent flag), our
+ * bvh-packet on the very same packets ("S-Packet") and frusta:16 (our
+ * soft-shadow frusta, rays made on demand), each checked ray by ray against
+ * Embree's answers.  N and I per 2x2 rays as the BVH rows; the variant
+ * carries the triangles reached (and passed on after culling). */
+static bool run_soft(bench_state *s, const bench_rays *primary)
+{
+    const size_t pixels = (size_t)s->width * s->height;
+    rtt_hit *hits = malloc(pixels * sizeof *hits);
+    uint32_t *prim = malloc(pixels * sizeof *prim), *result = s->result, *oracle = s->oracle;
+    float *t = malloc(pixels * sizeof *t);
+    bool ok = hits && prim && t;
+    bench_soft soft = {0};
+    rtt_error why = {{0}};
+    bool made = false;
+    if (ok) {
+        rtt_engine_intersect(s->engine, primary->rays, hits, pixels);
+        for (size_t i = 0; i < pixels; i++) prim[i] = hits[i].prim, t[i] = hits[i].t;
+        made = bench_soft_make(s->scene, primary, prim, t, &soft, &why);
+    }
+    free(hits), free(prim), free(t);
+    if (ok && !made) { /* no light with area: one row says so */
+        rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[0]);
+        snprintf(row.method, sizeof row.method, "frusta:%u", BENCH_SOFT_SAMPLES);
+        row_error(&row, "", why.message);
+        return bench_report_push(s->report, &row);
+    }
+    s->result = ok ? malloc(pixels * BENCH_SOFT_SAMPLES * sizeof *s->result) : NULL;
+    s->oracle = ok ? malloc(pixels * BENCH_SOFT_SAMPLES * sizeof *s->oracle) : NULL;
+    ok = ok && s->result && s->oracle;
+    static const uint32_t lanes[] = {16};
+    ok = ok && run_peer_rows(s, RTT_BENCH_SOFT, &soft.rays, lanes, 1);
+    for (uint32_t th = 0; ok && th < s->config->thread_count; th++)
+        for (int packet = 0; ok && packet < 2; packet++) {
+            rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[th]);
+            snprintf(row.method, sizeof row.method, packet ? "bvh-packet" : "frusta:%u", BENCH_SOFT_SAMPLES);
+            snprintf(row.family, sizeof row.family, packet ? "bvh-packet" : "frusta");
+            snprintf(row.variant, sizeof row.variant, "bvh");
+            row.rays = soft.rays.active;
+            progress(s, &row);
+            bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, th == 0, s->config->isa};
+            const bool check = th == 0 && s->have_oracle;
+            bvh_counters sum = {0};
+            ok = packet ? bench_bvh_row(s->bvh, &soft.rays, "bvh-packet", NULL, &spec, &row, &sum,
+                                        check ? s->result : NULL)
+                        : bench_frusta_row(s->bvh, &soft, &spec, &row, &sum, check ? s->result : NULL);
+            if (th == 0) table1_variant(&row, &sum, !packet);
+            if (ok && check && !row.error[0]) row.agree = agreement(s, &soft.rays);
+            ok = ok && bench_report_push(s->report, &row);
+        }
+    free(s->result), free(s->oracle);
+    s->result = result, s->oracle = oracle;
+    bench_soft_free(&soft);
+    return ok;
 }
 
 static bool runs_accel(const bench_state *s, rtt_accel accel)
@@ -587,6 +667,7 @@ bool rtt_bench_run(const rtt_scene *scene, const rtt_bench_config *config, rtt_b
     ok = ok && run_builds(&s);
     if (ok && config->kinds[RTT_BENCH_PRIMARY]) ok = run_primary(&s, &primary);
     if (ok && config->kinds[RTT_BENCH_SHADOW]) ok = run_shadow(&s, &primary);
+    if (ok && config->kinds[RTT_BENCH_SOFT]) ok = run_soft(&s, &primary);
     for (int v = 0; v < EMBREE_VARIANTS; v++) bench_embree_destroy(s.peers[v]), s.peers[v] = NULL;
     if (ok && config->kinds[RTT_BENCH_RENDER]) ok = run_renders(&s);
     if (ok && !config->kinds[RTT_BENCH_BUILD]) {

@@ -17,7 +17,9 @@
 # the reference renderer (the image a frusta kernel must reproduce),
 # interleaved:4, 8, 16, 32 with and without the discontinuity filter
 # (labels "interleaved:N ref", "interleaved:N:nofilter ref"; one run each:
-# they are there for their error, the reference's time is the oracle's).  Then cone:16
+# they are there for their error, the reference's time is the oracle's);
+# and frusta:4, 8, 16, 32 with and without the filter (the optimized
+# renderer with --accel bvh: the same samples as multi-frusta).  Then cone:16
 # against pyramid:16 with the light radius set to 1 and to 2 (Table 4.6).
 # Every row names its engine.
 #
@@ -79,6 +81,7 @@ median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (
 render() {
     local name=$1 scene=$2 method=$3 fix=$4 label=$5 engine=${6:-optimized} extra=()
     [ "$fix" = 1 ] && extra=(--edge-leak-fix)
+    case "$method" in frusta*) extra+=(--accel bvh) ;; esac # the soft-shadow frusta walk the BVH
     local image=$work/$name.$label.exr times=() rate=0 line n=$runs
     [ "$engine" = reference ] && n=1 # its rows are for the image; its time is the scalar oracle's
     for ((run = 0; run < n; run++)); do
@@ -115,6 +118,10 @@ while IFS=$'\t' read -r name scene; do
     for n in 4 8 16 32; do
         render "$name" "$scene" "interleaved:$n" 0 "interleaved:$n ref" reference
         render "$name" "$scene" "interleaved:$n:nofilter" 0 "interleaved:$n:nofilter ref" reference
+    done
+    for n in 4 8 16 32; do
+        render "$name" "$scene" "frusta:$n" 0 "frusta:$n"
+        render "$name" "$scene" "frusta:$n:nofilter" 0 "frusta:$n:nofilter"
     done
 done <"$scenes"
 

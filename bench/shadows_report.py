@@ -110,7 +110,9 @@ def main():
                             ("cone:16", lambda l: l == "cone:16"),
                             ("pyramid:16", lambda l: l == "pyramid:16"),
                             ("interleaved:N (reference)", lambda l: l.startswith("interleaved") and "nofilter" not in l),
-                            ("interleaved:N:nofilter (reference)", lambda l: l.startswith("interleaved") and "nofilter" in l)])
+                            ("interleaved:N:nofilter (reference)", lambda l: l.startswith("interleaved") and "nofilter" in l),
+                            ("frusta:N", lambda l: l.startswith("frusta") and "nofilter" not in l),
+                            ("frusta:N:nofilter", lambda l: l.startswith("frusta") and "nofilter" in l)])
     dat = os.path.join(out, "shadows.dat")
     with open(dat, "w") as f:
         for fam, test in families.items():

@@ -43,7 +43,8 @@ static bool parse_threads(const char *text, void *field, rtt_error *why)
 }
 
 /* --only's names, in rtt_bench_kind order */
-static const char *const kind_names[RTT_BENCH_KIND_COUNT + 1] = {"primary", "shadow", "render", "build", NULL};
+static const char *const kind_names[RTT_BENCH_KIND_COUNT + 1] = {"primary", "shadow", "render", "build", "soft",
+                                                                    NULL};
 
 static const cli_option bench_options[] = {
     {.name = "--json", .help = "the report as JSON on stdout (default: a text table)",
@@ -76,7 +77,7 @@ static const cli_option bench_options[] = {
      .help = "the same as --view FILE: the view named after the scene file (bench/views.json)",
      .kind = CLI_STRING, CLI_FIELD(bench_args, views)},
     CLI_OPTIONS_CAMERA(bench_args, camera),
-    {.name = "--only", .value_name = "KINDS", .help = "comma list of primary, shadow, render, build (default all)",
+    {.name = "--only", .value_name = "KINDS", .help = "comma list of primary, shadow, render, build, soft (default all)",
      .kind = CLI_CHOICE_LIST, CLI_FIELD(bench_args, kinds), .choices = kind_names},
     {.name = "--no-embree", .help = "do not race Embree", .kind = CLI_FLAG, CLI_FIELD(bench_args, no_embree)},
     {.name = "--markdown", .value_name = "FILE", .help = "also write the thesis' tables as Markdown",

@@ -74,7 +74,9 @@ static const cli_option render_options[] = {
     {.name = "--shadows", .value_name = "METHOD",
      .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R] (sphere and point "
              "lights; refused with quad lights), interleaved[:N][:nofilter] (N = 4..32, default 16: the pixel's 4x4 "
-             "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines)",
+             "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines), "
+             "frusta[:N][:nofilter] (interleaved's samples and filter, each pixel's samples traced as one of 16 "
+             "multi-frusta; the optimized engine with --accel bvh)",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--spp", .value_name = "N",
      .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "
@@ -306,7 +308,8 @@ static int render(void *opaque, const cli_parsed *parsed)
                               .write = cli_frames_write, .context = &outputs};
     /* interleaved:N filters and composes the whole image after its tiles, from
      * planes the ranks do not exchange */
-    if (image && rtt_dist_size(dist) > 1 && args->render.shadows == RTT_SHADOWS_INTERLEAVED) {
+    if (image && rtt_dist_size(dist) > 1 &&
+        (args->render.shadows == RTT_SHADOWS_INTERLEAVED || args->render.shadows == RTT_SHADOWS_FRUSTA)) {
         rtt_image_free(image);
         image = NULL;
         rtt_error_set(&err, "interleaved shadows filter across tiles: they render in one process, not under mpirun");

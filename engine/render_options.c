@@ -30,9 +30,11 @@ static bool parse_sample_count(const char *text, const char *count, rtt_render_o
     return true;
 }
 
-/* "[:N][:nofilter]" after "interleaved": N in 4..32 (default 16), the filter on unless :nofilter. */
-static bool parse_interleaved(const char *text, const char *rest, rtt_render_options *opt, rtt_error *err)
+/* "[:N][:nofilter]" after "interleaved" or "frusta": N in 4..32 (default 16), the filter on unless :nofilter. */
+static bool parse_interleaved(const char *text, const char *rest, rtt_shadow_method method, rtt_render_options *opt,
+                              rtt_error *err)
 {
+    const char *name = method == RTT_SHADOWS_FRUSTA ? "frusta" : "interleaved";
     uint32_t n = RTT_INTERLEAVED_DEFAULT_SAMPLES;
     bool filter = true;
     if (*rest == ':' && rest[1] >= '0' && rest[1] <= '9') {
@@ -47,9 +49,9 @@ static bool parse_interleaved(const char *text, const char *rest, rtt_render_opt
     if (strcmp(rest, ":nofilter") == 0)
         filter = false;
     else if (*rest != '\0')
-        return rtt_error_set(err, "shadow method \"%s\": expected interleaved[:N][:nofilter], N from %u to %u", text,
+        return rtt_error_set(err, "shadow method \"%s\": expected %s[:N][:nofilter], N from %u to %u", text, name,
                              RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
-    opt->shadows = RTT_SHADOWS_INTERLEAVED;
+    opt->shadows = method;
     opt->shadow_samples = n;
     opt->shadow_filter = filter;
     return true;
@@ -80,14 +82,17 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         return true;
     }
     if (strcmp(text, "interleaved") == 0 || strncmp(text, "interleaved:", 12) == 0)
-        return parse_interleaved(text, text + 11, opt, err);
+        return parse_interleaved(text, text + 11, RTT_SHADOWS_INTERLEAVED, opt, err);
+    if (strcmp(text, "frusta") == 0 || strncmp(text, "frusta:", 7) == 0)
+        return parse_interleaved(text, text + 6, RTT_SHADOWS_FRUSTA, opt, err);
     return rtt_error_set(err,
-                         "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R] or "
-                         "interleaved[:N][:nofilter]",
+                         "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R], "
+                         "interleaved[:N][:nofilter] or frusta[:N][:nofilter]",
                          text);
 }
 
-static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth", "interleaved"};
+static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth", "interleaved",
+                                           "frusta"};
 _Static_assert(sizeof method_names / sizeof method_names[0] == RTT_SHADOW_METHOD_COUNT, "a name per shadow method");
 
 const char *rtt_shadow_method_name(rtt_shadow_method method)
@@ -109,10 +114,11 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
     if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
         return rtt_error_set(err, "shadow method %s:%u: the sample count must be a whole number from 1 to %u", sampled,
                              opt->shadow_samples, RTT_MAX_SHADOW_SAMPLES);
-    if (opt->shadows == RTT_SHADOWS_INTERLEAVED &&
+    if ((opt->shadows == RTT_SHADOWS_INTERLEAVED || opt->shadows == RTT_SHADOWS_FRUSTA) &&
         (opt->shadow_samples < RTT_INTERLEAVED_MIN_SAMPLES || opt->shadow_samples > RTT_INTERLEAVED_MAX_SAMPLES))
-        return rtt_error_set(err, "shadow method interleaved:%u: the sample count must be a whole number from %u to %u",
-                             opt->shadow_samples, RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
+        return rtt_error_set(err, "shadow method %s:%u: the sample count must be a whole number from %u to %u",
+                             method_names[opt->shadows], opt->shadow_samples, RTT_INTERLEAVED_MIN_SAMPLES,
+                             RTT_INTERLEAVED_MAX_SAMPLES);
     if (opt->shadows == RTT_SHADOWS_EDGEWIDTH && !(opt->edge_radius >= 0.0f && opt->edge_radius <= 1e30f))
         return rtt_error_set(err, "shadow method edgewidth:%g: R must be a positive number", (double)opt->edge_radius);
     if (opt->spp > RTT_MAX_SPP)
@@ -158,6 +164,9 @@ bool rtt_render_options_check(const char *name, const rtt_render_options *opt, r
                                                 opt->shadows == RTT_SHADOWS_EDGEWIDTH))
         return rtt_error_set(err, "%s shadows need the kd-tree (--accel kd), not the bvh",
                              rtt_shadow_method_name(opt->shadows));
+    /* the soft-shadow frusta walk the BVH */
+    if (opt->shadows == RTT_SHADOWS_FRUSTA && opt->engine.accel != RTT_ACCEL_BVH)
+        return rtt_error_set(err, "frusta shadows trace multi-frusta through the BVH: they need --accel bvh");
     if (opt->max_bounces != RTT_BOUNCES_OF_SCENE && opt->max_bounces > RTT_MAX_BOUNCES)
         return rtt_error_set(err, "max bounces %u: at most %u", opt->max_bounces, RTT_MAX_BOUNCES);
     if (opt->spp > RTT_MAX_SPP)

@@ -20,7 +20,12 @@
  *     projected test);
  *  4. the perspective grid (optimized/pgrid/) is built for a camera at the
  *     bundle's eye looking at the scene's centre, and its eye rays, at
- *     every instruction set and two cell sizes, are checked the same way.
+ *     every instruction set and two cell sizes, are checked the same way;
+ *  5. the BVH's shadow frusta: from the rays' hit points to a sphere and a
+ *     quad light at the eye, the soft-shadow frusta kernel (frusta:16, rays
+ *     made on demand) and bvh-mft's hard shadows bounded from the light
+ *     (bvh_query.toward), at every instruction set, must answer each ray
+ *     exactly as bvh-packet does on the same rays (the frusta cull only).
  *
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
@@ -39,7 +44,10 @@
 #include "fuzz_common.h"
 #include "rtt/rtt.h"
 #include "fuzz_oracle.h"
+#include "bvh_kernels.h"
+#include "engine_optimized.h"
 #include "pgrid_eye.h"
+#include "rtt/interleaved.h"
 #include "rtt/engine.h"
 #include "rtt/shade.h"
 
@@ -319,6 +327,104 @@ static bool all_finite(const float *v, size_t n)
     return true;
 }
 
+/* Step 5 for one light: hit points `pts` (count of them). */
+static void check_shadow_frusta_light(const bvh_tree *tree, const rtt_light *light, const bvh_kernel *packet,
+                                      const rtt_vec3 *pts, uint32_t count, float eps)
+{
+    bvh_shadow_sets sets = {.samples = 16};
+    float xy[BVH_SHADOW_MAX_SAMPLES][2];
+    for (uint32_t set = 0; set < RTT_INTERLEAVED_SETS; set++) {
+        rtt_interleaved_coords(light, set, 16, xy);
+        for (uint32_t k = 0; k < 16; k++) sets.x[set][k] = xy[k][0], sets.y[set][k] = xy[k][1];
+        rtt_interleaved_bounds(light, set, 16, sets.lo[set], sets.hi[set]);
+    }
+    bvh_shadow_point points[MAX_RAYS + GRID * GRID];
+    static rtt_ray rays[(MAX_RAYS + GRID * GRID) * 16];
+    static uint8_t want[(MAX_RAYS + GRID * GRID) * 16];
+    uint32_t index[(MAX_RAYS + GRID * GRID) * 16], n = 0;
+    for (uint32_t i = 0; i < count; i++) { /* each point's rays as shader_proxy.c's shadow_segment makes them */
+        const rtt_light_frame fr = rtt_light_sample_frame(light, pts[i]);
+        points[i] = (bvh_shadow_point){{pts[i].x, pts[i].y, pts[i].z}, {fr.base.x, fr.base.y, fr.base.z},
+                                       {fr.du.x, fr.du.y, fr.du.z}, {fr.dv.x, fr.dv.y, fr.dv.z}, i % 16};
+        for (uint32_t k = 0; k < 16; k++) {
+            const rtt_vec3 to = rtt_v3_sub(rtt_light_frame_point(&fr, sets.x[i % 16][k], sets.y[i % 16][k]), pts[i]);
+            const float d = rtt_v3_length(to);
+            if (!(d > 2.0f * eps)) continue;
+            const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / d);
+            rays[n] = (rtt_ray){{pts[i].x, pts[i].y, pts[i].z}, {dir.x, dir.y, dir.z}, eps, d - eps};
+            index[n++] = i * 16 + k;
+        }
+    }
+    packet->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = want});
+    const bvh_shadow_kernel *row;
+    uint32_t masks[MAX_RAYS + GRID * GRID];
+    for (uint32_t r = 0; (row = bvh_shadow_kernel_row_at(r)); r++) {
+        if (!rtt_isa_supported(row->isa)) continue;
+        row->trace(tree, &(bvh_shadow_query){.points = points, .count = count, .sets = &sets, .epsilon = eps,
+                                             .occluded = masks});
+        for (uint32_t j = 0; j < n; j++)
+            if ((masks[index[j] / 16] >> index[j] % 16 & 1u) != want[j])
+                fuzz_fail("frusta:16 (%s) point %u sample %u: occluded %u, bvh-packet %u", rtt_isa_name(row->isa),
+                          index[j] / 16, index[j] % 16, masks[index[j] / 16] >> index[j] % 16 & 1u, want[j]);
+    }
+    /* hard shadows: one ray per point to the light's centre, bounded from there */
+    const float toward[3] = {light->position.x, light->position.y, light->position.z};
+    n = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        const rtt_vec3 to = rtt_v3_sub(light->position, pts[i]);
+        const float d = rtt_v3_length(to);
+        if (!(d > 2.0f * eps)) continue;
+        const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / d);
+        rays[n++] = (rtt_ray){{pts[i].x, pts[i].y, pts[i].z}, {dir.x, dir.y, dir.z}, eps, d - eps};
+    }
+    packet->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = want});
+    const bvh_kernel *mft;
+    uint8_t got[MAX_RAYS + GRID * GRID];
+    for (uint32_t r = 0; (mft = bvh_kernel_row_at(r)); r++) {
+        if (strcmp(mft->name, "bvh-mft") != 0 || !rtt_isa_supported(mft->isa)) continue;
+        mft->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = got, .toward = toward});
+        for (uint32_t j = 0; j < n; j++)
+            if (got[j] != want[j])
+                fuzz_fail("bvh-mft (%s) hard shadow ray %u toward the light: occluded %u, bvh-packet %u",
+                          rtt_isa_name(mft->isa), j, got[j], want[j]);
+    }
+}
+
+static void check_shadow_frusta(const rtt_scene *scene, const rtt_ray *rays, size_t ray_count, rtt_vec3 eye)
+{
+    rtt_engine_options opt;
+    rtt_engine_options_default(&opt);
+    opt.threads = 1;
+    opt.accel = RTT_ACCEL_BVH;
+    rtt_error err = { "" };
+    rtt_engine *engine = rtt_engine_create("optimized", scene, &opt, &err);
+    if (!engine) fuzz_fail("optimized engine (bvh) refused a valid scene: %s", err.message);
+    const bvh_tree *tree = bvh_engine_tree(engine);
+    rtt_hit hits[MAX_RAYS + GRID * GRID];
+    rtt_engine_intersect(engine, rays, hits, ray_count);
+    rtt_vec3 pts[MAX_RAYS + GRID * GRID];
+    uint32_t count = 0;
+    for (size_t i = 0; i < ray_count; i++) {
+        if (hits[i].prim == RTT_MISS) continue;
+        const rtt_ray *r = &rays[i];
+        const rtt_vec3 p = rtt_v3(r->org[0] + hits[i].t * r->dir[0], r->org[1] + hits[i].t * r->dir[1],
+                                  r->org[2] + hits[i].t * r->dir[2]);
+        if (isfinite(p.x) && isfinite(p.y) && isfinite(p.z)) pts[count++] = p;
+    }
+    const rtt_vec3 extent = rtt_v3_sub(scene->bounds.hi, scene->bounds.lo);
+    const float size = fmaxf(extent.x, fmaxf(extent.y, extent.z));
+    const rtt_light sphere = {.type = RTT_LIGHT_SPHERE, .position = eye, .radius = 0.1f * size};
+    const rtt_light quad = {.type = RTT_LIGHT_QUAD, .position = eye, .edge_u = {0.2f * size, 0.0f, 0.0f},
+                            .edge_v = {0.0f, 0.05f * size, 0.15f * size}};
+    const float eps = rtt_scene_ray_epsilon(scene);
+    const bvh_kernel *packet = bvh_kernel_find("bvh-packet", RTT_ISA_SSE4);
+    if (count && isfinite(size) && size > 0.0f) {
+        check_shadow_frusta_light(tree, &sphere, packet, pts, count, eps);
+        check_shadow_frusta_light(tree, &quad, packet, pts, count, eps);
+    }
+    rtt_engine_destroy(engine);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (!rtt_builtin_engines_register(NULL)) fuzz_fail("cannot register the built-in engines");
@@ -356,6 +462,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         rays[ray_count++] = decode_ray(&in, scene, scale, offset);
     check_engines(scene, rays, ray_count, depth_byte, flags);
     check_pgrid(scene, eye, depth_byte);
+    check_shadow_frusta(scene, rays, ray_count, eye);
     rtt_scene_free(scene);
     return 0;
 }

@@ -11,7 +11,7 @@
 
 #include "bvh_build.h"
 #include "isect_projected_bary.h"
-#include "test_fixtures_optimized.h"
+#include "test_fixtures_bvh.h"
 
 /* ---- the builder ------------------------------------------------------- */
 
@@ -180,43 +180,7 @@ static rtt_hit records_brute_force(const bvh_tree *tree, const rtt_ray *r)
     return hit.prim == RTT_MISS ? (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS} : (rtt_hit){hit.t, hit.u, hit.v, hit.prim};
 }
 
-typedef struct bvh_fixture {
-    fixture base;      /* the soup, the reference engine (and a kd engine, unused) */
-    rtt_engine *bvh;
-    const bvh_tree *tree;
-} bvh_fixture;
-
-static int setup_bvh(void **state)
-{
-    setup_soup(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull);
-    fixture *base = *state;
-    bvh_fixture *f = calloc(1, sizeof *f);
-    assert_non_null(f);
-    f->base = *base;
-    free(base);
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    opt.accel = RTT_ACCEL_BVH;
-    rtt_error err = {{0}};
-    f->bvh = rtt_optimized_engine_create(f->base.scene, &opt, &err);
-    if (!f->bvh) fail_msg("bvh engine: %s", err.message);
-    f->tree = bvh_engine_tree(f->bvh);
-    assert_non_null(f->tree);
-    *state = f;
-    return 0;
-}
-
-static int teardown_bvh(void **state)
-{
-    bvh_fixture *f = *state;
-    rtt_engine_destroy(f->bvh);
-    fixture *base = malloc(sizeof *base);
-    assert_non_null(base);
-    *base = f->base;
-    free(f);
-    *state = base;
-    return teardown(state);
-}
+static int setup_bvh(void **state) { return setup_bvh_seeded(state, 0x9e3779b97f4a7c15ull); }
 
 /* Against the reference: both miss, or the same t within tolerance (a
  * different prim only as a tie); a hit within tolerance of tnear or tfar,

@@ -15,13 +15,14 @@ typedef enum rtt_shadow_method {
     RTT_SHADOWS_CONE,       /* N samples traced under one cone (thesis 4.1.6-4.1.9) */
     RTT_SHADOWS_PYRAMID,    /* the same samples under a pyramid frustum (Table 4.6) */
     RTT_SHADOWS_EDGEWIDTH,  /* Edge Width Soft Shadows (thesis chapter 5) */
-    RTT_SHADOWS_INTERLEAVED /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
+    RTT_SHADOWS_INTERLEAVED, /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
+    RTT_SHADOWS_FRUSTA = 7   /* interleaved's samples and filter traced as multi-frusta (optimized, --accel bvh) */
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
 #define RTT_MAX_SPP 256u
-#define RTT_SHADOW_METHOD_COUNT 7u             /* rtt_shadow_method values */
-#define RTT_SHADOWS_ALL 0x7Fu                 /* every rtt_shadow_method bit */
+#define RTT_SHADOW_METHOD_COUNT 8u             /* rtt_shadow_method values */
+#define RTT_SHADOWS_ALL 0xFFu                 /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {
@@ -114,7 +115,7 @@ uint32_t rtt_render_spp(const rtt_render_options *opt);
 const char *rtt_shadow_method_name(rtt_shadow_method method);
 /* The checks every renderer makes before it starts: a known shadow method
  * with a sample count in 1..RTT_MAX_SHADOW_SAMPLES (multi, cone, pyramid)
- * or RTT_INTERLEAVED_MIN_SAMPLES..RTT_INTERLEAVED_MAX_SAMPLES (interleaved),
+ * or RTT_INTERLEAVED_MIN_SAMPLES..RTT_INTERLEAVED_MAX_SAMPLES (interleaved, frusta),
  * or a valid edge-width radius and no quad light (edge widths are for
  * sphere and point lights), a non-empty width x height that `out` has, with
  * the AOV planes the options ask for, and a finished scene. */
@@ -122,7 +123,7 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
                       uint32_t width, uint32_t height, rtt_error *err);
 
 /* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]",
- * "interleaved[:N][:nofilter]". */
+ * "interleaved[:N][:nofilter]", "frusta[:N][:nofilter]". */
 bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err);
 
 #endif

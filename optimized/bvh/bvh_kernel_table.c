@@ -47,3 +47,28 @@ const char *bvh_kernel_name_at(uint32_t i)
 }
 
 const bvh_kernel *bvh_kernel_row_at(uint32_t i) { return i < BVH_KERNEL_ROW_COUNT ? &bvh_kernels[i] : NULL; }
+
+static const bvh_shadow_kernel bvh_shadow_kernels[] = {
+    {"frusta", "Benthin & Wald 2009, 4.4-4.5: 4 soft-shadow frusta of N on-demand rays at once", bvh_shadow_frusta_sse4,
+     4, RTT_ISA_SSE4},
+    {"frusta", "Benthin & Wald 2009, 4.4-4.5: 8 soft-shadow frusta of N on-demand rays at once", bvh_shadow_frusta_avx2,
+     8, RTT_ISA_AVX2},
+    {"frusta", "Benthin & Wald 2009, 4.4-4.5: 16 soft-shadow frusta of N on-demand rays at once",
+     bvh_shadow_frusta_avx512, 16, RTT_ISA_AVX512},
+};
+#define BVH_SHADOW_ROW_COUNT (sizeof bvh_shadow_kernels / sizeof bvh_shadow_kernels[0])
+
+const bvh_shadow_kernel *bvh_shadow_kernel_find(rtt_isa isa)
+{
+    const bvh_shadow_kernel *best = &bvh_shadow_kernels[0];
+    for (size_t i = 1; i < BVH_SHADOW_ROW_COUNT; i++) {
+        const bvh_shadow_kernel *k = &bvh_shadow_kernels[i];
+        if (k->isa <= isa && rtt_isa_supported(k->isa) && k->isa > best->isa) best = k;
+    }
+    return best;
+}
+
+const bvh_shadow_kernel *bvh_shadow_kernel_row_at(uint32_t i)
+{
+    return i < BVH_SHADOW_ROW_COUNT ? &bvh_shadow_kernels[i] : NULL;
+}

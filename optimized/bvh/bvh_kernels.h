@@ -27,6 +27,12 @@ typedef struct bvh_query {
     rtt_hit *hits;
     uint8_t *occluded;
     bvh_counters *counters;
+    /* Occlusion only, optional: a point every ray heads to (a point light;
+     * each ray's segment ends at or short of it).  bvh-mft then bounds a
+     * group of rays that share no origin by the frustum from this point back
+     * to their origins (hard shadows, Benthin & Wald 2009, 3.2); the other
+     * kernels ignore it.  Never changes results. */
+    const float *toward;
 } bvh_query;
 
 typedef void (*bvh_kernel_fn)(const bvh_tree *tree, const bvh_query *query);
@@ -48,10 +54,66 @@ const char *bvh_kernel_name_at(uint32_t i);
 /* The i-th row whatever this CPU runs, NULL past the last (tests). */
 const bvh_kernel *bvh_kernel_row_at(uint32_t i);
 
+/* ---- soft shadows through multi-frusta: --shadows frusta:N ----
+ *
+ * One shading point (a pixel's hit) and one light with area: the N sample
+ * rays of the pixel's interleaved set (rtt/interleaved.h), generated on
+ * demand from the point, the light's frame as seen from the point and the
+ * set's domain coordinates, never stored: sample k's target is
+ * (base + du x_k) + dv y_k and its ray the segment of rtt/shade.h (from org
+ * towards the target, tnear = epsilon, tfar = |target - org| - epsilon;
+ * none when the distance is not above 2 epsilon: that sample is clear), the
+ * same bits as the scalar renderers' rays. */
+typedef struct bvh_shadow_point {
+    float org[3];
+    float base[3], du[3], dv[3];    /* rtt_light_frame of the light from org */
+    uint32_t set;                   /* the pixel's interleaved set, 0..15 */
+} bvh_shadow_point;
+
+/* The sets' domain coordinates, the same for every point of one light:
+ * x[set][k], y[set][k] (k < samples, rtt_interleaved_coords) and each set's
+ * 2D bounds (rtt_interleaved_bounds), which bound the frusta. */
+#define BVH_SHADOW_MAX_SAMPLES 32u
+typedef struct bvh_shadow_sets {
+    uint32_t samples;               /* N, 1..BVH_SHADOW_MAX_SAMPLES */
+    float x[16][BVH_SHADOW_MAX_SAMPLES], y[16][BVH_SHADOW_MAX_SAMPLES];
+    float lo[16][2], hi[16][2];
+} bvh_shadow_sets;
+
+/* `count` points of one light; occluded[i] gets bit k set when sample k of
+ * point i is occluded.  The kernel traces its width's points at once, one
+ * frustum each (16 on AVX-512: a 4x4 block of pixels when the caller orders
+ * them so). */
+typedef struct bvh_shadow_query {
+    const bvh_shadow_point *points;
+    size_t count;
+    const bvh_shadow_sets *sets;
+    float epsilon;
+    uint32_t *occluded;
+    bvh_counters *counters;
+} bvh_shadow_query;
+
+typedef void (*bvh_shadow_fn)(const bvh_tree *tree, const bvh_shadow_query *query);
+
+typedef struct bvh_shadow_kernel {
+    const char *name;
+    const char *implements;
+    bvh_shadow_fn trace;
+    uint32_t width;                 /* frusta traced together: the ISA's lanes */
+    rtt_isa isa;
+} bvh_shadow_kernel;
+
+/* The soft-shadow frusta row for the widest instruction set not wider than
+ * `isa` that this CPU runs (never NULL: SSE4.1 is the baseline). */
+const bvh_shadow_kernel *bvh_shadow_kernel_find(rtt_isa isa);
+/* The i-th row whatever this CPU runs, NULL past the last (tests). */
+const bvh_shadow_kernel *bvh_shadow_kernel_row_at(uint32_t i);
+
 #define BVH_KERNEL_PROTOTYPES(isa)                                              \
     void bvh_kernel_mono_##isa(const bvh_tree *tree, const bvh_query *q);      \
     void bvh_kernel_packet_##isa(const bvh_tree *tree, const bvh_query *q);     \
-    void bvh_kernel_mft_##isa(const bvh_tree *tree, const bvh_query *q);
+    void bvh_kernel_mft_##isa(const bvh_tree *tree, const bvh_query *q);        \
+    void bvh_shadow_frusta_##isa(const bvh_tree *tree, const bvh_shadow_query *q);
 BVH_KERNEL_PROTOTYPES(sse4)
 BVH_KERNEL_PROTOTYPES(avx2)
 BVH_KERNEL_PROTOTYPES(avx512)

@@ -37,6 +37,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "bvh_frusta.h"
 #include "bvh_isect_wide.h"
 #include "bvh_traverse.h"
 
@@ -45,88 +46,28 @@
 #define MFT_FRUSTA BVH_W             /* frusta per group: one per lane */
 
 typedef struct mft_group {
-    vf org[3];                       /* per frustum: the common origin */
-    vf dlo[3], dhi[3], rlo[3], rhi[3]; /* direction box and its reciprocals */
-    vf tnear;                        /* smallest tnear of its rays */
+    mft_bounds b;                    /* per frustum: origin, direction box, smallest tnear */
     float dist[MFT_FRUSTA];          /* largest min(tfar, closest hit) of its rays */
     bvh_packet rays[MFT_FRUSTA][MFT_VECS];
     uint32_t live[MFT_FRUSTA][MFT_VECS];
     bvh_hits hits[MFT_FRUSTA][MFT_VECS];
     uint32_t occ[MFT_FRUSTA][MFT_VECS];
+    uint32_t apex;                   /* frusta whose origin is the rays' common end point (hard shadows) */
 } mft_group;
 
-static inline vf vf_abs(vf x) { return vf_max(x, vf_sub(vf_set1(0.0f), x)); }
-
-/* The frusta of `active` whose interval bounds enter the box; their entries. */
-static inline vm frusta_box(const bvh_child *c, const mft_group *g, vf dist, vm active, vf *entry)
+/* The frusta of `active` whose bounds reach the box of the triangle's
+ * corners: the leaf test of apex frusta, whose rays do not start at the
+ * frustum's origin, so the common-origin edge test does not hold for them. */
+static inline uint32_t frusta_triangle_box(const bvh_corners *tri, const mft_bounds *b, vf dist, vm active)
 {
-    const vf zero = vf_set1(0.0f), inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
-    vf t0 = g->tnear, t1 = dist;
-    for (int k = 0; k < 3; k++) {
-        const vf p = vf_sub(vf_set1(c->lo[k]), g->org[k]), q = vf_sub(vf_set1(c->hi[k]), g->org[k]);
-        const vf pa = vf_mul(p, g->rlo[k]), pb = vf_mul(p, g->rhi[k]);
-        const vf qa = vf_mul(q, g->rlo[k]), qb = vf_mul(q, g->rhi[k]);
-        const vm positive = vf_gt(g->dlo[k], zero), negative = vf_lt(g->dhi[k], zero);
-        /* the interval contains zero: enter from below only along d > 0, from above only along d < 0 */
-        const vf from_below = vf_blend(vf_gt(g->dhi[k], zero), inf, pb);
-        const vf from_above = vf_blend(vf_lt(g->dlo[k], zero), inf, qa);
-        vf in = vf_blend(vf_lt(q, zero), minus_inf, from_above);
-        in = vf_blend(vf_gt(p, zero), in, from_below);
-        vf out = inf;
-        in = vf_blend(negative, in, vf_min(qa, qb));
-        out = vf_blend(negative, out, vf_max(pa, pb));
-        in = vf_blend(positive, in, vf_min(pa, pb));
-        out = vf_blend(positive, out, vf_max(qa, qb));
-        t0 = vf_max(in, t0);
-        t1 = vf_min(out, t1);
-    }
-    const vf slack = vf_set1(0x1p-20f);
-    t0 = vf_sub(t0, vf_mul(vf_abs(t0), slack));
-    t1 = vf_add(t1, vf_mul(vf_abs(t1), slack));
-    *entry = t0;
-    return vm_and(active, vf_le(t0, t1));
-}
-
-/* The frusta of `active` some of whose directions may cross the triangle
- * ahead of the origin.  With A, B, C the corners relative to the origin and
- * D = A . (B x C), a direction d = aA + bB + cC hits ahead iff a, b, c >= 0,
- * that is iff (B x C).d, (C x A).d and (A x B).d all have the sign of D (the
- * triangle's orientation as the origin sees it: Benthin & Wald's back-face
- * test decides which sign the edge tests must have).  A frustum is culled
- * when over its whole direction box one edge's n.d has the wrong sign; an
- * origin (nearly) in the triangle's plane culls nothing. */
-static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_group *g, vm active)
-{
-    vf rel[3][3];
-    for (int v = 0; v < 3; v++)
-        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
-    const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
-    vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
-    vf det = zero, det_mag = zero;
-    for (int e = 0; e < 3; e++) {
-        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
-        const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
-                         vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
-        if (e == 0)
-            for (int k = 0; k < 3; k++) {
-                const vf x = vf_mul(rel[0][k], n[k]);
-                det = vf_add(det, x);
-                det_mag = vf_add(det_mag, vf_abs(x));
-            }
-        vf hi = zero, lo = zero, mag = zero;
+    bvh_child box = {{tri->v[0][0], tri->v[0][1], tri->v[0][2]}, 0, {tri->v[0][0], tri->v[0][1], tri->v[0][2]}, 0};
+    for (int v = 1; v < 3; v++)
         for (int k = 0; k < 3; k++) {
-            const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
-            hi = vf_add(hi, vf_max(x, y));
-            lo = vf_add(lo, vf_min(x, y));
-            mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
+            box.lo[k] = tri->v[v][k] < box.lo[k] ? tri->v[v][k] : box.lo[k];
+            box.hi[k] = tri->v[v][k] > box.hi[k] ? tri->v[v][k] : box.hi[k];
         }
-        const vf margin = vf_mul(mag, eps);
-        below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
-        above = vm_or(above, vf_gt(lo, margin));
-    }
-    const vf det_margin = vf_mul(det_mag, eps);
-    const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
-    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+    vf entry;
+    return vm_bits(frusta_box(&box, b, dist, active, &entry));
 }
 
 static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
@@ -145,48 +86,22 @@ static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
     return far;
 }
 
-typedef struct mft_entry {
-    const bvh_child *child;
-    uint32_t frusta;
-} mft_entry;
-
 static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bool closest, bvh_counters *counters)
 {
     mft_entry stack[BVH_TRAVERSAL_STACK];
     uint32_t top = 0, alive = frusta;
     vf dist = vf_load(g->dist);
     stack[top++] = (mft_entry){&tree->root, frusta};
-    while (top > 0) {
-        const mft_entry e = stack[--top];
-        vf entry;
-        uint32_t lanes = vm_bits(frusta_box(e.child, g, dist, vm_of_bits(e.frusta & alive), &entry));
-        if (counters) counters->aabb_tests++;
-        const bvh_child *c = e.child;
-        while (lanes && c->count == 0) {
-            const bvh_node *node = &tree->nodes[c->index];
-            vf e0, e1;
-            const vm active = vm_of_bits(lanes);
-            const uint32_t l0 = vm_bits(frusta_box(&node->child[0], g, dist, active, &e0));
-            const uint32_t l1 = vm_bits(frusta_box(&node->child[1], g, dist, active, &e1));
-            if (counters) counters->aabb_tests += 2;
-            if (l0 && l1) {
-                const uint32_t both = l0 & l1;
-                const uint32_t first0 = vm_bits(vm_and(vm_of_bits(both), vf_le(e0, e1)));
-                const int near = __builtin_popcount(first0) * 2 < __builtin_popcount(both);
-                if (top < BVH_TRAVERSAL_STACK) stack[top++] = (mft_entry){&node->child[!near], near ? l0 : l1};
-                c = &node->child[near];
-                lanes = near ? l1 : l0;
-            } else {
-                c = &node->child[l1 != 0];
-                lanes = l0 | l1;
-            }
-        }
-        if (!lanes) continue;
+    uint64_t aabb = 0;
+    const bvh_child *c;
+    uint32_t lanes;
+    while (alive && (c = mft_next_leaf(tree, &g->b, dist, alive, stack, &top, &aabb, &lanes))) {
         uint32_t lowered = 0;
         for (uint32_t i = 0; i < c->count && lanes; i++) {
             const uint32_t rec = c->index + i;
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
-            uint32_t survive = frusta_triangle(&tree->corners[rec], g, vm_of_bits(lanes));
+            uint32_t survive = frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(lanes & ~g->apex));
+            if (lanes & g->apex) survive |= frusta_triangle_box(&tree->corners[rec], &g->b, dist, vm_of_bits(lanes & g->apex));
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
@@ -218,8 +133,8 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
             }
             dist = vf_load(g->dist);
         }
-        if (!alive) break;
     }
+    if (counters) counters->aabb_tests += aabb;
 }
 
 /* Loads frustum f of the group from rays[0 .. count-1]; true when its live
@@ -254,6 +169,43 @@ static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t c
     return common;
 }
 
+/* Frustum f as seen from `apex`, the point every one of its rays heads to
+ * (a point light, bvh_query.toward): origin the apex, directions the
+ * vectors d = ray origin - apex (not unit), t from 0 to 1, so each ray's
+ * segment lies on apex + t d, t in [0, 1], up to rounding: the ray's
+ * direction is the rounded unit vector towards the apex and d is rounded,
+ * which moves its points off that line by a few ulps of the distances and
+ * coordinates involved.  The frustum is tested with boxes grown by 2^-16 of
+ * those magnitudes (bvh_frusta.h, `grow`), far more than the rounding. */
+static void apex_frustum(mft_group *g, uint32_t f, const float apex[3], float org[3][MFT_FRUSTA],
+                         float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear, float grow[MFT_FRUSTA])
+{
+    bool any = false;
+    float size = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        org[k][f] = apex[k];
+        size = fabsf(apex[k]) > size ? fabsf(apex[k]) : size;
+    }
+    for (uint32_t v = 0; v < MFT_VECS; v++) {
+        float o[3][BVH_W];
+        for (int k = 0; k < 3; k++) vf_store(o[k], g->rays[f][v].org[k]);
+        for (uint32_t l = 0; l < BVH_W; l++) {
+            if (!(g->live[f][v] >> l & 1u)) continue;
+            for (int k = 0; k < 3; k++) {
+                const float d = o[k][l] - apex[k];
+                dlo[k][f] = !any || d < dlo[k][f] ? d : dlo[k][f];
+                dhi[k][f] = !any || d > dhi[k][f] ? d : dhi[k][f];
+                size = fabsf(o[k][l]) > size ? fabsf(o[k][l]) : size;
+                size = fabsf(d) > size ? fabsf(d) : size;
+            }
+            any = true;
+        }
+    }
+    *tnear = 0.0f;
+    grow[f] = size * 0x1p-16f;
+    g->apex |= 1u << f;
+}
+
 void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
 {
     const bool closest = q->hits != NULL;
@@ -261,8 +213,9 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
     mft_group g;
     for (size_t first = 0; first < q->count; first += group_rays) {
         float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA], rlo[3][MFT_FRUSTA], rhi[3][MFT_FRUSTA];
-        float tnear[MFT_FRUSTA];
+        float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
         uint32_t frusta = 0;
+        g.apex = 0;
         for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
             const size_t at = first + (size_t)f * MFT_RAYS;
             const size_t n = at < q->count ? (q->count - at < MFT_RAYS ? q->count - at : MFT_RAYS) : 0;
@@ -276,6 +229,11 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
                 frusta |= 1u << f;
                 continue;
             }
+            if (!closest && q->toward) { /* rays to one point: a frustum from that point back to their origins */
+                apex_frustum(&g, f, q->toward, org, dlo, dhi, &tnear[f], grow);
+                frusta |= 1u << f;
+                continue;
+            }
             for (uint32_t v = 0; v < MFT_VECS; v++) /* no common origin: the packet walk */
                 if (g.live[f][v])
                     bvh_trace_packet(tree, &g.rays[f][v], g.live[f][v], closest ? &g.hits[f][v] : NULL,
@@ -284,12 +242,14 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
         for (int k = 0; k < 3; k++)
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) rlo[k][f] = 1.0f / dlo[k][f], rhi[k][f] = 1.0f / dhi[k][f];
         for (int k = 0; k < 3; k++) {
-            g.org[k] = vf_load(org[k]);
-            g.dlo[k] = vf_load(dlo[k]), g.dhi[k] = vf_load(dhi[k]);
-            g.rlo[k] = vf_load(rlo[k]), g.rhi[k] = vf_load(rhi[k]);
+            g.b.org[k] = vf_load(org[k]);
+            g.b.dlo[k] = vf_load(dlo[k]), g.b.dhi[k] = vf_load(dhi[k]);
+            g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
         }
-        g.tnear = vf_load(tnear);
-        for (uint32_t f = 0; f < MFT_FRUSTA; f++) g.dist[f] = frusta >> f & 1u ? frustum_dist(&g, f, false) : -INFINITY;
+        g.b.tnear = vf_load(tnear);
+        g.b.grow = vf_load(grow);
+        for (uint32_t f = 0; f < MFT_FRUSTA; f++)
+            g.dist[f] = !(frusta >> f & 1u) ? -INFINITY : g.apex >> f & 1u ? 1.0f : frustum_dist(&g, f, false);
         if (frusta) trace_frusta(tree, &g, frusta, closest, q->counters);
         for (uint32_t f = 0; f < MFT_FRUSTA; f++)
             for (uint32_t v = 0; v < MFT_VECS; v++) {

@@ -31,6 +31,7 @@
 #include "render_pgrid.h"
 #include "rtt/optimized.h"
 #include "shader_proxy.h"
+#include "sp_frusta.h"
 
 typedef struct render_job {
     const rtt_scene *scene;
@@ -251,16 +252,28 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                    .block_packets = (tile / 2u) * (tile / 2u),
                    .leaf_culling = engine_opt->leaf_culling,
                    .bvh = bvh,
-                   .bvh_kernel = bvh ? bvh_kernel_find(engine_opt->traversal, isa) : NULL},
+                   .bvh_kernel = bvh ? bvh_kernel_find(engine_opt->traversal, isa) : NULL,
+                   .bvh_shadows = bvh ? bvh_shadow_kernel_find(isa) : NULL},
     };
     if (bvh && !job.tracer.bvh_kernel)
         return rtt_error_set(err, "%s: traversal \"%s\" is not a BVH kernel", scene->path, engine_opt->traversal);
     if (engine_opt->accel == RTT_ACCEL_PGRID && job.spp > 1)
         return rtt_error_set(err, "%s: the perspective grid traces one eye ray through each pixel centre: %u samples "
                                   "per pixel need --accel kd or bvh", scene->path, job.spp);
+    if (opt->shadows == RTT_SHADOWS_FRUSTA && !bvh)
+        return rtt_error_set(err, "%s: frusta shadows trace multi-frusta through the BVH: they need --accel bvh",
+                             scene->path);
+    bvh_shadow_sets *frusta_sets = NULL;
+    if (opt->shadows == RTT_SHADOWS_FRUSTA &&
+        !(frusta_sets = sp_frusta_sets_create(scene, opt->shadow_samples)))
+        return rtt_error_set(err, "%s: out of memory in the optimized renderer", scene->path);
+    job.shading.frusta_sets = frusta_sets;
     rtt_shadow_planes planes;
-    if (opt->shadows == RTT_SHADOWS_INTERLEAVED) {
-        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) return false;
+    if (opt->shadows == RTT_SHADOWS_INTERLEAVED || opt->shadows == RTT_SHADOWS_FRUSTA) {
+        if (!rtt_shadow_planes_create(&planes, scene, width, height, err)) {
+            free(frusta_sets);
+            return false;
+        }
         job.shading.planes = &planes;
     }
     const uint32_t threads = rtt_thread_count(opt->threads);
@@ -279,6 +292,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
             pgrid_render_end(&pgrid);
             frame_memory_free(memory);
             if (job.shading.planes) rtt_shadow_planes_free(&planes);
+            free(frusta_sets);
             return false;
         }
     }
@@ -292,6 +306,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         ok = ok && rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
         rtt_shadow_planes_free(&planes);
     }
+    free(frusta_sets);
     if (ok && stats) {
         gather_stats(&job, stats);
         if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;

@@ -43,6 +43,7 @@
 #include <string.h>
 
 #include "engine/clock.h"
+#include "sp_frusta.h"
 #include "sp_scratch.h"
 
 #define SP_SHADOW_CHUNK 8192u /* shadow rays traced per batch */
@@ -50,11 +51,13 @@
 typedef struct sp_light_request {
     rtt_vec3 contribution;
     uint32_t first, rays, auto_clear;
+    uint32_t frustum;               /* frusta:N: its point in sp_frusta.c's batch, or NO_FRUSTUM */
     uint32_t edge;                  /* edgewidth: index of its ray in edge_rays, or NO_EDGE_RAY */
     bool active;                    /* contribution not exactly zero */
 } sp_light_request;
 
 #define NO_EDGE_RAY UINT32_MAX
+#define NO_FRUSTUM UINT32_MAX
 
 /* Traces level d's rays (closest hit) as omni 2x2 packets. */
 static void trace_level(const sp_tracer *tr, sp_scratch *s, uint32_t d)
@@ -101,14 +104,15 @@ static bool is_sampled(rtt_shadow_method m)
 static bool samples_light(const sp_shading *sh, const rtt_light *light)
 {
     if (is_sampled(sh->shadows)) return light->type != RTT_LIGHT_POINT;
-    return sh->shadows == RTT_SHADOWS_INTERLEAVED && rtt_light_has_area(light);
+    return (sh->shadows == RTT_SHADOWS_INTERLEAVED || sh->shadows == RTT_SHADOWS_FRUSTA) && rtt_light_has_area(light);
 }
 
 /* Sample k of n of `light` for the shading point p of pixel `pixel`. */
 static rtt_vec3 sample_point(const sp_shading *sh, const rtt_light *light, const rtt_light_frame *frame, rtt_vec3 p,
                              uint32_t k, uint32_t n, uint32_t pixel)
 {
-    if (sh->shadows != RTT_SHADOWS_INTERLEAVED) return rtt_light_sample(light, p, k, n, pixel);
+    if (sh->shadows != RTT_SHADOWS_INTERLEAVED && sh->shadows != RTT_SHADOWS_FRUSTA)
+        return rtt_light_sample(light, p, k, n, pixel);
     float s[2], xy[2];
     rtt_interleaved_sample(rtt_interleaved_set(pixel % sh->width, pixel / sh->width), k, n, s);
     rtt_light_sample_coords(light, s, xy);
@@ -152,14 +156,16 @@ static void edge_ray(const sp_shading *sh, sp_scratch *s, rtt_vec3 p, uint32_t l
  * node, a packet would hold rays to up to four lights in different places
  * and the frustum kernels could bound nothing (20x slower on a map lit by
  * 64 lights).  A request's rays stay contiguous either way. */
-static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, uint32_t first, uint32_t end,
-                               uint32_t *groups, uint32_t *edges)
+static uint32_t gather_shadows(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t d, uint32_t first,
+                               uint32_t end, uint32_t *groups, uint32_t *edges)
 {
     const rtt_scene *scene = sh->scene;
     const sp_node *nodes = sp_level_nodes(s, d);
     uint32_t *group_first = SP_ARRAY(s->group_first, uint32_t);
     uint32_t rays = 0;
+    const bool hard_frusta = sp_frusta_hard(sh, tr);
     *groups = *edges = 0;
+    s->frusta_count = 0;
     for (uint32_t i = first; i < end; i++) {
         const sp_node *node = &nodes[i];
         if (node->hit.prim == RTT_MISS) continue;
@@ -176,6 +182,7 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
             q->active = false;
             q->first = rays, q->rays = 0, q->auto_clear = 0;
             q->edge = NO_EDGE_RAY;
+            q->frustum = NO_FRUSTUM;
             rtt_vec3 to_light = rtt_v3_sub(light->position, surf->point);
             float distance = rtt_v3_length(to_light);
             if (!(distance > 0.0f)) continue;
@@ -183,7 +190,9 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
             if (q->contribution.x == 0.0f && q->contribution.y == 0.0f && q->contribution.z == 0.0f) continue;
             q->active = true;
             uint32_t n = samples_per_light(sh, light);
-            if (samples_light(sh, light)) {
+            if (sp_frusta_soft(sh, light)) { /* frusta:N: the point, its rays made in the kernel */
+                q->frustum = sp_frusta_push_point(s, sh, l, surf->point, node->pixel);
+            } else if (samples_light(sh, light)) {
                 const rtt_light_frame frame = rtt_light_sample_frame(light, surf->point);
                 for (uint32_t k = 0; k < n; k++)
                     shadow_segment(sh, s, surf->point, sample_point(sh, light, &frame, surf->point, k, n, node->pixel),
@@ -192,6 +201,7 @@ static uint32_t gather_shadows(const sp_shading *sh, sp_scratch *s, uint32_t d, 
                 edge_ray(sh, s, surf->point, l, q, edges);
             } else if (n) {
                 shadow_segment(sh, s, surf->point, light->position, q);
+                if (q->rays && hard_frusta) sp_frusta_note_ray(s, q->first, l, node->pixel);
             }
             if (is_grouped(sh->shadows) && q->rays) group_first[(*groups)++] = q->first;
             rays += q->rays;
@@ -321,7 +331,9 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             if (!q->active) continue;
             float vis = 1.0f;
             uint32_t n = samples_per_light(sh, &scene->lights[l]);
-            if (q->edge != NO_EDGE_RAY) {
+            if (q->frustum != NO_FRUSTUM) {
+                vis = (float)sp_frusta_clear_samples(s, q->frustum, n) / (float)n;
+            } else if (q->edge != NO_EDGE_RAY) {
                 vis = 1.0f - edge_occlusion[q->edge];
             } else if (n && transmission) {
                 float clear = (float)q->auto_clear;
@@ -381,6 +393,8 @@ static bool reserve_chunk(const sp_shading *sh, sp_scratch *s, uint32_t chunk, u
         !SP_RESERVE(s, shadow_rays, rays, rtt_ray) || !SP_RESERVE(s, shadow_clear, rays, uint8_t))
         return false;
     if (is_grouped(sh->shadows) && !SP_RESERVE(s, group_first, requests + 1, uint32_t)) return false;
+    if (sh->shadows == RTT_SHADOWS_FRUSTA && !sp_frusta_begin(s, requests)) return false;
+    if (sh->shadows == RTT_SHADOWS_HARD && !sp_frusta_reserve_rays(s, rays)) return false;
     if (sh->shadows == RTT_SHADOWS_EDGEWIDTH &&
         (!SP_RESERVE(s, edge_rays, requests, rtt_ray) || !SP_RESERVE(s, edge_order, requests, uint32_t) ||
          !SP_RESERVE(s, edge_light, requests, uint32_t) || !SP_RESERVE(s, edge_occlusion, requests, float)))
@@ -400,16 +414,19 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
         uint32_t end = s->levels[d].count - first < chunk ? s->levels[d].count : first + chunk;
         uint64_t t0 = s->timing ? rtt_clock_ns() : 0;
         uint32_t groups, edges;
-        uint32_t rays = gather_shadows(sh, s, d, first, end, &groups, &edges);
+        uint32_t rays = gather_shadows(sh, tr, s, d, first, end, &groups, &edges);
         uint64_t t1 = s->timing ? rtt_clock_ns() : 0;
         if (is_grouped(sh->shadows))
             trace_shadow_groups(sh, tr, s, rays, groups);
+        else if (sp_frusta_hard(sh, tr))
+            sp_frusta_trace_rays(sh, tr, s, rays);
         else
             trace_shadows(tr, s, rays);
+        sp_frusta_trace_points(sh, tr, s);
         trace_edge_rays(sh, tr, s, edges);
         if (sh->transparent_shadows && rays) trace_transparent_shadows(sh, tr, s, rays);
         uint64_t t2 = s->timing ? rtt_clock_ns() : 0;
-        s->stats.shadow_rays += rays + edges;
+        s->stats.shadow_rays += rays + edges + s->frusta_count * sh->shadow_samples;
         resolve_locals(sh, s, d, first, end);
         if (s->failed) return;
         if (s->timing) {

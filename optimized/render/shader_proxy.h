@@ -42,6 +42,7 @@ typedef struct sp_tracer {
      * BVH kernel instead of the kd rows above (tree NULL then) */
     const bvh_tree *bvh;
     const bvh_kernel *bvh_kernel;
+    const bvh_shadow_kernel *bvh_shadows; /* frusta:N's soft-shadow frusta (bvh only) */
 } sp_tracer;
 
 typedef struct sp_shading {
@@ -53,7 +54,8 @@ typedef struct sp_shading {
     bool transparent_shadows;        /* shadow rays pass transparent surfaces (shade.h) */
     rtt_edge_width_model edge_model; /* edgewidth: R, leak fix */
     uint32_t width;                  /* the image's: a pixel's interleaved set from its index */
-    rtt_shadow_planes *planes;       /* interleaved: the primary hits' light terms go here */
+    rtt_shadow_planes *planes;       /* interleaved, frusta: the primary hits' light terms go here */
+    const bvh_shadow_sets *frusta_sets; /* frusta: per light, the sets' domain coordinates (sp_frusta.h) */
 } sp_shading;
 
 /* One traced ray of a pixel's shading tree (80 bytes: levels are arrays of

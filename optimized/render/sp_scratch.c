@@ -24,13 +24,15 @@ sp_scratch *sp_scratch_create(uint32_t level_count, bool timing)
 
 /* Every buffer of a scratch but the levels' nodes, in one list for
  * destroy and match. */
-#define SP_SCRATCH_BUFFERS 15u
+#define SP_SCRATCH_BUFFERS 22u
 static void scratch_buffers(sp_scratch *s, rtt_buffer *out[SP_SCRATCH_BUFFERS])
 {
     rtt_buffer *buffers[SP_SCRATCH_BUFFERS] = {
         &s->packets,      &s->hits,     &s->occluded, &s->primary_lanes, &s->shadow_rays,
         &s->shadow_clear, &s->surfaces, &s->requests, &s->group_first,   &s->edge_rays,
-        &s->edge_order,   &s->edge_light, &s->edge_occlusion, &s->shadow_transmission, &s->shadow_pending};
+        &s->edge_order,   &s->edge_light, &s->edge_occlusion, &s->shadow_transmission, &s->shadow_pending,
+        &s->frusta_points, &s->frusta_light, &s->frusta_pixel, &s->frusta_mask, &s->frusta_order,
+        &s->frusta_sorted, &s->frusta_answer};
     memcpy(out, buffers, sizeof buffers);
 }
 

@@ -38,6 +38,15 @@ struct sp_scratch {
     rtt_buffer edge_order;          /* uint32_t: edge rays sorted by light (one origin per packet) */
     rtt_buffer edge_light;          /* uint32_t */
     rtt_buffer edge_occlusion;      /* float */
+    /* frusta:N and hard shadows through bvh-mft (sp_frusta.c) */
+    rtt_buffer frusta_points;       /* bvh_shadow_point per shading point and light */
+    rtt_buffer frusta_light;        /* uint32_t: its light */
+    rtt_buffer frusta_pixel;        /* uint32_t: its pixel */
+    rtt_buffer frusta_mask;         /* uint32_t: its occluded samples */
+    rtt_buffer frusta_order;        /* sp_frusta.c's sort records */
+    rtt_buffer frusta_sorted;       /* the points or rays in that order */
+    rtt_buffer frusta_answer;       /* the kernel's answers in that order */
+    uint32_t frusta_count;
     bool failed;
     bool timing;
     sp_stats stats;

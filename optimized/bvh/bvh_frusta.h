@@ -1,0 +1,188 @@
+/* What the multi-frusta kernels share (kernel side, one copy per
+ * instruction set): a set of BVH_W frusta, one per SIMD lane, as a common
+ * origin and the box of its rays' directions (Benthin & Wald 2009, 4.1),
+ * the interval test of a box against every frustum at once and the
+ * common-origin Pluecker test of a triangle against every frustum.  Used by
+ * traverse_mft.c (primary rays, hard shadows) and shadow_frusta.c (soft
+ * shadows, frusta:N).  Directions need not be unit: a frustum is the set of
+ * points org + t d, d in [dlo, dhi], t in [tnear, dist]. */
+#ifndef RTT_BVH_FRUSTA_H
+#define RTT_BVH_FRUSTA_H
+
+#include <math.h>
+
+#include "bvh_simd.h"
+#include "bvh_tree.h"
+
+typedef struct mft_bounds {
+    vf org[3];                         /* per frustum: the common origin */
+    vf dlo[3], dhi[3], rlo[3], rhi[3]; /* direction box and its reciprocals */
+    vf tnear;                          /* smallest t of its rays */
+    vf grow;                           /* boxes are tested grown by this much: an origin known to a few ulps */
+} mft_bounds;
+
+static inline vf vf_abs(vf x) { return vf_max(x, vf_sub(vf_set1(0.0f), x)); }
+
+/* The frusta of `active` whose interval bounds enter the box; their entries. */
+static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm active, vf *entry)
+{
+    const vf zero = vf_set1(0.0f), inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
+    vf t0 = g->tnear, t1 = dist;
+    for (int k = 0; k < 3; k++) {
+        const vf p = vf_sub(vf_sub(vf_set1(c->lo[k]), g->org[k]), g->grow);
+        const vf q = vf_add(vf_sub(vf_set1(c->hi[k]), g->org[k]), g->grow);
+        const vf pa = vf_mul(p, g->rlo[k]), pb = vf_mul(p, g->rhi[k]);
+        const vf qa = vf_mul(q, g->rlo[k]), qb = vf_mul(q, g->rhi[k]);
+        const vm positive = vf_gt(g->dlo[k], zero), negative = vf_lt(g->dhi[k], zero);
+        /* the interval contains zero: enter from below only along d > 0, from above only along d < 0 */
+        const vf from_below = vf_blend(vf_gt(g->dhi[k], zero), inf, pb);
+        const vf from_above = vf_blend(vf_lt(g->dlo[k], zero), inf, qa);
+        vf in = vf_blend(vf_lt(q, zero), minus_inf, from_above);
+        in = vf_blend(vf_gt(p, zero), in, from_below);
+        vf out = inf;
+        in = vf_blend(negative, in, vf_min(qa, qb));
+        out = vf_blend(negative, out, vf_max(pa, pb));
+        in = vf_blend(positive, in, vf_min(pa, pb));
+        out = vf_blend(positive, out, vf_max(qa, qb));
+        t0 = vf_max(in, t0);
+        t1 = vf_min(out, t1);
+    }
+    const vf slack = vf_set1(0x1p-20f);
+    t0 = vf_sub(t0, vf_mul(vf_abs(t0), slack));
+    t1 = vf_add(t1, vf_mul(vf_abs(t1), slack));
+    *entry = t0;
+    return vm_and(active, vf_le(t0, t1));
+}
+
+/* The frusta of `active` some of whose directions may cross the triangle
+ * ahead of the origin.  With A, B, C the corners relative to the origin and
+ * D = A . (B x C), a direction d = aA + bB + cC hits ahead iff a, b, c >= 0,
+ * that is iff (B x C).d, (C x A).d and (A x B).d all have the sign of D (the
+ * triangle's orientation as the origin sees it: Benthin & Wald's back-face
+ * test decides which sign the edge tests must have).  A frustum is culled
+ * when over its whole direction box one edge's n.d has the wrong sign; an
+ * origin (nearly) in the triangle's plane culls nothing. */
+static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
+                                               vf corner_grow, vm active)
+{
+    vf rel[3][3];
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+    const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
+    vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
+    vf det = zero, det_mag = zero;
+    for (int e = 0; e < 3; e++) {
+        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
+        const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
+                         vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
+        if (e == 0)
+            for (int k = 0; k < 3; k++) {
+                const vf x = vf_mul(rel[0][k], n[k]);
+                det = vf_add(det, x);
+                det_mag = vf_add(det_mag, vf_abs(x));
+            }
+        vf hi = zero, lo = zero, mag = zero;
+        if (corner) { /* over the cone of four corner directions: n.d at its corners */
+            hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
+            vf spread = zero;
+            for (int k = 0; k < 3; k++) spread = vf_add(spread, vf_abs(n[k]));
+            for (int c = 0; c < 4; c++) {
+                vf dot = zero, m = zero;
+                for (int k = 0; k < 3; k++) {
+                    const vf x = vf_mul(n[k], corner[c][k]);
+                    dot = vf_add(dot, x);
+                    m = vf_add(m, vf_abs(x));
+                }
+                hi = vf_max(dot, hi), lo = vf_min(dot, lo), mag = vf_max(m, mag);
+            }
+            mag = vf_add(mag, vf_div(vf_mul(spread, corner_grow), eps)); /* the corners known to corner_grow */
+        } else { /* over the direction box */
+            for (int k = 0; k < 3; k++) {
+                const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
+                hi = vf_add(hi, vf_max(x, y));
+                lo = vf_add(lo, vf_min(x, y));
+                mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
+            }
+        }
+        const vf margin = vf_mul(mag, eps);
+        below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
+        above = vm_or(above, vf_gt(lo, margin));
+    }
+    const vf det_margin = vf_mul(det_mag, eps);
+    const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+}
+
+static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds *g, vm active)
+{
+    return frusta_triangle_bounded(tri, g, NULL, vf_set1(0.0f), active);
+}
+
+/* The same test over the cone of four corner directions per frustum
+ * (corner[c][axis], each known to within corner_grow per axis): every
+ * direction of the frustum is a positive combination of them (the paper's
+ * corner rays), a tighter bound than their box. */
+static inline uint32_t frusta_triangle_cone(const bvh_corners *tri, const mft_bounds *g, const vf corner[4][3],
+                                            vf corner_grow, vm active)
+{
+    return frusta_triangle_bounded(tri, g, corner, corner_grow, active);
+}
+
+typedef struct mft_entry {
+    const bvh_child *child;
+    uint32_t frusta;
+} mft_entry;
+
+/* From child c with the frusta *lanes that enter it, down to a leaf: per
+ * node both children against every frustum in one pass, the child more
+ * frusta enter first first, the other pushed with its frusta.  Returns the
+ * leaf reached, *lanes its frusta (0: none left, nothing to test). */
+static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child *c, uint32_t *lanes,
+                                           const mft_bounds *b, vf dist, mft_entry *stack, uint32_t *top,
+                                           uint64_t *aabb_tests)
+{
+    uint32_t live = *lanes;
+    while (live && c->count == 0) {
+        const bvh_node *node = &tree->nodes[c->index];
+        vf e0, e1;
+        const vm active = vm_of_bits(live);
+        const uint32_t l0 = vm_bits(frusta_box(&node->child[0], b, dist, active, &e0));
+        const uint32_t l1 = vm_bits(frusta_box(&node->child[1], b, dist, active, &e1));
+        *aabb_tests += 2;
+        if (l0 && l1) {
+            const uint32_t both = l0 & l1;
+            const uint32_t first0 = vm_bits(vm_and(vm_of_bits(both), vf_le(e0, e1)));
+            const int near = __builtin_popcount(first0) * 2 < __builtin_popcount(both);
+            if (*top < BVH_TRAVERSAL_STACK) stack[(*top)++] = (mft_entry){&node->child[!near], near ? l0 : l1};
+            c = &node->child[near];
+            live = near ? l1 : l0;
+        } else {
+            c = &node->child[l1 != 0];
+            live = l0 | l1;
+        }
+    }
+    *lanes = live;
+    return c;
+}
+
+/* The next leaf some frusta of `alive` reach: entries popped off the stack
+ * (each box tested again against the frusta still alive) and descended
+ * from; NULL when the stack is empty.  *lanes: the leaf's frusta. */
+static inline const bvh_child *mft_next_leaf(const bvh_tree *tree, const mft_bounds *b, vf dist, uint32_t alive,
+                                             mft_entry *stack, uint32_t *top, uint64_t *aabb_tests, uint32_t *lanes)
+{
+    while (*top > 0) {
+        const mft_entry e = stack[--*top];
+        vf entry;
+        uint32_t live = vm_bits(frusta_box(e.child, b, dist, vm_of_bits(e.frusta & alive), &entry));
+        ++*aabb_tests;
+        const bvh_child *c = mft_descend(tree, e.child, &live, b, dist, stack, top, aabb_tests);
+        if (live) {
+            *lanes = live;
+            return c;
+        }
+    }
+    return NULL;
+}
+
+#endif

@@ -1,0 +1,208 @@
+/* Benthin & Wald 2009, 4.4-4.5: soft-shadow frusta (--shadows frusta:N).
+ * BVH_W shading points (16 on AVX-512: a 4x4 block of pixels, 8 on AVX2,
+ * 4 on SSE4.1) are traced together, one frustum per SIMD lane: the point's
+ * N interleaved sample rays towards one light (bvh_kernels.h,
+ * bvh_shadow_query).
+ *
+ *  - A frustum's origin is its point (exact: every sample ray starts there);
+ *    its direction box is the box of the four vectors from the point to the
+ *    corners of the set's 2D sample bounds on the light (the paper's
+ *    "tighter bounds based on the axis-aligned bounds (in 2D) of the random
+ *    samples set"), t from 0 to 1.  The map from the light's domain to its
+ *    points is affine, so every target lies in that box up to rounding; the
+ *    box is grown by 2^-16 of the magnitudes involved, far more than the
+ *    rounding of a target or of a ray's unit direction.
+ *  - Per node one pass tests both children's boxes against every frustum
+ *    (bvh_frusta.h: open-ended interval bounds with the zero fix); the
+ *    active-frusta mask travels on the stack.
+ *  - At a leaf, per triangle: the common-origin Pluecker test against every
+ *    active frustum at once over the cone of its four corner rays (the
+ *    vectors to the 2D bounds' corners: every target is a convex
+ *    combination of them; bvh_frusta.h), with a margin for the corners'
+ *    rounding; then, only for the survivors
+ *    (bitscan), the frustum's rays are generated from the point, its light
+ *    frame and the set's domain coordinates (never stored) and tested with
+ *    the projected barycentric test (bvh_isect_wide.h) in packets of
+ *    BVH_W, only the samples not yet occluded.
+ *  - Occlusion bits are packed in a mask per point (N <= 32); a frustum is
+ *    terminated as soon as all its rays are occluded.
+ *
+ * A sample ray is computed with the scalar renderers' operations in their
+ * order (shader_proxy.c's shadow_segment: target, difference, length with
+ * rtt_v3_length's double fallback, direction by one reciprocal), so its
+ * visibility is bit for bit the one bvh-packet gives that ray.  No
+ * frustum shrinking (the paper's 5.3: at most 10%). */
+#include <math.h>
+#include <string.h>
+
+#include "bvh_frusta.h"
+#include "bvh_isa.h"
+#include "bvh_isect_wide.h"
+#include "bvh_kernels.h"
+
+#define SF_FRUSTA BVH_W
+
+typedef struct sf_group {
+    mft_bounds b;
+    vf corner[4][3];                /* per frustum: the vectors to the 2D bounds' corners */
+    vf corner_grow;                 /* how far off they may be per axis (rounding) */
+    const bvh_shadow_point *point[SF_FRUSTA];
+    uint32_t occ[SF_FRUSTA];        /* occluded samples */
+    uint32_t live[SF_FRUSTA];       /* samples with a ray, once known */
+    uint32_t known;                 /* frusta whose live samples are known */
+} sf_group;
+
+static inline vm vf_finite(vf x) { return vf_eq(vf_sub(x, x), vf_set1(0.0f)); }
+
+/* Rays of samples v*BVH_W .. of point pt into r; returns the lanes with a ray. */
+static uint32_t sample_packet(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, uint32_t v, float eps,
+                              bvh_packet *r)
+{
+    const uint32_t first = v * BVH_W, n = sets->samples - first < BVH_W ? sets->samples - first : BVH_W;
+    const vf x = vf_load(&sets->x[pt->set][first]), y = vf_load(&sets->y[pt->set][first]);
+    vf to[3];
+    for (int k = 0; k < 3; k++) {
+        const vf target = vf_add(vf_add(vf_set1(pt->base[k]), vf_mul(vf_set1(pt->du[k]), x)), vf_mul(vf_set1(pt->dv[k]), y));
+        to[k] = vf_sub(target, vf_set1(pt->org[k]));
+    }
+    vf len = vf_sqrt(vf_add(vf_add(vf_mul(to[0], to[0]), vf_mul(to[1], to[1])), vf_mul(to[2], to[2])));
+    const uint32_t plain = vm_bits(vm_and(vf_gt(len, vf_set1(1e-18f)), vf_lt(len, vf_set1(1e18f))));
+    if ((plain & ((1u << n) - 1u)) != ((1u << n) - 1u)) { /* rtt_v3_length's double fallback */
+        float l[BVH_W], t[3][BVH_W];
+        vf_store(l, len);
+        for (int k = 0; k < 3; k++) vf_store(t[k], to[k]);
+        for (uint32_t i = 0; i < n; i++)
+            if (!(plain >> i & 1u))
+                l[i] = (float)sqrt((double)t[0][i] * t[0][i] + (double)t[1][i] * t[1][i] + (double)t[2][i] * t[2][i]);
+        len = vf_load(l);
+    }
+    const vf inv = vf_div(vf_set1(1.0f), len), e = vf_set1(eps);
+    vm ok = vf_gt(len, vf_set1(2.0f * eps));
+    for (int k = 0; k < 3; k++) {
+        r->org[k] = vf_set1(pt->org[k]);
+        r->dir[k] = vf_mul(to[k], inv);
+        ok = vm_and(ok, vm_and(vf_finite(r->dir[k]), vf_finite(r->org[k])));
+    }
+    r->tnear = e;
+    r->tfar = vf_sub(len, e);
+    ok = vm_and(ok, vf_le(r->tnear, r->tfar));
+    /* lanes without a ray answer nothing (bvh_packet.h's inactive lanes) */
+    r->tnear = vf_blend(ok, vf_set1(INFINITY), r->tnear);
+    r->tfar = vf_blend(ok, vf_set1(-INFINITY), r->tfar);
+    return vm_bits(ok) & ((1u << n) - 1u);
+}
+
+/* Frustum f against record rec: its rays not yet occluded; true when all
+ * its rays are occluded (the frustum terminates). */
+static bool frustum_rays(const kd_triangle *tri, sf_group *g, uint32_t f, const bvh_shadow_sets *sets, float eps)
+{
+    const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W, lane_bits = BVH_LANES_ALL;
+    const bool known = g->known >> f & 1u;
+    for (uint32_t v = 0; v < vecs; v++) {
+        const uint32_t shift = v * BVH_W;
+        if (known && ((g->live[f] & ~g->occ[f]) >> shift & lane_bits) == 0) continue;
+        bvh_packet r;
+        const uint32_t live = sample_packet(g->point[f], sets, v, eps, &r);
+        if (!known) g->live[f] |= live << shift;
+        const uint32_t lanes = live & ~(g->occ[f] >> shift);
+        if (lanes) g->occ[f] |= bvh_occluded_projected(tri, &r, vm_of_bits(lanes)) << shift;
+    }
+    g->known |= 1u << f;
+    return (g->live[f] & ~g->occ[f]) == 0;
+}
+
+static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets, float eps,
+                        bvh_counters *counters)
+{
+    mft_entry stack[BVH_TRAVERSAL_STACK];
+    uint32_t top = 0, alive = frusta;
+    const vf dist = vf_set1(1.0f);
+    stack[top++] = (mft_entry){&tree->root, frusta};
+    uint64_t aabb = 0;
+    const bvh_child *c;
+    uint32_t lanes;
+    while (alive && (c = mft_next_leaf(tree, &g->b, dist, alive, stack, &top, &aabb, &lanes))) {
+        for (uint32_t i = 0; lanes && i < c->count; i++) {
+            const uint32_t rec = c->index + i;
+            if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
+            uint32_t survive = frusta_triangle_cone(&tree->corners[rec], &g->b, g->corner, g->corner_grow,
+                                                    vm_of_bits(lanes));
+            while (survive) {
+                const uint32_t f = (uint32_t)__builtin_ctz(survive);
+                survive &= survive - 1u;
+                if (counters) counters->isect_tests++;
+                if (frustum_rays(&tree->triangles[rec], g, f, sets, eps))
+                    alive &= ~(1u << f), lanes &= ~(1u << f); /* the frustum terminates */
+            }
+        }
+    }
+    if (counters) counters->aabb_tests += aabb;
+}
+
+/* Lane f's frustum: the point and the box of the vectors to the corners of
+ * its set's 2D bounds, grown (see the top). */
+static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, float org[3], float dlo[3],
+                           float dhi[3], float corner[4][3], float *grow_out)
+{
+    const float *lo = sets->lo[pt->set], *hi = sets->hi[pt->set];
+    float size = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        org[k] = pt->org[k];
+        dlo[k] = INFINITY, dhi[k] = -INFINITY;
+        const float m = fabsf(pt->base[k]) + fabsf(pt->du[k]) + fabsf(pt->dv[k]) + fabsf(pt->org[k]);
+        size = m > size ? m : size;
+    }
+    for (int c = 0; c < 4; c++) {
+        const float x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
+        for (int k = 0; k < 3; k++) {
+            const float d = ((pt->base[k] + pt->du[k] * x) + pt->dv[k] * y) - pt->org[k];
+            corner[c][k] = d;
+            dlo[k] = d < dlo[k] ? d : dlo[k];
+            dhi[k] = d > dhi[k] ? d : dhi[k];
+            size = fabsf(d) > size ? fabsf(d) : size;
+        }
+    }
+    const float grow = size * 0x1p-16f;
+    for (int k = 0; k < 3; k++) dlo[k] -= grow, dhi[k] += grow;
+    *grow_out = grow;
+}
+
+void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
+{
+    const bvh_shadow_sets *sets = q->sets;
+    for (size_t first = 0; first < q->count; first += SF_FRUSTA) {
+        const uint32_t n = q->count - first < SF_FRUSTA ? (uint32_t)(q->count - first) : SF_FRUSTA;
+        float org[3][SF_FRUSTA], dlo[3][SF_FRUSTA], dhi[3][SF_FRUSTA], rlo[3][SF_FRUSTA], rhi[3][SF_FRUSTA];
+        float corner[4][3][SF_FRUSTA], grow[SF_FRUSTA];
+        sf_group g;
+        g.known = 0;
+        for (uint32_t f = 0; f < SF_FRUSTA; f++) {
+            g.occ[f] = g.live[f] = 0;
+            g.point[f] = f < n ? &q->points[first + f] : NULL;
+            float o[3] = {0.0f, 0.0f, 0.0f}, lo[3] = {1.0f, 1.0f, 1.0f}, hi[3] = {1.0f, 1.0f, 1.0f};
+            float c4[4][3] = {{1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}};
+            grow[f] = 0.0f;
+            if (f < n) frustum_bounds(g.point[f], sets, o, lo, hi, c4, &grow[f]);
+            for (int c = 0; c < 4; c++)
+                for (int k = 0; k < 3; k++) corner[c][k][f] = c4[c][k];
+            for (int k = 0; k < 3; k++) {
+                org[k][f] = o[k], dlo[k][f] = lo[k], dhi[k][f] = hi[k];
+                rlo[k][f] = 1.0f / lo[k], rhi[k][f] = 1.0f / hi[k];
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            g.b.org[k] = vf_load(org[k]);
+            g.b.dlo[k] = vf_load(dlo[k]), g.b.dhi[k] = vf_load(dhi[k]);
+            g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
+        }
+        for (int c = 0; c < 4; c++)
+            for (int k = 0; k < 3; k++) g.corner[c][k] = vf_load(corner[c][k]);
+        g.corner_grow = vf_load(grow);
+        g.b.tnear = vf_set1(0.0f);
+        g.b.grow = vf_set1(0.0f);
+        if (q->counters) q->counters->packets += n;
+        const uint32_t frusta = (uint32_t)((1ull << n) - 1u);
+        if (tree->triangle_count > 0 && sets->samples > 0) trace_group(tree, &g, frusta, sets, q->epsilon, q->counters);
+        for (uint32_t f = 0; f < n; f++) q->occluded[first + f] = g.occ[f] & g.live[f];
+    }
+}
