@@ -166,10 +166,16 @@ static const char *light_source_name(rtt_light_source source)
 
 void cli_print_camera_and_lights(const rtt_scene *s)
 {
+    /* positions in the scene's own coordinates, as the files give them:
+     * with the digits a stored float plus a far origin needs */
+    const int d = s->origin[0] != 0.0 || s->origin[1] != 0.0 || s->origin[2] != 0.0 ? 9 : 6;
     const rtt_camera *c = &s->camera;
-    printf("  camera      eye (%g, %g, %g), look-at (%g, %g, %g), up (%g, %g, %g), fov %g (%s)\n", c->eye.x,
-           c->eye.y, c->eye.z, c->look_at.x, c->look_at.y, c->look_at.z, c->up.x, c->up.y, c->up.z,
-           (double)c->fov_deg, camera_source_name(s->camera_source));
+    double eye[3], at[3];
+    rtt_scene_point_from_stored(s, c->eye, eye);
+    rtt_scene_point_from_stored(s, c->look_at, at);
+    printf("  camera      eye (%.*g, %.*g, %.*g), look-at (%.*g, %.*g, %.*g), up (%g, %g, %g), fov %g (%s)\n", d,
+           eye[0], d, eye[1], d, eye[2], d, at[0], d, at[1], d, at[2], c->up.x, c->up.y, c->up.z, (double)c->fov_deg,
+           camera_source_name(s->camera_source));
     uint32_t spheres = 0, quads = 0;
     for (uint32_t i = 0; i < s->light_count; i++) {
         spheres += s->lights[i].type == RTT_LIGHT_SPHERE;
@@ -179,8 +185,11 @@ void cli_print_camera_and_lights(const rtt_scene *s)
            s->light_count - spheres - quads, light_source_name(s->light_source));
     for (uint32_t i = 0; i < s->light_count && i < LIGHTS_LISTED; i++) {
         const rtt_light *l = &s->lights[i];
-        printf("    %-6s at (%g, %g, %g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
-               l->type == RTT_LIGHT_SPHERE ? "sphere" : l->type == RTT_LIGHT_QUAD ? "quad" : "point", l->position.x, l->position.y, l->position.z,
+        double at[3];
+        rtt_scene_point_from_stored(s, l->position, at);
+        printf("    %-6s at (%.*g, %.*g, %.*g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
+               l->type == RTT_LIGHT_SPHERE ? "sphere" : l->type == RTT_LIGHT_QUAD ? "quad" : "point", d, at[0], d,
+               at[1], d, at[2],
                l->color.x, l->color.y, l->color.z, (double)l->intensity, (double)l->attenuation[0],
                (double)l->attenuation[1], (double)l->attenuation[2]);
         if (l->attenuation_distance > 0.0f) printf(" over %g", (double)l->attenuation_distance);
