@@ -1,5 +1,7 @@
 /* --eye, --look-at, --up, --fov, --view and --lights (camera_options.h). */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -8,23 +10,35 @@
 
 const char *const cli_light_choices[] = {"map", "camera", NULL};
 
-bool cli_parse_vec3(const char *value, void *field, rtt_error *why)
+/* "X,Y,Z" in double, each finite in float too (what a scene can hold). */
+static bool parse_xyz(const char *value, double xyz[3])
 {
-    float xyz[3];
     const char *p = value;
     for (int k = 0; k < 3; k++) {
-        char item[64];
+        char item[64], *end = NULL;
         size_t n = strcspn(p, ",");
-        if (n == 0 || n >= sizeof item || (k < 2 && p[n] != ',') || (k == 2 && p[n] != '\0')) goto bad;
+        if (n == 0 || n >= sizeof item || (k < 2 && p[n] != ',') || (k == 2 && p[n] != '\0')) return false;
         memcpy(item, p, n);
         item[n] = '\0';
-        if (!cli_parse_float(item, &xyz[k])) goto bad;
+        xyz[k] = strtod(item, &end);
+        if (*end || !isfinite(xyz[k]) || !isfinite((float)xyz[k])) return false;
         p += n + (k < 2);
     }
-    *(rtt_vec3 *)field = rtt_v3(xyz[0], xyz[1], xyz[2]);
     return true;
-bad:
-    return rtt_error_set(why, "expected three finite numbers X,Y,Z");
+}
+
+bool cli_parse_vec3(const char *value, void *field, rtt_error *why)
+{
+    double xyz[3];
+    if (!parse_xyz(value, xyz)) return rtt_error_set(why, "expected three finite numbers X,Y,Z");
+    *(rtt_vec3 *)field = rtt_v3((float)xyz[0], (float)xyz[1], (float)xyz[2]);
+    return true;
+}
+
+bool cli_parse_point(const char *value, void *field, rtt_error *why)
+{
+    if (!parse_xyz(value, field)) return rtt_error_set(why, "expected three finite numbers X,Y,Z");
+    return true;
 }
 
 /* "FILE:NAME" splits at its last colon unless FILE:NAME is itself a file. */
@@ -79,21 +93,35 @@ int cli_camera_check(const cli_parsed *parsed, cli_camera_args *camera, const ch
 
 int cli_camera_apply(const cli_parsed *parsed, const cli_camera_args *camera, rtt_scene *scene)
 {
+    /* eye and look-at in the scene's own coordinates, in double, until they
+     * are moved to the stored frame: checked there, where the scene's
+     * precision is */
     rtt_camera c = camera->chosen ? camera->chosen->camera : scene->camera;
+    double eye[3], look_at[3];
+    if (camera->chosen) {
+        memcpy(eye, camera->chosen->eye, sizeof eye);
+        memcpy(look_at, camera->chosen->look_at, sizeof look_at);
+    } else {
+        rtt_scene_point_from_stored(scene, scene->camera.eye, eye);
+        rtt_scene_point_from_stored(scene, scene->camera.look_at, look_at);
+    }
     static const char *const pieces[] = {"--eye", "--look-at", "--up", "--fov"};
     const char *last = NULL;
     for (int i = 0; i < 4; i++)
         if (cli_given(parsed, pieces[i])) last = pieces[i];
-    if (cli_given(parsed, "--eye")) c.eye = camera->eye;
-    if (cli_given(parsed, "--look-at")) c.look_at = camera->look_at;
+    if (cli_given(parsed, "--eye")) memcpy(eye, camera->eye, sizeof eye);
+    if (cli_given(parsed, "--look-at")) memcpy(look_at, camera->look_at, sizeof look_at);
     if (cli_given(parsed, "--up")) c.up = camera->up;
     if (cli_given(parsed, "--fov")) c.fov_deg = camera->fov;
     if (last || camera->chosen) {
         rtt_error why = {{0}};
-        if (!rtt_camera_check(&c, &why))
+        rtt_camera stored = c;
+        stored.eye = rtt_scene_point_to_stored(scene, eye);
+        stored.look_at = rtt_scene_point_to_stored(scene, look_at);
+        if (!rtt_camera_check(&stored, &why))
             return cli_refuse(parsed, last ? last : "--view", "%s%s", why.message,
                               last && !camera->chosen ? " (with the rest of the scene's camera)" : "");
-        rtt_scene_set_camera(scene, &c);
+        rtt_scene_set_camera_at(scene, &c, eye, look_at);
     }
     if (!cli_given(parsed, "--lights")) return CLI_CONTINUE;
     rtt_error err = {{0}};
@@ -138,10 +166,16 @@ static const char *light_source_name(rtt_light_source source)
 
 void cli_print_camera_and_lights(const rtt_scene *s)
 {
+    /* positions in the scene's own coordinates, as the files give them:
+     * with the digits a stored float plus a far origin needs */
+    const int d = s->origin[0] != 0.0 || s->origin[1] != 0.0 || s->origin[2] != 0.0 ? 9 : 6;
     const rtt_camera *c = &s->camera;
-    printf("  camera      eye (%g, %g, %g), look-at (%g, %g, %g), up (%g, %g, %g), fov %g (%s)\n", c->eye.x,
-           c->eye.y, c->eye.z, c->look_at.x, c->look_at.y, c->look_at.z, c->up.x, c->up.y, c->up.z,
-           (double)c->fov_deg, camera_source_name(s->camera_source));
+    double eye[3], at[3];
+    rtt_scene_point_from_stored(s, c->eye, eye);
+    rtt_scene_point_from_stored(s, c->look_at, at);
+    printf("  camera      eye (%.*g, %.*g, %.*g), look-at (%.*g, %.*g, %.*g), up (%g, %g, %g), fov %g (%s)\n", d,
+           eye[0], d, eye[1], d, eye[2], d, at[0], d, at[1], d, at[2], c->up.x, c->up.y, c->up.z, (double)c->fov_deg,
+           camera_source_name(s->camera_source));
     uint32_t spheres = 0, quads = 0;
     for (uint32_t i = 0; i < s->light_count; i++) {
         spheres += s->lights[i].type == RTT_LIGHT_SPHERE;
@@ -151,10 +185,14 @@ void cli_print_camera_and_lights(const rtt_scene *s)
            s->light_count - spheres - quads, light_source_name(s->light_source));
     for (uint32_t i = 0; i < s->light_count && i < LIGHTS_LISTED; i++) {
         const rtt_light *l = &s->lights[i];
-        printf("    %-6s at (%g, %g, %g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
-               l->type == RTT_LIGHT_SPHERE ? "sphere" : l->type == RTT_LIGHT_QUAD ? "quad" : "point", l->position.x, l->position.y, l->position.z,
+        double at[3];
+        rtt_scene_point_from_stored(s, l->position, at);
+        printf("    %-6s at (%.*g, %.*g, %.*g), colour (%g, %g, %g), intensity %g, attenuation [%g, %g, %g]",
+               l->type == RTT_LIGHT_SPHERE ? "sphere" : l->type == RTT_LIGHT_QUAD ? "quad" : "point", d, at[0], d,
+               at[1], d, at[2],
                l->color.x, l->color.y, l->color.z, (double)l->intensity, (double)l->attenuation[0],
                (double)l->attenuation[1], (double)l->attenuation[2]);
+        if (l->attenuation_distance > 0.0f) printf(" over %g", (double)l->attenuation_distance);
         if (l->type == RTT_LIGHT_SPHERE) printf(", radius %g", (double)l->radius);
         if (l->type == RTT_LIGHT_QUAD)
             printf(", edges (%g, %g, %g) and (%g, %g, %g)", l->edge_u.x, l->edge_u.y, l->edge_u.z, l->edge_v.x,

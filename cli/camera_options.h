@@ -15,7 +15,8 @@
 typedef enum cli_lights { CLI_LIGHTS_MAP = 0, CLI_LIGHTS_CAMERA = 1 } cli_lights;
 
 typedef struct cli_camera_args {
-    rtt_vec3 eye, look_at, up;
+    double eye[3], look_at[3]; /* in the scene's own coordinates, in double */
+    rtt_vec3 up;
     float fov;
     const char *view;        /* FILE[:NAME] */
     int lights;              /* cli_lights, when --lights is given */
@@ -25,13 +26,16 @@ typedef struct cli_camera_args {
 } cli_camera_args;
 
 bool cli_parse_vec3(const char *value, void *field, rtt_error *why);
+/* The same into a double[3]: positions keep their precision until the scene
+ * moves them to its stored frame. */
+bool cli_parse_point(const char *value, void *field, rtt_error *why);
 extern const char *const cli_light_choices[];
 
 #define CLI_OPTIONS_CAMERA(type, member)                                                                        \
     {.name = "--eye", .value_name = "X,Y,Z", .help = "the camera's position (default: the scene's camera)",      \
-     .kind = CLI_CUSTOM, CLI_FIELD(type, member.eye), .parse = cli_parse_vec3},                                 \
+     .kind = CLI_CUSTOM, CLI_FIELD(type, member.eye), .parse = cli_parse_point},                                 \
         {.name = "--look-at", .value_name = "X,Y,Z", .help = "the point the camera looks at",                   \
-         .kind = CLI_CUSTOM, CLI_FIELD(type, member.look_at), .parse = cli_parse_vec3},                         \
+         .kind = CLI_CUSTOM, CLI_FIELD(type, member.look_at), .parse = cli_parse_point},                         \
         {.name = "--up", .value_name = "X,Y,Z", .help = "the camera's up direction (default: the scene's)",     \
          .kind = CLI_CUSTOM, CLI_FIELD(type, member.up), .parse = cli_parse_vec3},                              \
         {.name = "--fov", .value_name = "DEG", .help = "vertical field of view, 1 to 179 degrees",              \

@@ -209,11 +209,11 @@ static uint32_t scene_material(import_state *st, unsigned int file_material, rtt
 /* ---- geometry ---- */
 
 /* aiMatrix4x4 is row-major, like transform.h's matrices. */
-static void mat4_from_ai(const struct aiMatrix4x4 *m, float out[16])
+static void mat4_from_ai(const struct aiMatrix4x4 *m, double out[16])
 {
     const ai_real in[16] = {m->a1, m->a2, m->a3, m->a4, m->b1, m->b2, m->b3, m->b4,
                             m->c1, m->c2, m->c3, m->c4, m->d1, m->d2, m->d3, m->d4};
-    for (int i = 0; i < 16; i++) out[i] = (float)in[i];
+    for (int i = 0; i < 16; i++) out[i] = (double)in[i];
 }
 
 static uint64_t mesh_triangle_count(const struct aiMesh *mesh)
@@ -277,7 +277,7 @@ static bool set_texcoords(import_state *st, const struct aiMesh *mesh, uint32_t 
     return ok;
 }
 
-static bool append_mesh(import_state *st, const struct aiMesh *mesh, const float transform[16], rtt_error *err)
+static bool append_mesh(import_state *st, const struct aiMesh *mesh, const double transform[16], rtt_error *err)
 {
     uint64_t triangles = mesh_triangle_count(mesh);
     if (triangles > UINT32_MAX / 3)
@@ -316,11 +316,11 @@ static uint64_t node_triangles(const struct aiScene *ai, const struct aiNode *no
 static uint64_t imported_triangles(const struct aiScene *ai) { return node_triangles(ai, ai->mRootNode, 0); }
 
 /* Depth first: the node's own meshes, then its children, in order. */
-static bool append_node(import_state *st, const struct aiNode *node, const float parent[16], unsigned depth,
+static bool append_node(import_state *st, const struct aiNode *node, const double parent[16], unsigned depth,
                         rtt_error *err)
 {
     if (depth > 1024) return rtt_error_set(err, "%s: node hierarchy deeper than 1024", st->path);
-    float local[16], world[16];
+    double local[16], world[16];
     mat4_from_ai(&node->mTransformation, local);
     rtt_transform_multiply(parent, local, world);
     for (unsigned int i = 0; i < node->mNumMeshes; i++) {
@@ -393,7 +393,7 @@ static bool check_signature(const char *path, rtt_error *err)
     return true;
 }
 
-bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
+bool rtt_import_assimp(rtt_scene *scene, const char *path, const double transform[16], uint32_t material_override,
                        rtt_error *err)
 {
     if (!check_file(path, err) || !check_signature(path, err)) return false;
@@ -428,7 +428,7 @@ bool rtt_import_assimp(rtt_scene *scene, const char *path, const float transform
         return rtt_error_set(err, "%s: out of memory", path);
     }
     for (unsigned int i = 0; i < ai->mNumMaterials; i++) st.material_map[i] = UINT32_MAX;
-    static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const uint32_t triangles_before = scene->triangle_count;
     bool ok = append_node(&st, ai->mRootNode, transform ? transform : identity, 0, err);
     if (ok && scene->triangle_count == triangles_before) ok = rtt_error_set(err, "%s: the file has no triangles", path);

@@ -530,7 +530,7 @@ static const char *base_name(const char *path)
     return slash ? slash + 1 : path;
 }
 
-bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const float transform[16], uint32_t material_override,
+bool rtt_import_q3bsp(rtt_scene *scene, const char *path, const double transform[16], uint32_t material_override,
                       uint32_t bezier_level, rtt_error *err)
 {
     bsp_map map = {.path = path, .level = bezier_level ? bezier_level : RTT_DEFAULT_BEZIER_LEVEL};

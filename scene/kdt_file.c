@@ -9,6 +9,7 @@
  * (whose sizes were checked against the file) and one byte per node for the
  * structure check. */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,6 +44,26 @@ typedef struct kdt_writer {
     uint64_t position, hash;
     bool ok;
 } kdt_writer;
+
+/* kdt_light has no attenuation distance: it is folded into the
+ * coefficients (l / D, q / D^2), which must stay finite and non-zero where
+ * they were (rtt_kdt_write refuses the light otherwise). */
+static void kdt_light_attenuation(const rtt_light *l, float out[3])
+{
+    const double d = l->attenuation_distance > 0.0f ? l->attenuation_distance : 1.0;
+    out[0] = l->attenuation[0];
+    out[1] = (float)(l->attenuation[1] / d);
+    out[2] = (float)(l->attenuation[2] / (d * d));
+}
+
+static bool kdt_light_attenuation_fits(const rtt_light *l)
+{
+    float a[3];
+    kdt_light_attenuation(l, a);
+    for (int i = 1; i < 3; i++)
+        if (!isfinite(a[i]) || (l->attenuation[i] > 0.0f && !(a[i] >= FLT_MIN))) return false;
+    return true;
+}
 
 static void emit(kdt_writer *w, const void *data, size_t size)
 {
@@ -134,11 +155,13 @@ static void emit_scene_sections(kdt_writer *w, const rtt_scene *s, const kdt_sec
     emit_padding(w, table[KDT_SECTION_LIGHTS].offset);
     for (uint32_t i = 0; i < s->light_count; i++) {
         const rtt_light *l = &s->lights[i];
+        float attenuation[3];
+        kdt_light_attenuation(l, attenuation);
         kdt_light k = {.type = (uint32_t)l->type,
                        .position = {l->position.x, l->position.y, l->position.z},
                        .color = {l->color.x, l->color.y, l->color.z},
                        .intensity = l->intensity,
-                       .attenuation = {l->attenuation[0], l->attenuation[1], l->attenuation[2]},
+                       .attenuation = {attenuation[0], attenuation[1], attenuation[2]},
                        .radius = l->radius};
         emit(w, &k, sizeof k);
     }
@@ -189,6 +212,11 @@ bool rtt_kdt_write(const char *path, const rtt_scene *scene, const rtt_baked_tre
         if (scene->lights[i].type == RTT_LIGHT_QUAD)
             return rtt_error_set(err, "%s: light %u is a quad light: the .kdt format stores point and sphere lights only",
                                  scene->path, i);
+    for (uint32_t i = 0; i < scene->light_count; i++)
+        if (!kdt_light_attenuation_fits(&scene->lights[i]))
+            return rtt_error_set(err, "%s: light %u: its fall-off over attenuation_distance %g does not fit the .kdt "
+                                      "format's coefficients per unit length (render the scene file itself)",
+                                 scene->path, i, (double)scene->lights[i].attenuation_distance);
     kdt_section table[KDT_SECTION_COUNT];
     const uint64_t file_size = layout_sections(scene, tree, table);
     kdt_header header;

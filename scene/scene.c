@@ -49,6 +49,13 @@ rtt_material rtt_material_default(void)
 typedef struct scene_builder {
     rtt_scene scene;
     double *exact;      /* 3 per vertex; NULL once finished (or for a .kdt) */
+    /* the positions of the lights and of the file's camera the loaders gave,
+     * in the scene's own coordinates, in double, until finish moves them */
+    double *light_exact;          /* 3 per light */
+    uint32_t light_exact_count;   /* lights light_exact covers */
+    bool camera_exact_given;
+    double camera_exact[2][3];    /* eye, look_at */
+    bool centred;                 /* finish has moved everything to the stored frame */
 } scene_builder;
 
 static scene_builder *builder_of(rtt_scene *scene) { return (scene_builder *)scene; }
@@ -83,6 +90,7 @@ void rtt_scene_free(rtt_scene *scene)
     free(scene->lights);
     rtt_scene_textures_free(scene);
     free(builder_of(scene)->exact);
+    free(builder_of(scene)->light_exact);
     free(builder_of(scene));
 }
 
@@ -109,13 +117,41 @@ uint32_t rtt_scene_add_material(rtt_scene *scene, const rtt_material *material)
     return scene->material_count++;
 }
 
-bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *err)
+bool rtt_scene_add_light_at(rtt_scene *scene, const rtt_light *light, const double position[3], rtt_error *err)
 {
+    scene_builder *builder = builder_of(scene);
     rtt_light *p = realloc(scene->lights, ((size_t)scene->light_count + 1) * sizeof *p);
     if (!p) return rtt_error_set(err, "%s: out of memory for lights", scene->path);
     scene->lights = p;
-    scene->lights[scene->light_count++] = *light;
+    if (!builder->centred) { /* before finish: kept in double until the scene is centred */
+        double *exact = realloc(builder->light_exact, 3 * ((size_t)scene->light_count + 1) * sizeof *exact);
+        if (!exact) return rtt_error_set(err, "%s: out of memory for lights", scene->path);
+        builder->light_exact = exact;
+        memcpy(&exact[3 * (size_t)scene->light_count], position, 3 * sizeof *exact);
+        builder->light_exact_count = scene->light_count + 1;
+    }
+    scene->lights[scene->light_count] = *light;
+    scene->lights[scene->light_count].position = rtt_v3((float)position[0], (float)position[1], (float)position[2]);
+    scene->light_count++;
     return true;
+}
+
+bool rtt_scene_add_light(rtt_scene *scene, const rtt_light *light, rtt_error *err)
+{
+    const double position[3] = {light->position.x, light->position.y, light->position.z};
+    return rtt_scene_add_light_at(scene, light, position, err);
+}
+
+void rtt_scene_set_file_camera(rtt_scene *scene, const rtt_camera *camera, const double eye[3],
+                               const double look_at[3])
+{
+    scene_builder *builder = builder_of(scene);
+    scene->camera = *camera;
+    scene->camera.eye = rtt_v3((float)eye[0], (float)eye[1], (float)eye[2]);
+    scene->camera.look_at = rtt_v3((float)look_at[0], (float)look_at[1], (float)look_at[2]);
+    memcpy(builder->camera_exact[0], eye, sizeof builder->camera_exact[0]);
+    memcpy(builder->camera_exact[1], look_at, sizeof builder->camera_exact[1]);
+    builder->camera_exact_given = true;
 }
 
 /* Capacities of the growing geometry arrays live beside the counts: the
@@ -131,7 +167,7 @@ static bool resize(void **array, size_t count, size_t size)
 }
 
 static bool check_mesh_input(const rtt_scene *scene, const char *source, const rtt_vec3 *positions,
-                             uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
+                             const double *exact_positions, uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count,
                              const uint32_t *triangle_materials, uint32_t material, rtt_error *err)
 {
     if ((uint64_t)scene->triangle_count + triangle_count > SCENE_MAX_TRIANGLES)
@@ -139,7 +175,9 @@ static bool check_mesh_input(const rtt_scene *scene, const char *source, const r
     if ((uint64_t)scene->vertex_count + vertex_count > SCENE_MAX_VERTICES)
         return rtt_error_set(err, "%s: too many vertices (the limit is %u)", source, SCENE_MAX_VERTICES);
     for (uint32_t i = 0; i < vertex_count; i++)
-        if (!rtt_v3_is_finite(positions[i]))
+        if (positions ? !rtt_v3_is_finite(positions[i])
+                      : !(isfinite(exact_positions[3 * (size_t)i]) && isfinite(exact_positions[3 * (size_t)i + 1]) &&
+                          isfinite(exact_positions[3 * (size_t)i + 2])))
             return rtt_error_set(err, "%s: vertex %u has a NaN or infinite coordinate", source, i);
     for (uint32_t f = 0; f < triangle_count; f++)
         for (int k = 0; k < 3; k++)
@@ -155,13 +193,15 @@ static bool check_mesh_input(const rtt_scene *scene, const char *source, const r
     return true;
 }
 
-bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, const rtt_vec3 *positions,
-                        const rtt_vec3 *normals, uint32_t vertex_count, const uint32_t *indices,
-                        uint32_t triangle_count, const uint32_t *triangle_materials, uint32_t material,
-                        const float transform[16], rtt_error *err)
+/* rtt_scene_add_mesh and rtt_scene_add_mesh_exact: positions in float, or
+ * exact_positions (3 doubles per vertex) when positions is NULL. */
+static bool add_mesh(rtt_scene *scene, const char *source, const char *name, const rtt_vec3 *positions,
+                     const double *exact_positions, const rtt_vec3 *normals, uint32_t vertex_count,
+                     const uint32_t *indices, uint32_t triangle_count, const uint32_t *triangle_materials,
+                     uint32_t material, const double transform[16], rtt_error *err)
 {
-    if (!check_mesh_input(scene, source, positions, vertex_count, indices, triangle_count, triangle_materials,
-                          material, err))
+    if (!check_mesh_input(scene, source, positions, exact_positions, vertex_count, indices, triangle_count,
+                          triangle_materials, material, err))
         return false;
     const uint32_t v0 = scene->vertex_count, t0 = scene->triangle_count;
     const size_t vertices = (size_t)v0 + vertex_count, triangles = (size_t)t0 + triangle_count;
@@ -178,11 +218,16 @@ bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, 
     if (!resize((void **)&builder->exact, 3 * vertices, sizeof *builder->exact))
         return rtt_error_set(err, "%s: out of memory for %u triangles", source, triangle_count);
     for (uint32_t i = 0; i < vertex_count; i++) {
-        double *p = &builder->exact[3 * ((size_t)v0 + i)];
-        if (transform) {
-            rtt_transform_point_exact(transform, positions[i], p);
+        double *p = &builder->exact[3 * ((size_t)v0 + i)], given[3];
+        if (positions) {
+            given[0] = positions[i].x, given[1] = positions[i].y, given[2] = positions[i].z;
         } else {
-            p[0] = positions[i].x, p[1] = positions[i].y, p[2] = positions[i].z;
+            memcpy(given, &exact_positions[3 * (size_t)i], sizeof given);
+        }
+        if (transform) {
+            rtt_transform_point_exact(transform, given, p);
+        } else {
+            memcpy(p, given, sizeof given);
         }
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]) || fabs(p[0]) > FLT_MAX || fabs(p[1]) > FLT_MAX ||
             fabs(p[2]) > FLT_MAX)
@@ -211,6 +256,24 @@ bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, 
     scene->vertex_count = (uint32_t)vertices;
     scene->triangle_count = (uint32_t)triangles;
     return true;
+}
+
+bool rtt_scene_add_mesh(rtt_scene *scene, const char *source, const char *name, const rtt_vec3 *positions,
+                        const rtt_vec3 *normals, uint32_t vertex_count, const uint32_t *indices,
+                        uint32_t triangle_count, const uint32_t *triangle_materials, uint32_t material,
+                        const double transform[16], rtt_error *err)
+{
+    return add_mesh(scene, source, name, positions, NULL, normals, vertex_count, indices, triangle_count,
+                    triangle_materials, material, transform, err);
+}
+
+bool rtt_scene_add_mesh_exact(rtt_scene *scene, const char *source, const char *name, const double *positions,
+                              const rtt_vec3 *normals, uint32_t vertex_count, const uint32_t *indices,
+                              uint32_t triangle_count, uint32_t material, const double transform[16],
+                              rtt_error *err)
+{
+    return add_mesh(scene, source, name, NULL, positions, normals, vertex_count, indices, triangle_count, NULL,
+                    material, transform, err);
 }
 
 bool rtt_triangle_is_degenerate(const rtt_vec3 tri[3])
@@ -386,18 +449,13 @@ static bool exact_triangle_is_degenerate(const double *exact, const rtt_triangle
            e1[0] * e2[1] - e1[1] * e2[0] == 0.0;
 }
 
-static rtt_vec3 moved(const rtt_scene *scene, rtt_vec3 p)
-{
-    const double d[3] = {p.x, p.y, p.z};
-    return rtt_scene_point_to_stored(scene, d);
-}
-
 /* Stores the vertices in float relative to the centre of their bounds
  * (computed in double) and moves the camera and the lights the files gave
  * along; counts the triangles that collapse on the way. */
 static void centre_scene(rtt_scene *scene)
 {
     scene_builder *builder = builder_of(scene);
+    builder->centred = true;
     if (!builder->exact) return; /* a .kdt: stored coordinates and origin come from the file */
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t t = 0; t < scene->triangle_count; t++)
@@ -429,13 +487,27 @@ static void centre_scene(rtt_scene *scene)
         scene->collapsed_count += rtt_triangle_is_degenerate(tri) &&
                                   !exact_triangle_is_degenerate(builder->exact, &scene->triangles[t]);
     }
-    if (has_camera(scene)) {
-        scene->camera.eye = moved(scene, scene->camera.eye);
-        scene->camera.look_at = moved(scene, scene->camera.look_at);
+    if (has_camera(scene) && !builder->camera_exact_given) { /* a loader set it in float (a map's entities) */
+        const rtt_camera *c = &scene->camera;
+        const double eye[3] = {c->eye.x, c->eye.y, c->eye.z}, look_at[3] = {c->look_at.x, c->look_at.y, c->look_at.z};
+        memcpy(builder->camera_exact[0], eye, sizeof eye);
+        memcpy(builder->camera_exact[1], look_at, sizeof look_at);
     }
-    for (uint32_t l = 0; l < scene->light_count; l++) scene->lights[l].position = moved(scene, scene->lights[l].position);
+    if (has_camera(scene)) {
+        scene->camera.eye = rtt_scene_point_to_stored(scene, builder->camera_exact[0]);
+        scene->camera.look_at = rtt_scene_point_to_stored(scene, builder->camera_exact[1]);
+    }
+    for (uint32_t l = 0; l < scene->light_count; l++) {
+        const rtt_vec3 p = scene->lights[l].position;
+        const double given[3] = {p.x, p.y, p.z};
+        scene->lights[l].position =
+            rtt_scene_point_to_stored(scene, l < builder->light_exact_count ? &builder->light_exact[3 * (size_t)l] : given);
+    }
     free(builder->exact);
     builder->exact = NULL;
+    free(builder->light_exact);
+    builder->light_exact = NULL;
+    builder->light_exact_count = 0;
 }
 
 bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)

@@ -112,6 +112,19 @@ bool rtt_schema_read_vec3(rtt_schema_parser *p, const cJSON *v, const rtt_json_p
     return true;
 }
 
+bool rtt_schema_read_point(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double out[3])
+{
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3)
+        return rtt_schema_fail(p, at, " must be an array of 3 finite numbers");
+    int i = 0;
+    for (const cJSON *c = v->child; c; c = c->next, i++) {
+        if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble) || !isfinite((float)c->valuedouble))
+            return rtt_schema_fail(p, at, " must be an array of 3 finite numbers");
+        out[i] = c->valuedouble;
+    }
+    return true;
+}
+
 bool rtt_schema_read_color(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out)
 {
     if (!rtt_schema_read_vec3(p, v, at, out) || out->x < 0.0f || out->y < 0.0f || out->z < 0.0f)
@@ -138,7 +151,8 @@ static bool parse_image(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     return true;
 }
 
-bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out)
+bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out,
+                             double eye_out[3], double look_at_out[3])
 {
     static const char *const keys[] = {"eye", "look_at", "up", "fov", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
@@ -148,12 +162,18 @@ bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_j
                 *look = rtt_schema_member(obj, place, "look_at", &look_at);
     if (!eye) return rtt_schema_fail(p, place, ": missing \"eye\"");
     if (!look) return rtt_schema_fail(p, place, ": missing \"look_at\"");
-    if (!rtt_schema_read_vec3(p, eye, &eye_at, &cam.eye) || !rtt_schema_read_vec3(p, look, &look_at, &cam.look_at))
-        return false;
+    double e[3], l[3];
+    if (!rtt_schema_read_point(p, eye, &eye_at, e) || !rtt_schema_read_point(p, look, &look_at, l)) return false;
+    cam.eye = rtt_v3((float)e[0], (float)e[1], (float)e[2]);
+    cam.look_at = rtt_v3((float)l[0], (float)l[1], (float)l[2]);
     RTT_SCHEMA_OPTIONAL(obj, place, "fov", rtt_schema_read_number(p, v, at, 1, 179, &cam.fov_deg));
     const cJSON *up = rtt_schema_member(obj, place, "up", &up_at);
     if (up && !rtt_schema_read_vec3(p, up, &up_at, &cam.up)) return false;
-    rtt_vec3 view = rtt_v3_sub(cam.look_at, cam.eye);
+    /* the view direction in double: eye and look_at 1e7 from the origin may
+     * round to one float and still be apart */
+    const double d[3] = {l[0] - e[0], l[1] - e[1], l[2] - e[2]};
+    const double dl = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
+    rtt_vec3 view = dl > 0.0 ? rtt_v3((float)(d[0] / dl), (float)(d[1] / dl), (float)(d[2] / dl)) : rtt_v3(0, 0, 0);
     if (rtt_v3_length(view) == 0.0f) return rtt_schema_fail(p, &look_at, " must differ from camera.eye");
     rtt_vec3 side = rtt_v3_cross(rtt_v3_normalize(view), rtt_v3_normalize(cam.up));
     if (!(rtt_v3_length(side) > 1e-6f))
@@ -161,6 +181,8 @@ bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_j
                                up ? " must not be zero or parallel to the view direction"
                                   : ": the view direction is parallel to the default up [0, 1, 0]; give \"up\"");
     *out = cam;
+    memcpy(eye_out, e, sizeof e);
+    memcpy(look_at_out, l, sizeof l);
     return true;
 }
 
@@ -286,8 +308,8 @@ static bool parse_quad_edges(rtt_schema_parser *p, const cJSON *obj, const rtt_j
 
 static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place)
 {
-    static const char *const keys[] = {"type",        "position", "color",  "intensity",
-                                       "attenuation", "radius",   "edge_u", "edge_v", NULL};
+    static const char *const keys[] = {"type",   "position", "color",  "intensity", "attenuation",
+                                       "attenuation_distance", "radius", "edge_u", "edge_v", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
     rtt_light light = {.type = RTT_LIGHT_POINT, .color = rtt_v3(1, 1, 1), .intensity = 1.0f,
                        .attenuation = {1.0f, 0.0f, 0.0f}};
@@ -303,10 +325,14 @@ static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     }
     const cJSON *position = rtt_schema_member(obj, place, "position", &at);
     if (!position) return rtt_schema_fail(p, place, ": missing \"position\"");
-    if (!rtt_schema_read_vec3(p, position, &at, &light.position)) return false;
+    double exact[3];
+    if (!rtt_schema_read_point(p, position, &at, exact)) return false;
+    light.position = rtt_v3((float)exact[0], (float)exact[1], (float)exact[2]);
     RTT_SCHEMA_OPTIONAL(obj, place, "color", rtt_schema_read_color(p, v, at, &light.color));
     RTT_SCHEMA_OPTIONAL(obj, place, "intensity", rtt_schema_read_nonneg(p, v, at, false, &light.intensity));
     RTT_SCHEMA_OPTIONAL(obj, place, "attenuation", rtt_schema_read_attenuation(p, v, at, light.attenuation));
+    RTT_SCHEMA_OPTIONAL(obj, place, "attenuation_distance",
+                        rtt_schema_read_nonneg(p, v, at, true, &light.attenuation_distance));
     const cJSON *radius = rtt_schema_member(obj, place, "radius", &at);
     if (light.type != RTT_LIGHT_SPHERE && radius) return rtt_schema_fail(p, &at, " is only for sphere lights");
     if (light.type == RTT_LIGHT_SPHERE && !radius)
@@ -314,7 +340,8 @@ static bool parse_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     if (radius && !rtt_schema_read_nonneg(p, radius, &at, true, &light.radius)) return false;
     if (!parse_quad_edges(p, obj, place, &light)) return false;
     rtt_error inner;
-    if (!rtt_scene_add_light(p->scene, &light, &inner)) return rtt_schema_fail(p, place, ": %s", inner.message);
+    if (!rtt_scene_add_light_at(p->scene, &light, exact, &inner))
+        return rtt_schema_fail(p, place, ": %s", inner.message);
     return true;
 }
 
@@ -343,6 +370,7 @@ static bool parse_root(rtt_schema_parser *p, const cJSON *root)
     static const char *const keys[] = {"camera", "image",     "background", "ambient", "max_bounces",
                                        "bezier_level", "materials", "lights", "meshes", NULL};
     const rtt_json_place place = {NULL, NULL, -1};
+    rtt_json_place camera_at;
     if (!cJSON_IsObject(root)) return rtt_schema_fail(p, &place, ": the scene must be a JSON object");
     if (!rtt_schema_check_object(p, root, &place, keys)) return false;
     rtt_scene *s = p->scene;
@@ -353,7 +381,11 @@ static bool parse_root(rtt_schema_parser *p, const cJSON *root)
     s->background = rtt_v3(0, 0, 0);
     uint32_t bezier_level = RTT_DEFAULT_BEZIER_LEVEL;
     RTT_SCHEMA_OPTIONAL(root, &place, "image", parse_image(p, v, at));
-    RTT_SCHEMA_OPTIONAL(root, &place, "camera", rtt_schema_parse_camera(p, v, at, &s->camera));
+    const cJSON *camera = rtt_schema_member(root, &place, "camera", &camera_at);
+    rtt_camera file_camera;
+    double eye[3], look_at[3];
+    if (camera && !rtt_schema_parse_camera(p, camera, &camera_at, &file_camera, eye, look_at)) return false;
+    if (camera) rtt_scene_set_file_camera(s, &file_camera, eye, look_at);
     RTT_SCHEMA_OPTIONAL(root, &place, "background", rtt_schema_read_color(p, v, at, &s->background));
     RTT_SCHEMA_OPTIONAL(root, &place, "ambient", rtt_schema_read_number(p, v, at, 0, 1, &s->ambient));
     RTT_SCHEMA_OPTIONAL(root, &place, "max_bounces",

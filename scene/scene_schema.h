@@ -45,6 +45,9 @@ bool rtt_schema_read_nonneg(rtt_schema_parser *p, const cJSON *v, const rtt_json
 bool rtt_schema_read_uint(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
                           uint32_t *out);
 bool rtt_schema_read_vec3(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out);
+/* A position (or a transform's part) in double, each within float's range:
+ * positions stay in double until the scene is centred. */
+bool rtt_schema_read_point(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double out[3]);
 /* A number in [lo, hi]; a colour: three non-negative numbers. */
 bool rtt_schema_read_number(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double lo, double hi,
                             float *out);
@@ -53,9 +56,11 @@ bool rtt_schema_read_color(rtt_schema_parser *p, const cJSON *v, const rtt_json_
 bool rtt_schema_read_attenuation(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, float out[3]);
 bool rtt_schema_read_name(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, char out[64]);
 
-/* A "camera" object (eye, look_at, up, fov) into *out: the scene file's and
- * the views file's (views.c). */
-bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out);
+/* A "camera" object (eye, look_at, up, fov) into *out, with eye and look_at
+ * in double too (out's are them rounded to float): the scene file's and the
+ * views file's (views.c). */
+bool rtt_schema_parse_camera(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_camera *out,
+                             double eye[3], double look_at[3]);
 
 /* The index of the scene material named by the string v. */
 bool rtt_schema_material_index(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, uint32_t *out);

@@ -21,24 +21,24 @@
 #include "transform.h"
 
 /* transform = T * Rz * Ry * Rx * S (scene/README.md). */
-static bool parse_transform(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, float out[16])
+static bool parse_transform(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, double out[16])
 {
     static const char *const keys[] = {"scale", "rotate_deg", "translate", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
-    rtt_vec3 scale = rtt_v3(1, 1, 1), rotate = rtt_v3(0, 0, 0), translate = rtt_v3(0, 0, 0);
+    double scale[3] = {1, 1, 1}, rotate[3] = {0, 0, 0}, translate[3] = {0, 0, 0};
     rtt_json_place at;
     const cJSON *s = rtt_schema_member(obj, place, "scale", &at);
     if (s && cJSON_IsNumber(s)) {
-        float k = (float)s->valuedouble;
-        if (!isfinite(k) || k == 0.0f)
+        double k = s->valuedouble;
+        if (!isfinite((float)k) || (float)k == 0.0f)
             return rtt_schema_fail(p, &at, " must be a non-zero number or an array of 3 non-zero numbers");
-        scale = rtt_v3(k, k, k);
-    } else if (s && (!rtt_schema_read_vec3(p, s, &at, &scale) || scale.x == 0.0f || scale.y == 0.0f ||
-                     scale.z == 0.0f)) {
+        scale[0] = scale[1] = scale[2] = k;
+    } else if (s && (!rtt_schema_read_point(p, s, &at, scale) || (float)scale[0] == 0.0f ||
+                     (float)scale[1] == 0.0f || (float)scale[2] == 0.0f)) {
         return rtt_schema_fail(p, &at, " must be a non-zero number or an array of 3 non-zero numbers");
     }
-    RTT_SCHEMA_OPTIONAL(obj, place, "rotate_deg", rtt_schema_read_vec3(p, v, at, &rotate));
-    RTT_SCHEMA_OPTIONAL(obj, place, "translate", rtt_schema_read_vec3(p, v, at, &translate));
+    RTT_SCHEMA_OPTIONAL(obj, place, "rotate_deg", rtt_schema_read_point(p, v, at, rotate));
+    RTT_SCHEMA_OPTIONAL(obj, place, "translate", rtt_schema_read_point(p, v, at, translate));
     rtt_transform_compose(scale, rotate, translate, out);
     return true;
 }
@@ -60,17 +60,23 @@ static bool default_material(rtt_schema_parser *p, const rtt_json_place *place, 
 typedef struct mesh_target {
     const char *name;
     uint32_t material;
-    const float *transform;
+    const double *transform;
 } mesh_target;
 
+/* positions in float (shapes), or exact_positions in double (3 per vertex:
+ * inline vertices) when positions is NULL */
 static bool add_mesh(rtt_schema_parser *p, const rtt_json_place *place, const mesh_target *target,
-                     const rtt_vec3 *positions, const rtt_vec3 *normals, uint32_t vertex_count,
-                     const uint32_t *indices, uint32_t triangle_count)
+                     const rtt_vec3 *positions, const double *exact_positions, const rtt_vec3 *normals,
+                     uint32_t vertex_count, const uint32_t *indices, uint32_t triangle_count)
 {
     rtt_error inner;
-    if (!rtt_scene_add_mesh(p->scene, p->src.path, target->name, positions, normals, vertex_count, indices,
-                            triangle_count, NULL, target->material, target->transform, &inner))
-        return rtt_schema_fail(p, place, ": %s", inner.message);
+    bool ok = positions ? rtt_scene_add_mesh(p->scene, p->src.path, target->name, positions, normals, vertex_count,
+                                             indices, triangle_count, NULL, target->material, target->transform,
+                                             &inner)
+                        : rtt_scene_add_mesh_exact(p->scene, p->src.path, target->name, exact_positions, normals,
+                                                   vertex_count, indices, triangle_count, target->material,
+                                                   target->transform, &inner);
+    if (!ok) return rtt_schema_fail(p, place, ": %s", inner.message);
     return true;
 }
 
@@ -180,7 +186,7 @@ static bool parse_shape(rtt_schema_parser *p, const cJSON *obj, const rtt_json_p
     if (!build_shape(p, obj, place, type->valuestring, &mesh)) return false;
     mesh_target named = *target;
     if (!named.name) named.name = type->valuestring;
-    bool ok = add_mesh(p, place, &named, mesh.positions, mesh.normals, mesh.vertex_count, mesh.indices,
+    bool ok = add_mesh(p, place, &named, mesh.positions, NULL, mesh.normals, mesh.vertex_count, mesh.indices,
                        mesh.triangle_count);
     rtt_shape_mesh_free(&mesh);
     return ok;
@@ -199,6 +205,22 @@ static bool read_points(rtt_schema_parser *p, const cJSON *v, const rtt_json_pla
     for (const cJSON *c = v->child; c; c = c->next, i++) {
         rtt_json_place e = rtt_json_element(at, i);
         if (!rtt_schema_read_vec3(p, c, &e, &(*out)[i])) return false;
+    }
+    return true;
+}
+
+/* "vertices": the same in double, 3 per point, as the file gives them. */
+static bool read_exact_points(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, double **out,
+                              uint32_t *n)
+{
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) == 0)
+        return rtt_schema_fail(p, at, " must be a non-empty array of points");
+    *n = (uint32_t)cJSON_GetArraySize(v);
+    if (!(*out = malloc(3 * sizeof **out * *n))) return rtt_schema_fail(p, at, ": out of memory");
+    int i = 0;
+    for (const cJSON *c = v->child; c; c = c->next, i++) {
+        rtt_json_place e = rtt_json_element(at, i);
+        if (!rtt_schema_read_point(p, c, &e, &(*out)[3 * (size_t)i])) return false;
     }
     return true;
 }
@@ -231,11 +253,12 @@ static bool read_triangles(rtt_schema_parser *p, const cJSON *v, const rtt_json_
 static bool parse_inline(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place,
                          const mesh_target *target)
 {
-    rtt_vec3 *positions = NULL, *normals = NULL;
+    rtt_vec3 *normals = NULL;
+    double *positions = NULL;
     uint32_t *indices = NULL, vertex_count = 0, normal_count = 0, triangle_count = 0;
     rtt_json_place at, tri_at;
     const cJSON *v = rtt_schema_member(obj, place, "vertices", &at), *tris;
-    bool ok = read_points(p, v, &at, &positions, &vertex_count);
+    bool ok = read_exact_points(p, v, &at, &positions, &vertex_count);
     if (ok) ok = require(p, obj, place, "triangles", &tris, &tri_at);
     if (ok) ok = read_triangles(p, tris, &tri_at, vertex_count, &indices, &triangle_count);
     if (ok && (v = rtt_schema_member(obj, place, "normals", &at))) {
@@ -251,7 +274,7 @@ static bool parse_inline(rtt_schema_parser *p, const cJSON *obj, const rtt_json_
     mesh_target named = *target;
     if (!named.name) named.name = name;
     const uint32_t first_vertex = p->scene->vertex_count;
-    if (ok) ok = add_mesh(p, place, &named, positions, normals, vertex_count, indices, triangle_count);
+    if (ok) ok = add_mesh(p, place, &named, NULL, positions, normals, vertex_count, indices, triangle_count);
     rtt_error inner;
     if (ok && texcoords && !rtt_scene_set_texcoords(p->scene, first_vertex, texcoords, vertex_count, &inner))
         ok = rtt_schema_fail(p, place, ": %s", inner.message);
@@ -311,7 +334,7 @@ bool rtt_schema_parse_mesh(rtt_schema_parser *p, const cJSON *obj, const rtt_jso
             if (rtt_schema_member(obj, place, inline_only[i], &at))
                 return rtt_schema_fail(p, &at, " is only for meshes given by \"vertices\"");
     }
-    float transform[16];
+    double transform[16];
     char name[64];
     mesh_target target = {NULL, 0, NULL};
     const cJSON *v;

@@ -167,8 +167,9 @@ rtt_vec3 rtt_light_frame_point(const rtt_light_frame *frame, float x, float y)
 
 rtt_vec3 rtt_light_irradiance(const rtt_light *light, float distance)
 {
-    float falloff = light->attenuation[0] + light->attenuation[1] * distance +
-                    light->attenuation[2] * distance * distance;
+    /* d in units of the light's own length: a pure number near 1 at any scale */
+    const float r = light->attenuation_distance > 0.0f ? distance / light->attenuation_distance : distance;
+    float falloff = light->attenuation[0] + light->attenuation[1] * r + light->attenuation[2] * r * r;
     if (!(falloff > 0.0f)) return rtt_v3(0.0f, 0.0f, 0.0f);
     return rtt_v3_scale(light->color, light->intensity / falloff);
 }

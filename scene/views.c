@@ -15,20 +15,25 @@
 #define MAX_IMAGE_SIDE 16384.0
 #define MAX_VIEWS 65536
 
-static bool read_view_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_light *out)
+static bool read_view_light(rtt_schema_parser *p, const cJSON *obj, const rtt_json_place *place, rtt_light *out,
+                            double position_out[3])
 {
-    static const char *const keys[] = {"position", "color", "intensity", "attenuation", "radius", NULL};
+    static const char *const keys[] = {"position", "color", "intensity", "attenuation", "attenuation_distance",
+                                       "radius", NULL};
     if (!rtt_schema_check_object(p, obj, place, keys)) return false;
     rtt_light light = {.type = RTT_LIGHT_POINT, .color = rtt_v3(1, 1, 1), .intensity = 1.0f,
                        .attenuation = {1.0f, 0.0f, 0.0f}};
     rtt_json_place at;
     const cJSON *position = rtt_schema_member(obj, place, "position", &at);
     if (!position) return rtt_schema_fail(p, place, ": missing \"position\"");
-    if (!rtt_schema_read_vec3(p, position, &at, &light.position)) return false;
+    if (!rtt_schema_read_point(p, position, &at, position_out)) return false;
+    light.position = rtt_v3((float)position_out[0], (float)position_out[1], (float)position_out[2]);
     RTT_SCHEMA_OPTIONAL(obj, place, "color", rtt_schema_read_color(p, v, at, &light.color));
     RTT_SCHEMA_OPTIONAL(obj, place, "intensity", rtt_schema_read_nonneg(p, v, at, false, &light.intensity));
     RTT_SCHEMA_OPTIONAL(obj, place, "radius", rtt_schema_read_nonneg(p, v, at, false, &light.radius));
     RTT_SCHEMA_OPTIONAL(obj, place, "attenuation", rtt_schema_read_attenuation(p, v, at, light.attenuation));
+    RTT_SCHEMA_OPTIONAL(obj, place, "attenuation_distance",
+                        rtt_schema_read_nonneg(p, v, at, true, &light.attenuation_distance));
     light.type = light.radius > 0.0f ? RTT_LIGHT_SPHERE : RTT_LIGHT_POINT;
     *out = light;
     return true;
@@ -54,9 +59,9 @@ static bool read_view(rtt_schema_parser *p, const cJSON *obj, const rtt_json_pla
     rtt_json_place at;
     const cJSON *camera = rtt_schema_member(obj, place, "camera", &at);
     if (!camera) return rtt_schema_fail(p, place, ": missing \"camera\"");
-    if (!rtt_schema_parse_camera(p, camera, &at, &view->camera)) return false;
+    if (!rtt_schema_parse_camera(p, camera, &at, &view->camera, view->eye, view->look_at)) return false;
     const cJSON *light = rtt_schema_member(obj, place, "light", &at);
-    if (light && !read_view_light(p, light, &at, &view->light)) return false;
+    if (light && !read_view_light(p, light, &at, &view->light, view->light_position)) return false;
     view->has_light = light != NULL;
     RTT_SCHEMA_OPTIONAL(obj, place, "size", read_size(p, v, at, view));
     return true;
@@ -145,9 +150,14 @@ bool rtt_camera_check(const rtt_camera *c, rtt_error *err)
 
 void rtt_scene_set_camera(rtt_scene *scene, const rtt_camera *camera)
 {
-    /* given in the scene's own coordinates: stored relative to its origin */
     const double eye[3] = {camera->eye.x, camera->eye.y, camera->eye.z};
     const double at[3] = {camera->look_at.x, camera->look_at.y, camera->look_at.z};
+    rtt_scene_set_camera_at(scene, camera, eye, at);
+}
+
+void rtt_scene_set_camera_at(rtt_scene *scene, const rtt_camera *camera, const double eye[3], const double at[3])
+{
+    /* given in the scene's own coordinates: stored relative to its origin */
     scene->camera = *camera;
     scene->camera.eye = rtt_scene_point_to_stored(scene, eye);
     scene->camera.look_at = rtt_scene_point_to_stored(scene, at);

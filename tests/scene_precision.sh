@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Scenes keep their precision wherever they are: a small mesh far from the
 # origin is stored relative to its centre (no triangle lost, `rtt info`
-# reports the bounds in the scene's own coordinates), rays.bin given to
+# reports the bounds, camera and light in the scene's own coordinates, read
+# in double), rays.bin given to
 # `rtt trace` in the scene's own coordinates hit what they aim at, and a
 # scene whose tiny triangles still collapse says so in one warning line.
 set -u
@@ -21,6 +22,19 @@ grep -q "triangles   2 (0 degenerate)" "$work/info" || fail "far square lost tri
 grep -q "bounds      (100000, 100000, 100000) .. (100000.001, 100000.001, 100000)" "$work/info" ||
     fail "bounds not in the scene's coordinates: $(grep bounds "$work/info")"
 [ -s "$work/err" ] && fail "unexpected warning: $(cat "$work/err")"
+
+# its camera and light far out too, read in double and reported in the
+# scene's own coordinates (float's spacing at 1e5 is 0.008)
+cat >"$work/far_camera.json" <<'JSON'
+{"camera": {"eye": [100000.3, 100000.2, 100002], "look_at": [100000.25, 100000.5, 100000]},
+ "lights": [{"position": [100000.7, 100001.1, 100001.9]}],
+ "meshes": [{"vertices": [[0,0,0],[0.001,0,0],[0.001,0.001,0],[0,0.001,0]], "triangles": [[0,1,2],[0,2,3]],
+  "transform": {"translate": [100000, 100000, 100000]}}]}
+JSON
+"$rtt" info "$work/far_camera.json" >"$work/info" 2>"$work/err" || fail "rtt info far_camera.json exited $?"
+grep -q "eye (100000.3, 100000.2, 100002), look-at (100000.25, 100000.5, 100000)" "$work/info" ||
+    fail "camera not kept in double: $(grep camera "$work/info")"
+grep -q "point  at (100000.7, 100001.1, 100001.9)" "$work/info" || fail "light not kept in double: $(grep ' at ' "$work/info")"
 
 # one ray down -z onto the square's centre, in the scene's own coordinates
 python3 - "$work/rays.bin" <<'PY'

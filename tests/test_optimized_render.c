@@ -107,9 +107,9 @@ static int setup_scene(void **state)
         for (uint32_t t = first[m]; t < first[m + 1]; t++) s->triangle_material[t] = m;
     s->lights = realloc(s->lights, 2 * sizeof *s->lights);
     assert_non_null(s->lights);
-    s->lights[0] = (rtt_light){RTT_LIGHT_POINT, rtt_v3(2.0f, 5.0f, 3.0f), rtt_v3(1, 1, 1), 30.0f, {1, 0, 0.2f}, 0, {0, 0, 0}, {0, 0, 0}};
+    s->lights[0] = (rtt_light){RTT_LIGHT_POINT, rtt_v3(2.0f, 5.0f, 3.0f), rtt_v3(1, 1, 1), 30.0f, {1, 0, 0.2f}, 0, {0, 0, 0}, {0, 0, 0}, 0.0f};
     s->lights[1] = (rtt_light){RTT_LIGHT_SPHERE, rtt_v3(-2.0f, 4.0f, 2.0f), rtt_v3(1, 0.9f, 0.7f), 20.0f,
-                               {1, 0, 0.2f}, 0.6f, {0, 0, 0}, {0, 0, 0}};
+                               {1, 0, 0.2f}, 0.6f, {0, 0, 0}, {0, 0, 0}, 0.0f};
     s->light_count = 2;
     s->camera = (rtt_camera){rtt_v3(0.5f, 2.2f, 5.5f), rtt_v3(0, 0.8f, -0.5f), rtt_v3(0, 1, 0), 55.0f};
     s->width = s->height = 64;

@@ -70,7 +70,7 @@ static void add_sphere(rtt_scene *scene, rtt_vec3 c, float r, uint32_t subdivisi
 static void scene_end(rtt_scene *scene, float light_radius)
 {
     rtt_error err = {{0}};
-    rtt_light light = {RTT_LIGHT_SPHERE, LIGHT, rtt_v3(1, 1, 1), 1.0f, {1, 0, 0}, light_radius, {0, 0, 0}, {0, 0, 0}};
+    rtt_light light = {RTT_LIGHT_SPHERE, LIGHT, rtt_v3(1, 1, 1), 1.0f, {1, 0, 0}, light_radius, {0, 0, 0}, {0, 0, 0}, 0.0f};
     assert_true(rtt_scene_add_light(scene, &light, &err));
     if (!rtt_scene_finish(scene, &err)) fail_msg("finish: %s", err.message);
 }

@@ -66,7 +66,7 @@ static void add_quad(rtt_scene *scene, rtt_vec3 a, rtt_vec3 b, rtt_vec3 c, rtt_v
 static void scene_end(rtt_scene *scene)
 {
     rtt_error err = {{0}};
-    rtt_light light = {RTT_LIGHT_SPHERE, rtt_v3(0, 10, 0), rtt_v3(1, 1, 1), 1.0f, {1, 0, 0}, 1.0f, {0, 0, 0}, {0, 0, 0}};
+    rtt_light light = {RTT_LIGHT_SPHERE, rtt_v3(0, 10, 0), rtt_v3(1, 1, 1), 1.0f, {1, 0, 0}, 1.0f, {0, 0, 0}, {0, 0, 0}, 0.0f};
     if (scene->light_count == 0) assert_true(rtt_scene_add_light(scene, &light, &err));
     if (!rtt_scene_finish(scene, &err)) fail_msg("finish: %s", err.message);
 }

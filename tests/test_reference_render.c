@@ -104,7 +104,7 @@ static void test_lit_quad_centre_pixel_matches_the_shade_formula(void **state)
     scene->materials[0].type = RTT_MATERIAL_DIFFUSE;
     scene->materials[0].diffuse = rtt_v3(0.8f, 0.6f, 0.4f);
     scene->lights[0] = (rtt_light){RTT_LIGHT_POINT, rtt_v3(0.5f, 0.5f, 3.0f), rtt_v3(1.0f, 0.9f, 0.8f), 10.0f,
-                                   {1.0f, 0.0f, 0.1f}, 0.0f, {0, 0, 0}, {0, 0, 0}};
+                                   {1.0f, 0.0f, 0.1f}, 0.0f, {0, 0, 0}, {0, 0, 0}, 0.0f};
     scene->light_count = 1;
     rtt_engine *engine = engine_for(scene);
 
@@ -190,7 +190,7 @@ static rtt_scene *shadow_scene(void)
     camera_set(scene, rtt_v3(0, -0.5f, 6), rtt_v3(0, 0, 0), 50.0f, 40, 40);
     scene->ambient = 0.0f;
     scene->lights[0] = (rtt_light){RTT_LIGHT_SPHERE, rtt_v3(0.3f, 0.2f, 3.0f), rtt_v3(1, 1, 1), 8.0f,
-                                   {1.0f, 0.0f, 0.0f}, 0.8f, {0, 0, 0}, {0, 0, 0}};
+                                   {1.0f, 0.0f, 0.0f}, 0.8f, {0, 0, 0}, {0, 0, 0}, 0.0f};
     scene->light_count = 1;
     return scene;
 }

@@ -161,7 +161,7 @@ static void test_empty_scene_is_refused(void **state)
 static void test_transform_moves_points_and_turns_normals(void **state)
 {
     (void)state;
-    const float scale_x2_move_z[16] = {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 5, 0, 0, 0, 1};
+    const double scale_x2_move_z[16] = {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 5, 0, 0, 0, 1};
     const rtt_vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     const rtt_vec3 n[3] = {{0, 0, 1}, {0.70710678f, 0, 0.70710678f}, {0, 0, 1}};
     const uint32_t idx[3] = {0, 1, 2};
@@ -293,7 +293,7 @@ static void test_a_small_mesh_far_from_the_origin_keeps_its_shape_and_collapses_
     (void)state;
     const rtt_vec3 tiny[3] = {{0, 0, 0}, {1e-3f, 0, 0}, {0, 1e-3f, 0}};
     const uint32_t idx[3] = {0, 1, 2};
-    const float move_1e5[16] = {1, 0, 0, 1e5f, 0, 1, 0, 1e5f, 0, 0, 1, 1e5f, 0, 0, 0, 1};
+    const double move_1e5[16] = {1, 0, 0, 1e5, 0, 1, 0, 1e5, 0, 0, 1, 1e5, 0, 0, 0, 1};
     rtt_error err = {{0}};
     rtt_scene *scene = rtt_scene_new("far", &err);
     rtt_material m = rtt_material_default();

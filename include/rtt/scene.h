@@ -74,8 +74,12 @@ typedef enum rtt_light_type {
     RTT_LIGHT_QUAD = 2    /* one-sided parallelogram light: soft shadows */
 } rtt_light_type;
 
-/* Irradiance at distance d: colour * intensity / (c + l*d + q*d*d), d the
- * distance to `position`.  A quad light is the parallelogram position +
+/* Irradiance at distance d: colour * intensity / (c + l*r + q*r*r), r =
+ * d / attenuation_distance, d the distance to `position`: c, l and q are
+ * pure numbers and the fall-off's length is attenuation_distance, which
+ * scales with the scene like every other length (0 means 1: the scene's unit,
+ * what every light had before it existed), so a scene scaled by 1e-20 or
+ * 1e20 with its lights renders the same image.  A quad light is the parallelogram position +
  * s*edge_u + t*edge_v, s, t in [-1/2, 1/2], emitting on the side of its
  * normal normalize(edge_u x edge_v) only, as a Lambertian emitter: a point at
  * distance d in direction l from the centre receives the irradiance above
@@ -90,6 +94,7 @@ typedef struct rtt_light {
     float attenuation[3]; /* constant, linear, quadratic; default {1, 0, 0} */
     float radius;         /* sphere lights only; 0 for point lights */
     rtt_vec3 edge_u, edge_v; /* quad lights only (edge_u x edge_v non-zero); 0 otherwise */
+    float attenuation_distance; /* the length d is measured in; 0 (the default) means 1 */
 } rtt_light;
 
 typedef struct rtt_camera {

@@ -12,7 +12,8 @@
  *         + sum over lights of  vis * E(d) * (diffuse * max(0, n.l)
  *                                             + specular * max(0, r.v)^shininess)
  *
- * with E(d) = colour * intensity / (c + l d + q d^2) (times the emitter's
+ * with E(d) = colour * intensity / (c + l r + q r^2), r = d / D, D the light's
+ * attenuation_distance (rtt/scene.h; 1 by default) (times the emitter's
  * cosine for quad lights, rtt/scene.h), l and d towards and from the
  * light's centre for every light type, the specular term only
  * for types SPECULAR, REFLECTIVE and TRANSPARENT_REFLECTIVE, and vis in [0,1]

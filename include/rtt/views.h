@@ -6,13 +6,13 @@
  *
  *   { "NAME": { "camera": { "eye": [x,y,z], "look_at": [x,y,z], "up": [x,y,z], "fov": deg },
  *               "light":  { "position": [x,y,z], "color": [r,g,b], "intensity": I,
- *                           "attenuation": [c,l,q], "radius": R },
+ *                           "attenuation": [c,l,q], "attenuation_distance": D, "radius": R },
  *               "size": [w, h] },  ... }
  *
  * "camera" is required and reads as a scene file's camera (scene/README.md:
  * up defaults to [0, 1, 0], fov to 60 degrees, vertical); "light" (a sphere
  * light when radius > 0, else a point light; color white, intensity 1,
- * attenuation [1, 0, 0] unless given) and "size" (two integers 1..16384) are
+ * attenuation [1, 0, 0] over D = 1 unless given; positions in double) and "size" (two integers 1..16384) are
  * optional.  Keys starting with "_" are comments.  Unknown keys are errors;
  * every error is one line "file:line: NAME.camera.fov must be ...".  A list
  * of views is also a camera path: the MPI renderer and the viewer step through
@@ -29,9 +29,11 @@
 
 typedef struct rtt_view {
     char name[64];
-    rtt_camera camera;
+    rtt_camera camera;       /* eye and look_at rounded to float: use eye and look_at below */
+    double eye[3], look_at[3]; /* in the scene's own coordinates, as the file gives them */
     bool has_light;
-    rtt_light light;         /* when has_light */
+    rtt_light light;         /* when has_light; its position rounded to float */
+    double light_position[3]; /* when has_light: in the scene's own coordinates */
     uint32_t width, height;  /* "size", or 0 when the view gives none */
 } rtt_view;
 
@@ -60,6 +62,10 @@ bool rtt_camera_check(const rtt_camera *camera, rtt_error *err);
  * light is the default one at the camera (light_source RTT_LIGHTS_AT_CAMERA),
  * it moves with the camera. */
 void rtt_scene_set_camera(rtt_scene *scene, const rtt_camera *camera);
+/* The same with eye and look_at in double (camera's own are ignored): a
+ * camera 1e7 from the origin keeps its place to the scene's precision. */
+void rtt_scene_set_camera_at(rtt_scene *scene, const rtt_camera *camera, const double eye[3],
+                             const double look_at[3]);
 /* Replaces the scene's lights by the default: one white point light at the
  * camera's eye, intensity 1, no fall-off. */
 bool rtt_scene_use_camera_light(rtt_scene *scene, rtt_error *err);
