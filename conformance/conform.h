@@ -18,11 +18,12 @@ typedef enum rtt_conform_ray_set {
     RTT_CONFORM_SHADOW,      /* from the reference's primary hits to every light centre */
     RTT_CONFORM_RANDOM,      /* origins in and around the bounds, random directions, fixed seed */
     RTT_CONFORM_EXTREME,     /* axis-parallel, -0.0, vertex- and edge-aimed, on-surface, NaN/Inf */
+    RTT_CONFORM_FILE,        /* the caller's rays (rtt_conform_config.file_rays), judged as the random set */
     RTT_CONFORM_RAY_SET_COUNT
 } rtt_conform_ray_set;
 
 const char *rtt_conform_ray_set_name(rtt_conform_ray_set set);
-/* -1 for an unknown name. */
+/* -1 for an unknown name, and for "file" (its rays come from the caller). */
 int rtt_conform_ray_set_parse(const char *name);
 
 /* Fills *rays (malloc'd, caller frees) with at most max_rays rays of the
@@ -176,6 +177,8 @@ typedef struct rtt_conform_config {
     rtt_isa isa;           /* given to each listed engine that reads an instruction-set choice;
                               RTT_ISA_AUTO (default): each engine's own ($RTT_ISA, else the widest) */
     rtt_isect isect;       /* likewise the triangle test; RTT_ISECT_DEFAULT: each engine's own */
+    const rtt_ray *file_rays; /* non-NULL: trace only these (the "file" set), in the scene's own coordinates */
+    size_t file_ray_count;
 } rtt_conform_config;
 
 void rtt_conform_config_default(rtt_conform_config *config);

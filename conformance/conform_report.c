@@ -51,11 +51,12 @@ static void print_notes(FILE *out, const rtt_conform_report *report)
                     own_errors(r), r->failing_count);
         for (size_t k = 0; !r->pass && k < r->failing_count; k++) print_note(out, r, &r->failing[k]);
         if (r->wrong_oracle_count)
-            fprintf(out, "%s on %s: the referee sides with %s on %llu rays (embree wrong %llu, reference wrong %llu); "
+            fprintf(out, "%s on %s: the referee finds Embree wrong on %llu rays and the reference wrong on %llu%s; "
                          "the first %zu:\n",
-                    r->engine, rtt_conform_ray_set_name(r->set), r->engine_is_embree_row ? "the reference" : "the engine",
-                    (unsigned long long)(r->embree_wrong + r->reference_wrong), (unsigned long long)r->embree_wrong,
-                    (unsigned long long)r->reference_wrong, r->wrong_oracle_count);
+                    r->engine, rtt_conform_ray_set_name(r->set), (unsigned long long)r->embree_wrong,
+                    (unsigned long long)r->reference_wrong,
+                    r->engine_is_embree_row ? " (the reference's errors, counted in errors)" : " (not this row's errors)",
+                    r->wrong_oracle_count);
         for (size_t k = 0; k < r->wrong_oracle_count; k++) print_note(out, r, &r->wrong_oracle[k]);
     }
 }

@@ -9,7 +9,7 @@
 void rtt_conform_config_default(rtt_conform_config *config)
 {
     memset(config, 0, sizeof *config);
-    for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) config->sets[i] = true;
+    for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) config->sets[i] = i != RTT_CONFORM_FILE;
     config->engines = NULL;
     config->max_rays = 0;
     config->seed = 0x5EED0001ull;
@@ -142,17 +142,18 @@ typedef struct ray_set_data {
     rtt_ray *rays;
     rtt_hit *oracle;
     size_t count;
+    bool used;           /* the set is traced in this run */
     rtt_conform_referee_cache referee;
     int64_t *file_index; /* per ray: its record in the failing-rays file, -1 when not in it */
 } ray_set_data;
 
-static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, const rtt_conform_config *config,
-                       ray_set_data *data, rtt_conform_report *report, rtt_error *err, bool *ok)
+static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, ray_set_data *data,
+                       rtt_conform_report *report, rtt_error *err, bool *ok)
 {
     rtt_error engine_err = {{0}};
     rtt_engine *engine = rtt_engine_create(spec->name, scene, &spec->opt, &engine_err);
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && *ok; s++) {
-        if (!config->sets[s]) continue;
+        if (!data[s].used) continue;
         rtt_conform_row *row = add_row(report, spec->label, (rtt_conform_ray_set)s, err);
         if (!row) {
             *ok = false;
@@ -236,9 +237,18 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
     uint64_t referee_budget = RTT_CONFORM_REFEREE_BUDGET;
     bool ok = true;
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && ok; s++) {
-        if (!config->sets[s]) continue;
-        ok = rtt_conform_make_rays(scene, (rtt_conform_ray_set)s, reference, config->max_rays, config->seed + (uint64_t)s,
-                                   &data[s].rays, &data[s].count, err);
+        data[s].used = config->file_rays ? s == RTT_CONFORM_FILE : config->sets[s] && s != RTT_CONFORM_FILE;
+        if (!data[s].used) continue;
+        if (s == RTT_CONFORM_FILE) {
+            data[s].count = config->file_ray_count;
+            data[s].rays = malloc((data[s].count ? data[s].count : 1) * sizeof *data[s].rays);
+            ok = data[s].rays != NULL || rtt_error_set(err, "%s: out of memory for %zu rays", scene->path, data[s].count);
+            if (ok) memcpy(data[s].rays, config->file_rays, data[s].count * sizeof *data[s].rays);
+            if (ok) rtt_rays_to_stored(scene, data[s].rays, data[s].count); /* given in the scene's own coordinates */
+        } else {
+            ok = rtt_conform_make_rays(scene, (rtt_conform_ray_set)s, reference, config->max_rays,
+                                       config->seed + (uint64_t)s, &data[s].rays, &data[s].count, err);
+        }
         if (!ok) break;
         data[s].oracle = malloc((data[s].count ? data[s].count : 1) * sizeof *data[s].oracle);
         if (!data[s].oracle) {
@@ -248,7 +258,7 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
         rtt_engine_intersect(reference, data[s].rays, data[s].oracle, data[s].count);
         data[s].referee = (rtt_conform_referee_cache){.n = data[s].count, .budget = &referee_budget};
     }
-    for (int e = 0; e < n_specs && ok; e++) run_engine(scene, &specs[e], config, data, report, err, &ok);
+    for (int e = 0; e < n_specs && ok; e++) run_engine(scene, &specs[e], data, report, err, &ok);
     if (ok) ok = gather_failing_rays(scene, data, report, err);
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT; s++) {
         free(data[s].rays);
