@@ -65,6 +65,10 @@ static const cli_option conform_options[] = {
      .help = "write every ray a failing row fails on, each once, as rays.bin in the scene's own coordinates "
              "(rtt trace SCENE --rays FILE replays them; empty when nothing fails)",
      .kind = CLI_STRING, CLI_FIELD(conform_args, failing_rays_path)},
+    {.name = "--referee-all",
+     .help = "the double-precision referee decides every ray, not only disagreements (rays x triangles tests, "
+             "within its budget of 2e9)",
+     .kind = CLI_FLAG, CLI_FIELD(conform_args, config.referee_every_ray)},
     CLI_OPTION_ISA(conform_args, engine),
     CLI_OPTION_ISECT(conform_args, engine),
     {.name = "--max-rays", .value_name = "N",
@@ -121,6 +125,8 @@ static int check_applicable(const cli_parsed *parsed, conform_args *args)
         if (cli_given(parsed, "--rays")) return cli_refuse(parsed, "--rays", "--extremes traces rays of its own");
         if (cli_given(parsed, "--seed")) return cli_refuse(parsed, "--seed", "--extremes has no random rays to seed");
         if (args->rays_from_path) return cli_refuse(parsed, "--rays-from", "--extremes traces rays of its own");
+        if (args->config.referee_every_ray)
+            return cli_refuse(parsed, "--referee-all", "--extremes compares with its own brute force");
         if (args->failing_rays_path)
             return cli_refuse(parsed, "--failing-rays", "--extremes builds its own scenes: give SCENE without --extremes");
         static const char *const camera[] = {"--eye", "--look-at", "--up", "--fov", "--view", "--lights"};

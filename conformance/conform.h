@@ -36,8 +36,10 @@ bool rtt_conform_make_rays(const rtt_scene *scene, rtt_conform_ray_set set, rtt_
 /* The ray kinds `rtt rays` writes (conform_ray_kinds.c): the sets above and
  * the extremes' patterns one at a time, by index (name and summary NULL past
  * the last).  rtt_conform_make_kind fills *rays (malloc'd) with at most n
- * rays of kind `kind`, from the suite's own generators; `reference` is needed
- * by the shadow kind only. */
+ * rays of kind `kind`, from the suite's own generators, in the scene's own
+ * coordinates (what rays.bin holds and rtt trace reads; the origins are
+ * rounded to float once more on the way); `reference` is needed by the
+ * shadow kind only. */
 const char *rtt_conform_kind_name(size_t kind);
 const char *rtt_conform_kind_summary(size_t kind);
 bool rtt_conform_make_kind(const rtt_scene *scene, size_t kind, rtt_engine *reference, size_t n, uint64_t seed,
@@ -177,6 +179,7 @@ typedef struct rtt_conform_config {
     rtt_isa isa;           /* given to each listed engine that reads an instruction-set choice;
                               RTT_ISA_AUTO (default): each engine's own ($RTT_ISA, else the widest) */
     rtt_isect isect;       /* likewise the triangle test; RTT_ISECT_DEFAULT: each engine's own */
+    bool referee_every_ray;   /* the referee decides every ray, not only disagreements (within its budget) */
     const rtt_ray *file_rays; /* non-NULL: trace only these (the "file" set), in the scene's own coordinates */
     size_t file_ray_count;
 } rtt_conform_config;
@@ -225,6 +228,7 @@ typedef struct rtt_conform_judging {
     rtt_conform_referee_cache *referee; /* NULL: no referee, errors are the disagreements */
     bool engine_is_embree;              /* the engine of the row is Embree (its errors are "Embree wrong") */
     bool collect;                       /* keep every error's index (row->error_rays) */
+    bool every_ray;                     /* the referee also decides rays engine and oracle agree on */
 } rtt_conform_judging;
 
 /* Compares precomputed hits of one row, judged as `judging` says. */

@@ -148,13 +148,24 @@ bool rtt_conform_compare_judged(const rtt_scene *scene, const rtt_ray *rays, con
         bool agreed = c == RTT_CONFORM_AGREE || c == RTT_CONFORM_TIE;
         bool occluded = test_occluded && agreed && (test_occluded[i] != 0) != is_hit(&oracle[i]);
         if (occluded) row->occluded_mismatch++;
-        if ((agreed && !occluded) || c == RTT_CONFORM_BOUNDARY) continue;
+        bool check_agreement = agreed && !occluded && judging->every_ray && judging->referee;
+        if ((agreed && !occluded && !check_agreement) || c == RTT_CONFORM_BOUNDARY) continue;
 
         rtt_conform_ray_note note = {.index = (uint32_t)i, .file_index = -1, .ray = rays[i], .engine = test[i],
                                      .oracle = oracle[i], .engine_occluded = test_occluded ? test_occluded[i] : 0,
                                      .occluded = occluded, .category = c,
                                      .referee = {INFINITY, RTT_MISS}};
         note.verdict = decide(scene, magnitude, judging, &note, row, &no_memory);
+        if (check_agreement) {
+            /* engine and oracle agree: only an answer both give and the
+             * referee refuses is an error, in the category of the engine's
+             * hit against the referee's */
+            bool refused = note.verdict == RTT_VERDICT_ENGINE_WRONG || note.verdict == RTT_VERDICT_REFERENCE_WRONG ||
+                           note.verdict == RTT_VERDICT_EMBREE_WRONG;
+            if (!refused) continue;
+            rtt_hit decided = rtt_conform_referee_as_hit(&note.referee);
+            c = note.category = rtt_conform_classify(scene, magnitude, &rays[i], &test[i], &decided);
+        }
         bool error = note.verdict == RTT_VERDICT_NONE || note.verdict == RTT_VERDICT_UNDECIDABLE ||
                      note.verdict == RTT_VERDICT_ENGINE_WRONG ||
                      (note.verdict == RTT_VERDICT_REFERENCE_WRONG && judging->engine_is_embree);

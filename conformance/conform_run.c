@@ -147,7 +147,7 @@ typedef struct ray_set_data {
     int64_t *file_index; /* per ray: its record in the failing-rays file, -1 when not in it */
 } ray_set_data;
 
-static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, ray_set_data *data,
+static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, bool every_ray, ray_set_data *data,
                        rtt_conform_report *report, rtt_error *err, bool *ok)
 {
     rtt_error engine_err = {{0}};
@@ -174,7 +174,8 @@ static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *sp
             rtt_engine_intersect(engine, data[s].rays, hits, n);
             rtt_engine_occluded(engine, data[s].rays, occluded, n);
             rtt_conform_judging judging = {.referee = &data[s].referee,
-                                           .engine_is_embree = strcmp(spec->name, "embree") == 0, .collect = true};
+                                           .engine_is_embree = strcmp(spec->name, "embree") == 0, .collect = true,
+                                           .every_ray = every_ray};
             if (!rtt_conform_compare_judged(scene, data[s].rays, hits, occluded, data[s].oracle, n, row, &judging))
                 snprintf(row->error, sizeof row->error, "out of memory for the referee");
         }
@@ -258,7 +259,8 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
         rtt_engine_intersect(reference, data[s].rays, data[s].oracle, data[s].count);
         data[s].referee = (rtt_conform_referee_cache){.n = data[s].count, .budget = &referee_budget};
     }
-    for (int e = 0; e < n_specs && ok; e++) run_engine(scene, &specs[e], data, report, err, &ok);
+    for (int e = 0; e < n_specs && ok; e++)
+        run_engine(scene, &specs[e], config->referee_every_ray, data, report, err, &ok);
     if (ok) ok = gather_failing_rays(scene, data, report, err);
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT; s++) {
         free(data[s].rays);
