@@ -118,7 +118,11 @@ typedef struct rtt_conform_ray_note {
     rtt_hit engine, oracle;     /* intersect() of each */
     uint8_t engine_occluded;    /* occluded() of the engine */
     bool occluded;              /* the disagreement is in occluded(), intersect() agreed */
-    rtt_conform_category category;
+    rtt_conform_category category; /* the engine's answer against the oracle's */
+    /* the refused answer (the engine's, or the reference's when the verdict
+     * is reference wrong) against the referee's hit: the category its error
+     * counts in; RTT_CONFORM_CATEGORY_COUNT when not refereed */
+    rtt_conform_category judged;
     rtt_conform_verdict verdict;
     rtt_conform_referee_hit referee;
 } rtt_conform_ray_note;

@@ -163,8 +163,15 @@ bool rtt_conform_compare_judged(const rtt_scene *scene, const rtt_ray *rays, con
             bool refused = note.verdict == RTT_VERDICT_ENGINE_WRONG || note.verdict == RTT_VERDICT_REFERENCE_WRONG ||
                            note.verdict == RTT_VERDICT_EMBREE_WRONG;
             if (!refused) continue;
+        }
+        /* an answer the referee refused counts by its category against the
+         * referee's hit: the truth, not the other engine */
+        note.judged = RTT_CONFORM_CATEGORY_COUNT;
+        if (!occluded && (note.verdict == RTT_VERDICT_ENGINE_WRONG || note.verdict == RTT_VERDICT_REFERENCE_WRONG)) {
             rtt_hit decided = rtt_conform_referee_as_hit(&note.referee);
-            c = note.category = rtt_conform_classify(scene, magnitude, &rays[i], &test[i], &decided);
+            const rtt_hit *wrong = note.verdict == RTT_VERDICT_REFERENCE_WRONG ? &oracle[i] : &test[i];
+            note.judged = rtt_conform_classify(scene, magnitude, &rays[i], wrong, &decided);
+            c = note.judged;
         }
         bool error = note.verdict == RTT_VERDICT_NONE || note.verdict == RTT_VERDICT_UNDECIDABLE ||
                      note.verdict == RTT_VERDICT_ENGINE_WRONG ||

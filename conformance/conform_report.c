@@ -38,8 +38,10 @@ static void print_note(FILE *out, const rtt_conform_row *row, const rtt_conform_
         fputs("referee -", out);
     else
         print_hit(out, "referee", n->referee.prim, n->referee.t);
-    fprintf(out, ": %s, %s\n", n->occluded ? "occluded mismatch" : rtt_conform_category_name(n->category),
+    fprintf(out, ": %s, %s", n->occluded ? "occluded mismatch" : rtt_conform_category_name(n->category),
             rtt_conform_verdict_name(n->verdict));
+    if (n->judged < RTT_CONFORM_CATEGORY_COUNT) fprintf(out, " (%s against the referee)", rtt_conform_category_name(n->judged));
+    fputc('\n', out);
 }
 
 static void print_notes(FILE *out, const rtt_conform_report *report)
@@ -152,6 +154,10 @@ static cJSON *note_json(const rtt_conform_ray_note *n)
         add_hit(o, "referee", n->referee.prim, n->referee.t);
     cJSON_AddStringToObject(o, "category", n->occluded ? "occluded mismatch" : rtt_conform_category_name(n->category));
     cJSON_AddStringToObject(o, "verdict", rtt_conform_verdict_name(n->verdict));
+    if (n->judged < RTT_CONFORM_CATEGORY_COUNT)
+        cJSON_AddStringToObject(o, "against_referee", rtt_conform_category_name(n->judged));
+    else
+        cJSON_AddNullToObject(o, "against_referee");
     return o;
 }
 
