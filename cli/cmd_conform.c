@@ -14,6 +14,8 @@
 
 typedef struct conform_args {
     const char *scene_path, *meshes;
+    const char *failing_rays_path; /* --failing-rays: the errors of failing rows, as rays.bin */
+    const char *rays_from_path;    /* --rays-from: a rays.bin to trace instead of the sets */
     bool json, extremes;
     uint32_t max_rays, seed;
     rtt_conform_config config;
@@ -34,7 +36,8 @@ static bool parse_sets(const char *text, void *field, rtt_error *why)
     for (char *item = strtok_r(buffer, ",", &save); item && known; item = strtok_r(NULL, ",", &save), named++) {
         int set = strcmp(item, "all") == 0 ? RTT_CONFORM_RAY_SET_COUNT : rtt_conform_ray_set_parse(item);
         known = set >= 0;
-        for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) sets[i] |= set == i || set == RTT_CONFORM_RAY_SET_COUNT;
+        for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++)
+            sets[i] |= set == i || (set == RTT_CONFORM_RAY_SET_COUNT && i != RTT_CONFORM_FILE);
     }
     return named > 0 && known ? true
                               : rtt_error_set(why, "expected primary, shadow, random, extreme, a comma list, or all");
@@ -54,6 +57,18 @@ static const cli_option conform_options[] = {
      .help = "comma list of engines: optimized (every traversal kernel, tile 8), optimized/KERNEL, embree, "
              "reference (default: optimized,embree)",
      .kind = CLI_CUSTOM, CLI_FIELD(conform_args, config.engines), .parse = parse_engines},
+    {.name = "--rays-from", .value_name = "FILE",
+     .help = "trace the rays of FILE (rays.bin, the scene's own coordinates: rtt rays, --failing-rays) instead of the "
+             "sets, judged as the random set",
+     .kind = CLI_STRING, CLI_FIELD(conform_args, rays_from_path)},
+    {.name = "--failing-rays", .value_name = "FILE",
+     .help = "write every ray a failing row fails on, each once, as rays.bin in the scene's own coordinates "
+             "(rtt trace SCENE --rays FILE replays them; empty when nothing fails)",
+     .kind = CLI_STRING, CLI_FIELD(conform_args, failing_rays_path)},
+    {.name = "--referee-all",
+     .help = "the double-precision referee decides every ray, not only disagreements (rays x triangles tests, "
+             "within its budget of 2e9)",
+     .kind = CLI_FLAG, CLI_FIELD(conform_args, config.referee_every_ray)},
     CLI_OPTION_ISA(conform_args, engine),
     CLI_OPTION_ISECT(conform_args, engine),
     {.name = "--max-rays", .value_name = "N",
@@ -109,6 +124,11 @@ static int check_applicable(const cli_parsed *parsed, conform_args *args)
         if (args->scene_path) return cli_refuse(parsed, "--extremes", "builds its own scenes: give no SCENE");
         if (cli_given(parsed, "--rays")) return cli_refuse(parsed, "--rays", "--extremes traces rays of its own");
         if (cli_given(parsed, "--seed")) return cli_refuse(parsed, "--seed", "--extremes has no random rays to seed");
+        if (args->rays_from_path) return cli_refuse(parsed, "--rays-from", "--extremes traces rays of its own");
+        if (args->config.referee_every_ray)
+            return cli_refuse(parsed, "--referee-all", "--extremes compares with its own brute force");
+        if (args->failing_rays_path)
+            return cli_refuse(parsed, "--failing-rays", "--extremes builds its own scenes: give SCENE without --extremes");
         static const char *const camera[] = {"--eye", "--look-at", "--up", "--fov", "--view", "--lights"};
         for (int i = 0; i < 6; i++)
             if (cli_given(parsed, camera[i]))
@@ -116,6 +136,11 @@ static int check_applicable(const cli_parsed *parsed, conform_args *args)
     } else {
         if (!args->scene_path) return cli_refuse(parsed, NULL, "no SCENE given");
         if (cli_given(parsed, "--meshes")) return cli_refuse(parsed, "--meshes", "only --extremes reads meshes");
+        if (args->rays_from_path && cli_given(parsed, "--rays"))
+            return cli_refuse(parsed, "--rays", "--rays-from gives the rays: name no set");
+        if (args->rays_from_path && (cli_given(parsed, "--max-rays") || cli_given(parsed, "--seed")))
+            return cli_refuse(parsed, cli_given(parsed, "--seed") ? "--seed" : "--max-rays",
+                              "--rays-from traces every ray of its file, unseeded");
     }
     int rc = check_isa(parsed, args);
     return rc != CLI_CONTINUE || args->extremes ? rc : cli_camera_check(parsed, &args->camera, args->scene_path);
@@ -173,11 +198,29 @@ static int conform(void *opaque, const cli_parsed *parsed)
     args->config.isect = args->engine.isect;
 
     rtt_error err = {{0}};
+    const char *inputs[] = {args->scene_path, args->rays_from_path};
+    if (args->failing_rays_path &&
+        !cli_check_outputs(&args->failing_rays_path, 1, inputs, args->rays_from_path ? 2 : 1, &err))
+        return cli_fail(&err);
+    rtt_ray *file_rays = NULL;
+    if (args->rays_from_path) {
+        size_t size = 0;
+        if (!(file_rays = cli_read_file(args->rays_from_path, &size, &err))) return cli_fail(&err);
+        if (size % sizeof(rtt_ray) != 0 || size == 0) {
+            free(file_rays);
+            rtt_error_set(&err, "%s: size %zu is not a positive multiple of 32 bytes (rtt_ray records)",
+                          args->rays_from_path, size);
+            return cli_fail(&err);
+        }
+        args->config.file_rays = file_rays;
+        args->config.file_ray_count = size / sizeof(rtt_ray);
+    }
     rtt_scene *scene = cli_load_scene(args->scene_path, 0, args->max_memory, &err);
     rc = scene ? cli_camera_apply(parsed, &args->camera, scene) : cli_fail(&err);
     cli_camera_free(&args->camera);
     if (rc != CLI_CONTINUE) {
         rtt_scene_free(scene);
+        free(file_rays);
         return rc;
     }
     rtt_conform_report report;
@@ -185,7 +228,14 @@ static int conform(void *opaque, const cli_parsed *parsed)
     bool ran = rtt_conform_run(scene, &args->config, &report, &err);
     cli_progress_finish(progress);
     rtt_scene_free(scene);
+    free(file_rays);
     if (!ran) return cli_fail(&err);
+    if (args->failing_rays_path &&
+        !cli_write_file_atomic(args->failing_rays_path, report.failing_rays,
+                               report.failing_ray_count * sizeof *report.failing_rays, &err)) {
+        rtt_conform_report_free(&report);
+        return cli_fail(&err);
+    }
     int rc_print = print_and_free(args->json ? rtt_conform_report_json(&report) : rtt_conform_report_table(&report));
     bool pass = report.pass;
     rtt_conform_report_free(&report);
@@ -203,12 +253,18 @@ const cli_command conform_command = {
         "planes crossed at the same t), boundary (a hit within tolerance of tnear or\n"
         "tfar), t-mismatch, and hit/miss disagreements split into grazing (the hit lies\n"
         "on an edge, or one engine slipped past an edge to a farther hit) and other.\n"
-        "Fails when any engine has a t-mismatch, a non-grazing hit/miss or an occluded()\n"
-        "disagreement, or more grazing hit/miss than 0.05% (optimized) or 1% (embree) of\n"
-        "the primary, shadow and random rays.  On the extreme set, and in the --extremes\n"
-        "checks that aim at vertices and edges or run along planes, grazing hit/miss is\n"
-        "reported, not bounded (the rays graze by design); watertightness is checked\n"
-        "apart.  Rules: conformance/README.md.\n",
+        "Every disagreement is decided by a double-precision brute force over all\n"
+        "triangles (the referee, the watertight test in double): a row counts only its\n"
+        "own errors, and rays where Embree is wrong and rtt right are counted apart as\n"
+        "embree wrong (on the embree row the reference is the rtt side judged).  Rays\n"
+        "outside Embree's range are not handed to it: unspecified.  A row fails when its\n"
+        "errors hold a t-mismatch, a non-grazing hit/miss or an occluded() disagreement,\n"
+        "or more grazing hit/miss than 0.05% (optimized) or 1% (embree) of the primary,\n"
+        "shadow, random and --rays-from rays; the report names its first failing rays\n"
+        "(origin, direction, tnear, tfar, each engine's and the referee's prim and t).\n"
+        "On the extreme set, and in the --extremes checks that aim at vertices and edges\n"
+        "or run along planes, grazing hit/miss is reported, not bounded (the rays graze\n"
+        "by design); watertightness is checked apart.  Rules: conformance/README.md.\n",
     .operand = "SCENE", .operand_min = 0, .operand_max = 1, .operand_offset = offsetof(conform_args, scene_path),
     .exit_status = "0 conformant, 1 a threshold exceeded or bad input, 2 bad usage.",
 };

@@ -1,6 +1,6 @@
 /* The comparison of one engine's hits with the oracle's: the tolerance on t,
  * the per-ray categories (agree, tie, boundary, t-mismatch, grazing and
- * other hit/miss) and the pass/fail judgement of a row.  The rules are
+ * other hit/miss); conform_judge.c judges rows with them.  The rules are
  * stated in conformance/README.md; change both together. */
 #include <math.h>
 #include <string.h>
@@ -17,7 +17,7 @@
 #define GRAZING_COSINE 1e-4
 
 static const char *const category_names[RTT_CONFORM_CATEGORY_COUNT] = {
-    "agree", "tie", "boundary", "t-mismatch", "hit/miss grazing", "hit/miss other",
+    "agree", "tie", "boundary", "t-mismatch", "hit/miss grazing", "hit/miss other", "unspecified",
 };
 
 const char *rtt_conform_category_name(rtt_conform_category c)
@@ -234,26 +234,10 @@ rtt_conform_category rtt_conform_classify(const rtt_scene *scene, double magnitu
     return grazing_hit(scene, magnitude, r, h) ? RTT_CONFORM_GRAZING : RTT_CONFORM_HITMISS_OTHER;
 }
 
-void rtt_conform_compare(const rtt_scene *scene, const rtt_ray *rays, const rtt_hit *test, const uint8_t *test_occluded,
-                         const rtt_hit *oracle, size_t n, rtt_conform_row *row)
+bool rtt_conform_referee_accepts(const rtt_scene *scene, double magnitude, const rtt_ray *r, const rtt_hit *h,
+                                 const rtt_conform_referee_hit *referee)
 {
-    double magnitude = rtt_conform_scene_magnitude(scene);
-    row->rays += n;
-    for (size_t i = 0; i < n; i++) {
-        rtt_conform_category c = rtt_conform_classify(scene, magnitude, &rays[i], &test[i], &oracle[i]);
-        row->count[c]++;
-        bool agreed = c == RTT_CONFORM_AGREE || c == RTT_CONFORM_TIE;
-        if (test_occluded && agreed && (test_occluded[i] != 0) != is_hit(&oracle[i])) row->occluded_mismatch++;
-    }
-}
-
-/* A non-zero grazing limit always allows one ray: a share of 0.05% means
- * nothing on a set of a few thousand rays. */
-void rtt_conform_row_judge(rtt_conform_row *row)
-{
-    double allowed = row->grazing_limit * (double)row->rays;
-    if (row->grazing_limit > 0.0 && allowed < 1.0) allowed = 1.0;
-    row->pass = row->error[0] == '\0' && row->count[RTT_CONFORM_T_MISMATCH] == 0 &&
-                row->count[RTT_CONFORM_HITMISS_OTHER] == 0 && row->occluded_mismatch == 0 &&
-                (double)row->count[RTT_CONFORM_GRAZING] <= allowed;
+    rtt_hit decided = rtt_conform_referee_as_hit(referee);
+    rtt_conform_category c = rtt_conform_classify(scene, magnitude, r, h, &decided);
+    return c == RTT_CONFORM_AGREE || c == RTT_CONFORM_TIE || c == RTT_CONFORM_BOUNDARY;
 }

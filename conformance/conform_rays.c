@@ -13,7 +13,7 @@
 #define DEFAULT_MAX_RAYS 65536u
 #define TILE 8u
 
-static const char *const set_names[RTT_CONFORM_RAY_SET_COUNT] = {"primary", "shadow", "random", "extreme"};
+static const char *const set_names[RTT_CONFORM_RAY_SET_COUNT] = {"primary", "shadow", "random", "extreme", "file"};
 
 const char *rtt_conform_ray_set_name(rtt_conform_ray_set set)
 {
@@ -23,7 +23,7 @@ const char *rtt_conform_ray_set_name(rtt_conform_ray_set set)
 int rtt_conform_ray_set_parse(const char *name)
 {
     for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++)
-        if (strcmp(name, set_names[i]) == 0) return i;
+        if (i != RTT_CONFORM_FILE && strcmp(name, set_names[i]) == 0) return i;
     return -1;
 }
 

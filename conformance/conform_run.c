@@ -9,7 +9,7 @@
 void rtt_conform_config_default(rtt_conform_config *config)
 {
     memset(config, 0, sizeof *config);
-    for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) config->sets[i] = true;
+    for (int i = 0; i < RTT_CONFORM_RAY_SET_COUNT; i++) config->sets[i] = i != RTT_CONFORM_FILE;
     config->engines = NULL;
     config->max_rays = 0;
     config->seed = 0x5EED0001ull;
@@ -125,6 +125,7 @@ static rtt_conform_row *add_row(rtt_conform_report *report, const char *engine, 
     snprintf(row->engine, sizeof row->engine, "%.39s", engine);
     snprintf(row->oracle, sizeof row->oracle, "reference");
     row->set = set;
+    row->engine_is_embree_row = strcmp(engine, "embree") == 0;
     /* The extreme set aims half its rays exactly at edges and vertices:
      * there grazing hit/miss is what it measures, so it is reported, not
      * bounded (conformance/README.md); every other rule still holds. */
@@ -136,20 +137,23 @@ static rtt_conform_row *add_row(rtt_conform_report *report, const char *engine, 
     return row;
 }
 
-/* Rays, the reference's hits on them, per set. */
+/* Rays, the reference's hits on them and the referee's answers, per set. */
 typedef struct ray_set_data {
     rtt_ray *rays;
     rtt_hit *oracle;
     size_t count;
+    bool used;           /* the set is traced in this run */
+    rtt_conform_referee_cache referee;
+    int64_t *file_index; /* per ray: its record in the failing-rays file, -1 when not in it */
 } ray_set_data;
 
-static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, const rtt_conform_config *config,
-                       const ray_set_data *data, rtt_conform_report *report, rtt_error *err, bool *ok)
+static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *spec, bool every_ray, ray_set_data *data,
+                       rtt_conform_report *report, rtt_error *err, bool *ok)
 {
     rtt_error engine_err = {{0}};
     rtt_engine *engine = rtt_engine_create(spec->name, scene, &spec->opt, &engine_err);
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && *ok; s++) {
-        if (!config->sets[s]) continue;
+        if (!data[s].used) continue;
         rtt_conform_row *row = add_row(report, spec->label, (rtt_conform_ray_set)s, err);
         if (!row) {
             *ok = false;
@@ -169,13 +173,51 @@ static void run_engine(const rtt_scene *scene, const rtt_conform_engine_spec *sp
         } else {
             rtt_engine_intersect(engine, data[s].rays, hits, n);
             rtt_engine_occluded(engine, data[s].rays, occluded, n);
-            rtt_conform_compare(scene, data[s].rays, hits, occluded, data[s].oracle, n, row);
+            rtt_conform_judging judging = {.referee = &data[s].referee,
+                                           .engine_is_embree = strcmp(spec->name, "embree") == 0, .collect = true,
+                                           .every_ray = every_ray};
+            if (!rtt_conform_compare_judged(scene, data[s].rays, hits, occluded, data[s].oracle, n, row, &judging))
+                snprintf(row->error, sizeof row->error, "out of memory for the referee");
         }
         free(hits);
         free(occluded);
         rtt_conform_row_judge(row);
     }
     rtt_engine_destroy(engine);
+}
+
+/* The errors of every failing row, each ray once, in row order: the
+ * failing-rays file, and each named ray's record in it. */
+static bool gather_failing_rays(const rtt_scene *scene, ray_set_data *data, rtt_conform_report *report, rtt_error *err)
+{
+    size_t total = 0;
+    for (size_t i = 0; i < report->row_count; i++)
+        if (!report->rows[i].pass) total += report->rows[i].error_ray_count;
+    report->failing_rays = malloc((total ? total : 1) * sizeof *report->failing_rays);
+    if (!report->failing_rays) return rtt_error_set(err, "%s: out of memory for the failing rays", scene->path);
+    for (size_t i = 0; i < report->row_count; i++) {
+        rtt_conform_row *row = &report->rows[i];
+        if (row->pass || row->error_ray_count == 0) continue;
+        ray_set_data *d = &data[row->set];
+        if (!d->file_index) {
+            d->file_index = malloc((d->count ? d->count : 1) * sizeof *d->file_index);
+            if (!d->file_index) return rtt_error_set(err, "%s: out of memory for the failing rays", scene->path);
+            for (size_t k = 0; k < d->count; k++) d->file_index[k] = -1;
+        }
+        for (size_t k = 0; k < row->error_ray_count; k++) {
+            uint32_t ray = row->error_rays[k];
+            if (d->file_index[ray] >= 0) continue;
+            d->file_index[ray] = (int64_t)report->failing_ray_count;
+            rtt_ray scene_ray = d->rays[ray], back;
+            rtt_rays_from_stored(scene, &scene_ray, 1);
+            back = scene_ray;
+            rtt_rays_to_stored(scene, &back, 1);
+            if (memcmp(back.org, d->rays[ray].org, sizeof back.org) != 0) report->failing_rays_inexact++;
+            report->failing_rays[report->failing_ray_count++] = scene_ray;
+        }
+        for (size_t k = 0; k < row->failing_count; k++) row->failing[k].file_index = d->file_index[row->failing[k].index];
+    }
+    return true;
 }
 
 bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, rtt_conform_report *report,
@@ -193,11 +235,21 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
     rtt_engine *reference = rtt_engine_create("reference", scene, NULL, err);
     if (!reference) return false;
     ray_set_data data[RTT_CONFORM_RAY_SET_COUNT] = {{0}};
+    uint64_t referee_budget = RTT_CONFORM_REFEREE_BUDGET;
     bool ok = true;
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT && ok; s++) {
-        if (!config->sets[s]) continue;
-        ok = rtt_conform_make_rays(scene, (rtt_conform_ray_set)s, reference, config->max_rays, config->seed + (uint64_t)s,
-                                   &data[s].rays, &data[s].count, err);
+        data[s].used = config->file_rays ? s == RTT_CONFORM_FILE : config->sets[s] && s != RTT_CONFORM_FILE;
+        if (!data[s].used) continue;
+        if (s == RTT_CONFORM_FILE) {
+            data[s].count = config->file_ray_count;
+            data[s].rays = malloc((data[s].count ? data[s].count : 1) * sizeof *data[s].rays);
+            ok = data[s].rays != NULL || rtt_error_set(err, "%s: out of memory for %zu rays", scene->path, data[s].count);
+            if (ok) memcpy(data[s].rays, config->file_rays, data[s].count * sizeof *data[s].rays);
+            if (ok) rtt_rays_to_stored(scene, data[s].rays, data[s].count); /* given in the scene's own coordinates */
+        } else {
+            ok = rtt_conform_make_rays(scene, (rtt_conform_ray_set)s, reference, config->max_rays,
+                                       config->seed + (uint64_t)s, &data[s].rays, &data[s].count, err);
+        }
         if (!ok) break;
         data[s].oracle = malloc((data[s].count ? data[s].count : 1) * sizeof *data[s].oracle);
         if (!data[s].oracle) {
@@ -205,11 +257,16 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
             break;
         }
         rtt_engine_intersect(reference, data[s].rays, data[s].oracle, data[s].count);
+        data[s].referee = (rtt_conform_referee_cache){.n = data[s].count, .budget = &referee_budget};
     }
-    for (int e = 0; e < n_specs && ok; e++) run_engine(scene, &specs[e], config, data, report, err, &ok);
+    for (int e = 0; e < n_specs && ok; e++)
+        run_engine(scene, &specs[e], config->referee_every_ray, data, report, err, &ok);
+    if (ok) ok = gather_failing_rays(scene, data, report, err);
     for (int s = 0; s < RTT_CONFORM_RAY_SET_COUNT; s++) {
         free(data[s].rays);
         free(data[s].oracle);
+        free(data[s].file_index);
+        rtt_conform_referee_cache_free(&data[s].referee);
     }
     rtt_engine_destroy(reference);
     if (!ok) {
@@ -223,6 +280,10 @@ bool rtt_conform_run(const rtt_scene *scene, const rtt_conform_config *config, r
 
 void rtt_conform_report_free(rtt_conform_report *report)
 {
+    for (size_t i = 0; i < report->row_count; i++) rtt_conform_row_free(&report->rows[i]);
+    free(report->failing_rays);
+    report->failing_rays = NULL;
+    report->failing_ray_count = 0;
     free(report->rows);
     report->rows = NULL;
     report->row_count = report->row_cap = 0;

@@ -58,7 +58,7 @@ static void record_error(void *user, enum RTCError code, const char *str)
  * aborts the process, so such rays are never handed to Embree. */
 #define EMBREE_COMPONENT_LIMIT 1.844e18f
 
-static bool ray_is_traceable(const rtt_ray *r)
+bool rtt_embree_ray_in_range(const rtt_ray *r)
 {
     for (int k = 0; k < 3; k++)
         if (!isfinite(r->org[k]) || !isfinite(r->dir[k])) return false;
@@ -94,7 +94,7 @@ static void embree_intersect(rtt_engine *engine, const rtt_ray *rays, rtt_hit *h
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < n; i++) {
         hits[i] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-        if (!ray_is_traceable(&rays[i])) continue;
+        if (!rtt_embree_ray_in_range(&rays[i])) continue;
         struct RTCRayHit rh;
         fill_ray(&rh.ray, &rays[i]);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -113,7 +113,7 @@ static void embree_occluded(rtt_engine *engine, const rtt_ray *rays, uint8_t *oc
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < n; i++) {
         occluded[i] = 0;
-        if (!ray_is_traceable(&rays[i])) continue;
+        if (!rtt_embree_ray_in_range(&rays[i])) continue;
         struct RTCRay ray;
         fill_ray(&ray, &rays[i]);
         rtcOccluded1(e->scene, &context, &ray);

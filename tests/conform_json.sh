@@ -40,13 +40,23 @@ check "one row per engine and set" '(.rows | length) == 48
 check "every count is a non-negative integer" 'all(.rows[]; [.count, .agree, .tie, .boundary, .t_mismatch,
     .hitmiss_grazing, .hitmiss_other, .occluded_mismatch][] | type == "number" and . >= 0 and . == floor)'
 check "categories sum to the rays of the row" 'all(.rows[];
-    .agree + .tie + .boundary + .t_mismatch + .hitmiss_grazing + .hitmiss_other == .count)'
+    .agree + .tie + .boundary + .t_mismatch + .hitmiss_grazing + .hitmiss_other + .unspecified == .count)'
 check "rays per set within --max-rays, and some traced" 'all(.rows[]; .count <= 512) and all(.rows[]; .count > 0)'
 check "grazing reported on the extreme set, bounded elsewhere" 'all(.rows[];
     if .rays == "extreme" then .grazing_limit == 1 else .grazing_limit == 0.0005 end)'
-check "pass follows the thresholds" 'all(.rows[]; .pass == (.t_mismatch == 0 and .hitmiss_other == 0
-    and .occluded_mismatch == 0 and (.error == null)
-    and .hitmiss_grazing <= ([.grazing_limit * .count, 1] | max)))'
+check "a row's errors are among its disagreements" 'all(.rows[];
+    (.errors | .t_mismatch + .hitmiss_grazing + .hitmiss_other + .occluded)
+    <= .t_mismatch + .hitmiss_grazing + .hitmiss_other + .occluded_mismatch
+    and .errors.occluded <= .occluded_mismatch and .unspecified == 0)'
+check "every disagreement is refereed (the budget holds here)" 'all(.rows[]; .unrefereed == 0
+    and .refereed == .t_mismatch + .hitmiss_grazing + .hitmiss_other + .occluded_mismatch
+    and .refereed == .errors.t_mismatch + .errors.hitmiss_grazing + .errors.hitmiss_other + .errors.occluded
+        + .reference_wrong + .both_right + .embree_wrong and .embree_wrong == 0)'
+check "pass follows the thresholds on the row's own errors" 'all(.rows[]; .pass == (.errors.t_mismatch == 0
+    and .errors.hitmiss_other == 0 and .errors.occluded == 0 and (.error == null)
+    and .errors.hitmiss_grazing <= ([.grazing_limit * .count, 1] | max)))'
+check "failing rays named on failing rows only" 'all(.rows[]; if .pass then (.failing_rays | length) == 0
+    else (.failing_rays | length) > 0 end)'
 check "report pass is every row's" '.pass == all(.rows[]; .pass)'
 check "the reference agrees with itself (boundary hits aside)" 'all(.rows[] | select(.engine == "reference");
     .agree + .boundary == .count and .agree > 0 and .occluded_mismatch == 0)'

@@ -1,5 +1,8 @@
 /* The judgement of one ray (conformance/conform_classify.c), on the cases
- * that once went wrong.
+ * that once went wrong, and the double-precision referee that decides
+ * disagreements (conform_referee.c, conform_judge.c): where it must side
+ * with the engine, where with Embree or the reference, a shared edge, a ray
+ * from 1e18, watertightness.
  *
  * Regression: `rtt conform --extremes` (8192 rays), check "aimed at
  * vertices, edges", ray 4957, reported one t-mismatch for every optimized
@@ -162,6 +165,187 @@ static void test_tie_at_one_crossing_stays_strict(void **state)
     rtt_scene_free(scene);
 }
 
+/* ---- the double-precision referee (conformance/conform_referee.c) ---- */
+
+/* A unit quad in z = 0 split along its diagonal (prims 0, 1 share the edge
+ * (-1, -1) .. (1, 1)) and a second quad in z = -1 (prims 2, 3). */
+static const float two_quads[4][9] = {
+    {-1, -1, 0, 1, -1, 0, 1, 1, 0},
+    {-1, -1, 0, 1, 1, 0, -1, 1, 0},
+    {-1, -1, -1, 1, -1, -1, 1, 1, -1},
+    {-1, -1, -1, 1, 1, -1, -1, 1, -1},
+};
+
+static rtt_scene *quads_scene(void) { return scene_of(&two_quads[0][0], 4); }
+
+/* A ray given in the scene's own coordinates, moved into its stored ones. */
+static rtt_ray stored_ray(const rtt_scene *scene, float ox, float oy, float oz, float dx, float dy, float dz)
+{
+    rtt_ray r = {{ox, oy, oz}, {dx, dy, dz}, 0.0f, INFINITY};
+    rtt_rays_to_stored(scene, &r, 1);
+    return r;
+}
+
+/* One ray through compare_judged on a row that allows no error at all. */
+static rtt_conform_row judge_one(const rtt_scene *scene, const rtt_ray *r, const rtt_hit *engine, const rtt_hit *oracle,
+                                 bool engine_is_embree)
+{
+    rtt_conform_row row;
+    memset(&row, 0, sizeof row);
+    uint64_t budget = RTT_CONFORM_REFEREE_BUDGET;
+    rtt_conform_referee_cache cache = {.n = 1, .budget = &budget};
+    rtt_conform_judging judging = {.referee = &cache, .engine_is_embree = engine_is_embree, .collect = true};
+    assert_true(rtt_conform_compare_judged(scene, r, engine, NULL, oracle, 1, &row, &judging));
+    rtt_conform_row_judge(&row);
+    rtt_conform_referee_cache_free(&cache);
+    rtt_conform_row_free(&row);
+    return row;
+}
+
+static const rtt_hit miss = {INFINITY, 0.0f, 0.0f, RTT_MISS};
+
+/* Exactly on the shared edge: the referee (edges inclusive) hits at t = 1,
+ * and accepts either neighbour: a tie, never a disagreement. */
+static void test_referee_on_a_shared_edge(void **state)
+{
+    (void)state;
+    rtt_scene *scene = quads_scene();
+    rtt_ray r = stored_ray(scene, 0.25f, 0.25f, 1.0f, 0.0f, 0.0f, -1.0f);
+    rtt_conform_referee_hit h;
+    assert_true(rtt_conform_referee(scene, &r, &h));
+    assert_true(h.prim == 0 || h.prim == 1);
+    assert_true(h.t == 1.0);
+    double magnitude = rtt_conform_scene_magnitude(scene);
+    rtt_hit on0 = {1.0f, 0.0f, 0.0f, 0}, on1 = {1.0f, 0.0f, 0.0f, 1}, far = {2.0f, 0.0f, 0.0f, 2};
+    assert_true(rtt_conform_referee_accepts(scene, magnitude, &r, &on0, &h));
+    assert_true(rtt_conform_referee_accepts(scene, magnitude, &r, &on1, &h));
+    assert_false(rtt_conform_referee_accepts(scene, magnitude, &r, &far, &h));
+    assert_false(rtt_conform_referee_accepts(scene, magnitude, &r, &miss, &h));
+    assert_int_equal(classify(scene, &r, &on0, &on1), RTT_CONFORM_TIE);
+    rtt_conform_row row = judge_one(scene, &r, &on0, &on1, false);
+    assert_int_equal(row.refereed, 0); /* a tie is not a disagreement */
+    assert_true(row.pass);
+    rtt_scene_free(scene);
+}
+
+/* Embree slips through the shared edge to the far quad while the reference
+ * hits it: the referee sides with the reference, "Embree wrong", which is
+ * counted apart and never fails the row.  The same answers with rtt's
+ * optimized engine in Embree's place are that engine's error. */
+static void test_referee_sides_with_the_reference_against_embree(void **state)
+{
+    (void)state;
+    rtt_scene *scene = quads_scene();
+    rtt_ray r = stored_ray(scene, 0.25f, 0.25f, 1.0f, 0.0f, 0.0f, -1.0f);
+    rtt_hit slipped = {2.0f, 0.0f, 0.0f, 2}, on1 = {1.0f, 0.0f, 0.0f, 1};
+    rtt_conform_row row = judge_one(scene, &r, &slipped, &on1, true);
+    assert_int_equal(row.refereed, 1);
+    assert_int_equal(row.embree_wrong, 1);
+    assert_int_equal(row.errors[RTT_CONFORM_GRAZING] + row.errors[RTT_CONFORM_T_MISMATCH], 0);
+    assert_int_equal(row.wrong_oracle_count, 1);
+    assert_int_equal(row.wrong_oracle[0].verdict, RTT_VERDICT_EMBREE_WRONG);
+    assert_true(row.pass);
+
+    row = judge_one(scene, &r, &slipped, &on1, false);
+    assert_int_equal(row.embree_wrong, 0);
+    assert_int_equal(row.errors[RTT_CONFORM_GRAZING], 1); /* a pass-through: grazing */
+    assert_false(row.pass);
+    assert_int_equal(row.failing_count, 1);
+    assert_int_equal(row.failing[0].verdict, RTT_VERDICT_ENGINE_WRONG);
+    assert_true(row.failing[0].referee.t == 1.0);
+    assert_true(row.failing[0].referee.prim == 0 || row.failing[0].referee.prim == 1);
+    assert_true(row.failing[0].ray.org[0] == 0.25f && row.failing[0].ray.org[2] == 1.0f); /* the scene's own */
+    rtt_scene_free(scene);
+}
+
+/* The reference is the one that is wrong (it reports the far quad, away
+ * from any edge): an optimized row that answers right passes and counts
+ * "reference wrong"; on the embree row, where the reference is the rtt side
+ * judged, it is an error and the row fails. */
+static void test_referee_sides_with_the_engine_and_with_embree(void **state)
+{
+    (void)state;
+    rtt_scene *scene = quads_scene();
+    rtt_ray r = stored_ray(scene, 0.5f, -0.25f, 1.0f, 0.0f, 0.0f, -1.0f);
+    rtt_hit near = {1.0f, 0.0f, 0.0f, 0}, far = {2.0f, 0.0f, 0.0f, 2};
+    assert_int_equal(classify(scene, &r, &near, &far), RTT_CONFORM_T_MISMATCH);
+    rtt_conform_row row = judge_one(scene, &r, &near, &far, false);
+    assert_int_equal(row.count[RTT_CONFORM_T_MISMATCH], 1);
+    assert_int_equal(row.errors[RTT_CONFORM_T_MISMATCH], 0);
+    assert_int_equal(row.reference_wrong, 1);
+    assert_true(row.pass);
+
+    row = judge_one(scene, &r, &near, &far, true);
+    assert_int_equal(row.errors[RTT_CONFORM_T_MISMATCH], 1);
+    assert_int_equal(row.embree_wrong, 0);
+    assert_false(row.pass);
+    assert_int_equal(row.failing[0].verdict, RTT_VERDICT_REFERENCE_WRONG);
+    assert_int_equal(row.failing[0].referee.prim, 0);
+
+    /* and a miss where both quads lie ahead is nobody's right answer but the referee's */
+    row = judge_one(scene, &r, &miss, &far, false);
+    assert_int_equal(row.errors[RTT_CONFORM_HITMISS_OTHER], 1);
+    assert_false(row.pass);
+    rtt_scene_free(scene);
+}
+
+/* A ray from 1e18 away: the referee's t is the exact distance (to double
+ * rounding), and an answer lost to float range is judged wrong, not a tie. */
+static void test_referee_at_1e18(void **state)
+{
+    (void)state;
+    rtt_scene *scene = quads_scene();
+    rtt_ray r = stored_ray(scene, 0.5f, -0.25f, 1e18f, 0.0f, 0.0f, -1.0f);
+    rtt_conform_referee_hit h;
+    assert_true(rtt_conform_referee(scene, &r, &h));
+    assert_int_equal(h.prim, 0);
+    assert_true(fabs(h.t - (double)1e18f) <= 1e-12 * 1e18);
+    rtt_hit right = {(float)h.t, 0.0f, 0.0f, 0};
+    rtt_conform_row row = judge_one(scene, &r, &miss, &right, true);
+    assert_int_equal(row.embree_wrong, 1);
+    assert_true(row.pass);
+    row = judge_one(scene, &r, &miss, &right, false);
+    assert_false(row.pass);
+    /* beyond Embree's range the adapter does not trace: unspecified, apart */
+    rtt_ray beyond = stored_ray(scene, 0.5f, -0.25f, 2e18f, 0.0f, 0.0f, -1.0f);
+    assert_true(rtt_conform_referee(scene, &beyond, &h) && h.prim == 0);
+#ifdef RTT_HAVE_EMBREE
+    right.t = (float)h.t;
+    row = judge_one(scene, &beyond, &miss, &right, true);
+    assert_int_equal(row.count[RTT_CONFORM_UNSPECIFIED], 1);
+    assert_int_equal(row.refereed, 0);
+    assert_true(row.pass);
+#endif
+    rtt_scene_free(scene);
+}
+
+/* The referee is watertight: from the centre of a closed UV sphere, rays at
+ * every vertex and edge midpoint all hit. */
+static void test_referee_is_watertight(void **state)
+{
+    (void)state;
+    const float centre[3] = {0.0f, 0.0f, 0.0f};
+    uint32_t count = 0;
+    float *soup = rtt_extremes_sphere(48, 24, 1.0f, centre, &count);
+    assert_non_null(soup);
+    rtt_scene *scene = scene_of(soup, count);
+    free(soup);
+    float inside[3] = {0.125f, -0.0625f, 0.03125f};
+    size_t n = 0;
+    rtt_ray *rays = rtt_extremes_watertight_rays(scene, inside, 4096, &n);
+    assert_non_null(rays);
+    assert_true(n > 1000);
+    size_t escapes = 0;
+    for (size_t i = 0; i < n; i++) {
+        rtt_conform_referee_hit h;
+        assert_true(rtt_conform_referee(scene, &rays[i], &h));
+        escapes += h.prim == RTT_MISS;
+    }
+    assert_int_equal(escapes, 0);
+    free(rays);
+    rtt_scene_free(scene);
+}
+
 int main(void)
 {
     if (!rtt_conform_register_engines(NULL)) return 1;
@@ -170,6 +354,11 @@ int main(void)
         cmocka_unit_test(test_grazing_vertex_hit_on_neighbours_is_a_tie),
         cmocka_unit_test(test_engines_on_the_regression_ray_do_not_mismatch),
         cmocka_unit_test(test_tie_at_one_crossing_stays_strict),
+        cmocka_unit_test(test_referee_on_a_shared_edge),
+        cmocka_unit_test(test_referee_sides_with_the_reference_against_embree),
+        cmocka_unit_test(test_referee_sides_with_the_engine_and_with_embree),
+        cmocka_unit_test(test_referee_at_1e18),
+        cmocka_unit_test(test_referee_is_watertight),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
