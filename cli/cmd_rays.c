@@ -92,7 +92,6 @@ static int rays(void *opaque, const cli_parsed *parsed)
     size_t count = 0;
     bool ok = (reference || strcmp(rtt_conform_kind_name((size_t)args->kind), "shadow") != 0) &&
               rtt_conform_make_kind(scene, (size_t)args->kind, reference, args->count, args->seed, &list, &count, &err);
-    if (ok) rtt_rays_from_stored(scene, list, count); /* rays.bin is in the scene's own coordinates, as rtt trace reads it */
     ok = ok && cli_write_file_atomic(args->out_path, list, count * sizeof *list, &err);
     if (ok) printf("%zu rays of kind %s written to %s\n", count, rtt_conform_kind_name((size_t)args->kind), args->out_path);
     free(list);

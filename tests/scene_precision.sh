@@ -54,6 +54,25 @@ sys.exit(0 if ok else 1)
 PY
 done
 
+# rtt rays writes the scene's own coordinates (rtt trace reads those): the
+# primary rays of a unit square 1e5 away (big enough for float rays there:
+# rays.bin is float), traced, mostly hit it (shifted twice, all miss)
+cat >"$work/far_unit.json" <<'JSON'
+{"meshes": [{"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]], "triangles": [[0,1,2],[0,2,3]],
+  "transform": {"translate": [100000, 100000, 100000]}}]}
+JSON
+"$rtt" rays "$work/far_unit.json" --kind primary -n 1024 --seed 3 -o "$work/primary.bin" >/dev/null ||
+    fail "rtt rays far_unit.json exited $?"
+"$rtt" trace "$work/far_unit.json" --rays "$work/primary.bin" -o "$work/primary.hits" >/dev/null ||
+    fail "rtt trace of rtt rays' primary rays exited $?"
+python3 - "$work/primary.hits" <<'PY' || fail "rtt rays' primary rays of the far square miss it"
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+hits = sum(1 for i in range(0, len(data), 16) if struct.unpack_from("<3fI", data, i)[3] != 0xFFFFFFFF)
+print(f"primary rays: {hits} of {len(data) // 16} hit")
+sys.exit(0 if hits > len(data) // 16 // 10 else 1)
+PY
+
 # large and far: not centred, so its 1e-6 triangle collapses: one warning line
 cat >"$work/collapse.json" <<'JSON'
 {"meshes": [{"vertices": [[-1e5,-1e5,0],[1e5,-1e5,0],[0,1e5,0]], "triangles": [[0,1,2]]},
