@@ -15,13 +15,15 @@ typedef enum rtt_shadow_method {
     RTT_SHADOWS_CONE,       /* N samples traced under one cone (thesis 4.1.6-4.1.9) */
     RTT_SHADOWS_PYRAMID,    /* the same samples under a pyramid frustum (Table 4.6) */
     RTT_SHADOWS_EDGEWIDTH,  /* Edge Width Soft Shadows (thesis chapter 5) */
-    RTT_SHADOWS_INTERLEAVED /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
+    RTT_SHADOWS_INTERLEAVED, /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
+    /* 7 is another method's (frusta) */
+    RTT_SHADOWS_PGRID = 8   /* hard shadows through a perspective grid per light (Hunt & Mark 2008, 5.2) */
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
 #define RTT_MAX_SPP 256u
-#define RTT_SHADOW_METHOD_COUNT 7u             /* rtt_shadow_method values */
-#define RTT_SHADOWS_ALL 0x7Fu                 /* every rtt_shadow_method bit */
+#define RTT_SHADOW_METHOD_COUNT 9u             /* rtt_shadow_method values (7 unnamed until frusta) */
+#define RTT_SHADOWS_ALL 0x17Fu                /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {

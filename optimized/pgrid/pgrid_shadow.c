@@ -1,0 +1,226 @@
+/* Hunt & Mark 2008, section 5.2: shadow rays through a light's perspective
+ * grid (pgrid_light.h).  The batch (one eye-ray cell's shadow rays to one
+ * light, as the shader proxy hands them) is sorted by (light cell, dominant
+ * axis of the ray's direction); each run is cut into packets of one vector,
+ * 16 rays with AVX-512, 8 with AVX2, 4 with SSE4.1, which meet the cell's
+ * triangles in object order, after the per-cell distance test, then the
+ * near list.
+ *
+ * The test is Woop, Benthin & Wald's watertight one exactly as
+ * ../isect/isect_woop_watertight.h and the reference compute it: the lanes
+ * of a packet share kz (the sort), the corners are broadcast, every lane's
+ * shear is its own ray's; a lane with an edge function, det or T that is
+ * zero, subnormal, infinite or NaN is decided again by wt_decide1 (double).
+ * So a lane answers as the reference for each triangle tested. */
+#include <immintrin.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "isect_woop_watertight.h"
+#include "pgrid_isa.h"
+#include "pgrid_light.h"
+
+#if defined(__AVX512F__)
+#define LANES 16
+typedef __m512 vf;
+typedef __mmask16 vm;
+static inline vf vf_set1(float x) { return _mm512_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm512_load_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm512_store_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm512_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm512_div_ps(a, b); }
+static inline vm vm_gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+static inline vm vm_lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+static inline vm vm_ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
+static inline vm vm_and(vm a, vm b) { return a & b; }
+static inline vm vm_or(vm a, vm b) { return a | b; }
+static inline vm vm_andnot(vm a, vm b) { return (vm)(~a & b); }
+static inline uint32_t vm_bits(vm a) { return a; }
+static inline vm vm_from_bits(uint32_t b) { return (vm)b; }
+static inline vf vf_abs(vf a) { return _mm512_abs_ps(a); }
+#elif defined(__AVX2__)
+#define LANES 8
+typedef __m256 vf;
+typedef __m256 vm;
+static inline vf vf_set1(float x) { return _mm256_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm256_load_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm256_store_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm256_div_ps(a, b); }
+static inline vm vm_gt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+static inline vm vm_lt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+static inline vm vm_ge(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+static inline vm vm_and(vm a, vm b) { return _mm256_and_ps(a, b); }
+static inline vm vm_or(vm a, vm b) { return _mm256_or_ps(a, b); }
+static inline vm vm_andnot(vm a, vm b) { return _mm256_andnot_ps(a, b); }
+static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm256_movemask_ps(a); }
+static inline vm vm_from_bits(uint32_t b)
+{
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)b), bit), bit));
+}
+static inline vf vf_abs(vf a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
+#else
+#define LANES 4
+typedef __m128 vf;
+typedef __m128 vm;
+static inline vf vf_set1(float x) { return _mm_set1_ps(x); }
+static inline vf vf_load(const float *p) { return _mm_load_ps(p); }
+static inline void vf_store(float *p, vf a) { _mm_store_ps(p, a); }
+static inline vf vf_add(vf a, vf b) { return _mm_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm_div_ps(a, b); }
+static inline vm vm_gt(vf a, vf b) { return _mm_cmpgt_ps(a, b); }
+static inline vm vm_lt(vf a, vf b) { return _mm_cmplt_ps(a, b); }
+static inline vm vm_ge(vf a, vf b) { return _mm_cmpge_ps(a, b); }
+static inline vm vm_and(vm a, vm b) { return _mm_and_ps(a, b); }
+static inline vm vm_or(vm a, vm b) { return _mm_or_ps(a, b); }
+static inline vm vm_andnot(vm a, vm b) { return _mm_andnot_ps(a, b); }
+static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm_movemask_ps(a); }
+static inline vm vm_from_bits(uint32_t b)
+{
+    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32((int)b), bit), bit));
+}
+static inline vf vf_abs(vf a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+#endif
+
+/* Normal floats: neither zero, subnormal, infinite nor NaN. */
+static inline vm vm_normal(vf x)
+{
+    const vf a = vf_abs(x);
+    return vm_and(vm_ge(a, vf_set1(FLT_MIN)), vm_lt(a, vf_set1(INFINITY)));
+}
+
+/* One packet: LANES rays of one kz, structure of arrays. */
+typedef struct shadow_packet {
+    _Alignas(64) float org[3][LANES];
+    _Alignas(64) float sx[LANES], sy[LANES], sz[LANES], tnear[LANES], tfar[LANES], reach[LANES];
+    uint32_t kx, ky, kz;
+} shadow_packet;
+
+/* The lanes of `active` that `tri` occludes (tnear < t < tfar). */
+static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, uint32_t active)
+{
+    const uint32_t kx = p->kx, ky = p->ky, kz = p->kz;
+    const vf ox = vf_load(p->org[kx]), oy = vf_load(p->org[ky]), oz = vf_load(p->org[kz]);
+    const vf sx = vf_load(p->sx), sy = vf_load(p->sy);
+    const vf akz = vf_sub(vf_set1(tri->a[kz]), oz), bkz = vf_sub(vf_set1(tri->b[kz]), oz),
+             ckz = vf_sub(vf_set1(tri->c[kz]), oz);
+    const vf ax = vf_sub(vf_sub(vf_set1(tri->a[kx]), ox), vf_mul(sx, akz));
+    const vf ay = vf_sub(vf_sub(vf_set1(tri->a[ky]), oy), vf_mul(sy, akz));
+    const vf bx = vf_sub(vf_sub(vf_set1(tri->b[kx]), ox), vf_mul(sx, bkz));
+    const vf by = vf_sub(vf_sub(vf_set1(tri->b[ky]), oy), vf_mul(sy, bkz));
+    const vf cx = vf_sub(vf_sub(vf_set1(tri->c[kx]), ox), vf_mul(sx, ckz));
+    const vf cy = vf_sub(vf_sub(vf_set1(tri->c[ky]), oy), vf_mul(sy, ckz));
+    const vf u = vf_sub(vf_mul(cx, by), vf_mul(cy, bx));
+    const vf v = vf_sub(vf_mul(ax, cy), vf_mul(ay, cx));
+    const vf w = vf_sub(vf_mul(bx, ay), vf_mul(by, ax));
+    const vf zero = vf_set1(0.0f);
+    const vm positive = vm_and(vm_and(vm_gt(u, zero), vm_gt(v, zero)), vm_gt(w, zero));
+    const vm negative = vm_and(vm_and(vm_lt(u, zero), vm_lt(v, zero)), vm_lt(w, zero));
+    const vm edges_normal = vm_and(vm_and(vm_normal(u), vm_normal(v)), vm_normal(w));
+    const vm act = vm_from_bits(active);
+    const uint32_t inside = vm_bits(vm_and(act, vm_or(positive, negative)));
+    const uint32_t odd = vm_bits(vm_andnot(edges_normal, act));
+    if (!(inside | odd)) return 0;
+    const vf sz = vf_load(p->sz);
+    const vf az = vf_mul(sz, akz), bz = vf_mul(sz, bkz), cz = vf_mul(sz, ckz);
+    const vf det = vf_add(vf_add(u, v), w);
+    const vf t_scaled = vf_add(vf_add(vf_mul(u, az), vf_mul(v, bz)), vf_mul(w, cz));
+    const vm normal = vm_and(edges_normal, vm_and(vm_normal(det), vm_normal(t_scaled)));
+    const vf t = vf_div(t_scaled, det);
+    const vm in_range = vm_and(vm_gt(t, vf_load(p->tnear)), vm_lt(t, vf_load(p->tfar)));
+    uint32_t hit = inside & vm_bits(vm_and(normal, in_range));
+    const uint32_t slow = active & ~vm_bits(normal);
+    if (slow) {
+        _Alignas(64) float lane[9][LANES];
+        const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
+        for (int i = 0; i < 9; i++) vf_store(lane[i], parts[i]);
+        for (uint32_t l = 0; l < LANES; l++) {
+            if (!(slow >> l & 1u)) continue;
+            const wt_lane one = {lane[0][l], lane[1][l], lane[2][l], lane[3][l], lane[4][l],
+                                 lane[5][l], lane[6][l], lane[7][l], lane[8][l]};
+            float tl, ul, vl;
+            if (wt_decide1(&one, p->tnear[l], p->tfar[l], &tl, &ul, &vl))
+                hit |= 1u << l;
+            else
+                hit &= ~(1u << l);
+        }
+    }
+    return hit;
+}
+
+/* The lanes of `active` occluded by one of list[0 .. count). */
+static uint32_t occluded_list(const pgrid_shadows *g, const uint32_t *list, uint32_t count, const shadow_packet *p,
+                              uint32_t active)
+{
+    uint32_t hit = 0;
+    for (uint32_t i = 0; i < count && (hit & active) != active; i++)
+        hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit);
+    return hit;
+}
+
+static int compare_keys(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
+                           uint8_t *occluded);
+
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
+                           uint8_t *occluded)
+{
+    if (!count) return true;
+    const pgrid_light *L = &grids->lights[light];
+    uint64_t *keys = malloc((size_t)count * sizeof *keys);
+    if (!keys) return false;
+    for (uint32_t i = 0; i < count; i++) {
+        const rtt_ray *r = &rays[i];
+        const uint32_t cell = pgrid_light_cell_of(L->res, r->org[0] - L->position[0], r->org[1] - L->position[1],
+                                                  r->org[2] - L->position[2]);
+        const float ax = fabsf(r->dir[0]), ay = fabsf(r->dir[1]), az = fabsf(r->dir[2]);
+        const uint32_t kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+        keys[i] = (uint64_t)(cell * 3u + kz) << 32 | i;
+    }
+    qsort(keys, count, sizeof *keys, compare_keys);
+    shadow_packet p;
+    for (uint32_t first = 0; first < count;) {
+        const uint32_t key = (uint32_t)(keys[first] >> 32);
+        uint32_t n = 0;
+        while (n < LANES && first + n < count && (uint32_t)(keys[first + n] >> 32) == key) n++;
+        const uint32_t cell = key / 3u, kz = key % 3u;
+        p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
+        const float cell_min = L->cell_min[cell];
+        uint32_t active = 0, reaching = 0;
+        for (uint32_t l = 0; l < LANES; l++) {
+            const rtt_ray *r = &rays[(uint32_t)keys[first + (l < n ? l : 0)]];
+            for (int a = 0; a < 3; a++) p.org[a][l] = r->org[a];
+            p.sx[l] = r->dir[p.kx] / r->dir[kz];
+            p.sy[l] = r->dir[p.ky] / r->dir[kz];
+            p.sz[l] = 1.0f / r->dir[kz];
+            p.tnear[l] = r->tnear, p.tfar[l] = r->tfar;
+            if (l >= n) continue;
+            active |= 1u << l;
+            /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
+            if (!(r->tnear + r->tfar + L->reach < cell_min)) reaching |= 1u << l;
+        }
+        uint32_t hit = 0;
+        if (reaching)
+            hit = occluded_list(grids, L->refs + L->cell_first[cell], L->cell_first[cell + 1] - L->cell_first[cell],
+                                &p, reaching);
+        if (L->near_count && (hit & active) != active)
+            hit |= occluded_list(grids, L->near, L->near_count, &p, active & ~hit);
+        for (uint32_t l = 0; l < n; l++) occluded[(uint32_t)keys[first + l]] = (uint8_t)(hit >> l & 1u);
+        first += n;
+    }
+    free(keys);
+    return true;
+}
