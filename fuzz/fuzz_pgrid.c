@@ -71,22 +71,25 @@ static rtt_vec3 palette_point(byte_reader *in, const rtt_scene *scene, float sca
     return rtt_scene_point_to_stored(scene, p);
 }
 
-/* A point on triangle b % count at barycentrics from two bytes. */
-static rtt_vec3 surface_point(byte_reader *in, const rtt_scene *scene)
+/* A point on triangle b % count at barycentrics from two bytes (its index in *prim). */
+static rtt_vec3 surface_point(byte_reader *in, const rtt_scene *scene, uint32_t *prim)
 {
     rtt_vec3 c[3];
-    rtt_scene_triangle(scene, next_byte(in) % scene->triangle_count, c);
+    *prim = next_byte(in) % scene->triangle_count;
+    rtt_scene_triangle(scene, *prim, c);
     float u = (float)next_byte(in) / 255.0f, v = (float)next_byte(in) / 255.0f;
     if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
     return rtt_v3_add(c[0], rtt_v3_add(rtt_v3_scale(rtt_v3_sub(c[1], c[0]), u), rtt_v3_scale(rtt_v3_sub(c[2], c[0]), v)));
 }
 
-static rtt_vec3 decode_point(byte_reader *in, const rtt_scene *scene, float scale, float offset)
+/* *prim: the triangle the point lies on, RTT_MISS when none is known. */
+static rtt_vec3 decode_point(byte_reader *in, const rtt_scene *scene, float scale, float offset, uint32_t *prim)
 {
     const uint8_t control = next_byte(in);
+    *prim = RTT_MISS;
     switch (control % 4) {
     case 0: return scene->vertices[next_byte(in) % scene->vertex_count];
-    case 1: return surface_point(in, scene);
+    case 1: return surface_point(in, scene, prim);
     case 2: {
         const rtt_vec3 a = scene->vertices[next_byte(in) % scene->vertex_count];
         const rtt_vec3 b = scene->vertices[next_byte(in) % scene->vertex_count];
@@ -153,7 +156,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         rtt_scene_triangle(scene, i, c);
         degenerate[i] = rtt_triangle_is_degenerate(c);
     }
-    const rtt_vec3 light_at = decode_point(&in, scene, scale, offset);
+    uint32_t light_prim;
+    const rtt_vec3 light_at = decode_point(&in, scene, scale, offset, &light_prim);
     if (!isfinite(light_at.x) || !isfinite(light_at.y) || !isfinite(light_at.z)) {
         rtt_scene_free(scene);
         return 0;
@@ -170,9 +174,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const float epsilon = rtt_scene_ray_epsilon(scene);
     rtt_ray rays[MAX_ORIGINS];
     uint8_t expected[MAX_ORIGINS], ours[MAX_ORIGINS];
-    uint32_t n = 0;
+    uint32_t prims[MAX_ORIGINS], n = 0;
     while (in.at < in.size && n < MAX_ORIGINS) {
-        const rtt_vec3 p = decode_point(&in, scene, scale, offset);
+        const rtt_vec3 p = decode_point(&in, scene, scale, offset, &prims[n]);
         const rtt_vec3 to = rtt_v3_sub(light_at, p);
         const float distance = rtt_v3_length(to);
         if (!isfinite(distance) || !(distance > 2.0f * epsilon)) continue;
@@ -185,7 +189,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!rtt_isa_supported(isa)) continue;
         const pgrid_kernel *k = pgrid_kernel_find("", isa);
         if (!k) fuzz_fail("no pgrid kernel for %s", rtt_isa_name(isa));
-        if (!k->shadow_occluded(&one, 0, rays, n, ours)) fuzz_fail("light grid: out of memory tracing");
+        if (!k->shadow_occluded(&one, 0, rays, prims, n, ours)) fuzz_fail("light grid: out of memory tracing");
         for (uint32_t i = 0; i < n; i++)
             if (ours[i] != expected[i])
                 fuzz_fail("light grid (%s, res %u): ray %u org (%a %a %a) dir (%a %a %a) tnear %a tfar %a: grid %u, "

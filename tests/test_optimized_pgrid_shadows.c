@@ -76,10 +76,12 @@ static bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, rtt_ray 
 
 /* Origins: the eye rays' hits at w x h, then `extra` points in the scene's box grown by a quarter. */
 static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w, uint32_t h, uint32_t extra,
-                                uint32_t *count, uint32_t seed)
+                                uint32_t *count, uint32_t seed, uint32_t **prims)
 {
     rtt_vec3 *points = malloc(((size_t)w * h + extra) * sizeof *points);
+    *prims = malloc(((size_t)w * h + extra) * sizeof **prims);
     assert_non_null(points);
+    assert_non_null(*prims);
     rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
     uint32_t n = 0;
     for (uint32_t y = 0; y < h; y++)
@@ -88,10 +90,11 @@ static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w,
             rtt_hit hit;
             rtt_engine_intersect(ref, &r, &hit, 1);
             if (hit.prim == RTT_MISS) continue;
+            (*prims)[n] = hit.prim;
             points[n++] = (rtt_vec3){r.org[0] + hit.t * r.dir[0], r.org[1] + hit.t * r.dir[1], r.org[2] + hit.t * r.dir[2]};
         }
     const rtt_vec3 lo = s->bounds.lo, hi = s->bounds.hi, grow = rtt_v3_scale(rtt_v3_sub(hi, lo), 0.25f);
-    for (uint32_t i = 0; i < extra; i++)
+    for (uint32_t i = 0; i < extra; i++, (*prims)[n - 1] = RTT_MISS)
         points[n++] = (rtt_vec3){random_in(&seed, lo.x - grow.x, hi.x + grow.x),
                                  random_in(&seed, lo.y - grow.y, hi.y + grow.y),
                                  random_in(&seed, lo.z - grow.z, hi.z + grow.z)};
@@ -102,7 +105,8 @@ static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w,
 /* Every ray from `points` to `light` through the grid at every instruction
  * set, against the reference engine and the brute force. */
 static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids, const rtt_vec3 *points,
-                        uint32_t point_count, uint32_t res, rtt_vec3 light, const char *what)
+                        const uint32_t *point_prims, uint32_t point_count, uint32_t res, rtt_vec3 light,
+                        const char *what)
 {
     pgrid_shadows one = *grids;
     pgrid_light grid;
@@ -110,11 +114,12 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
     assert_true(pgrid_light_build(&grid, grids, s, position, res));
     one.lights = &grid, one.light_count = 1;
     rtt_ray *rays = malloc((size_t)point_count * sizeof *rays);
+    uint32_t *prims = malloc(((size_t)point_count + 1) * sizeof *prims);
     uint8_t *expected = malloc(point_count + 1), *engine = malloc(point_count + 1), *ours = malloc(point_count + 1);
-    assert_true(rays && expected && engine && ours);
+    assert_true(rays && prims && expected && engine && ours);
     uint32_t n = 0, blocked = 0;
     for (uint32_t i = 0; i < point_count; i++)
-        if (shadow_ray(s, points[i], light, &rays[n])) n++;
+        if (shadow_ray(s, points[i], light, &rays[n])) prims[n++] = point_prims[i];
     rtt_engine_occluded(ref, rays, engine, n);
     for (uint32_t i = 0; i < n; i++) {
         expected[i] = brute_force_occluded(s, &rays[i]);
@@ -128,7 +133,7 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
         assert_non_null(k);
         assert_int_equal(k->isa, isa);
         /* whole, and in small batches (partial packets, other sort runs) */
-        assert_true(k->shadow_occluded(&one, 0, rays, n, ours));
+        assert_true(k->shadow_occluded(&one, 0, rays, prims, n, ours));
         for (uint32_t i = 0; i < n; i++)
             if (ours[i] != expected[i])
                 fail_msg("%s (%s, res %u): ray %u from (%g %g %g): grid %u, reference %u", what, rtt_isa_name(isa), res,
@@ -136,14 +141,18 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
                          expected[i]);
         for (uint32_t first = 0; first < n; first += 37) {
             const uint32_t m = n - first < 37 ? n - first : 37;
-            assert_true(k->shadow_occluded(&one, 0, rays + first, m, ours + first));
+            assert_true(k->shadow_occluded(&one, 0, rays + first, NULL, m, ours + first));
         }
         for (uint32_t i = 0; i < n; i++) assert_int_equal(ours[i], expected[i]);
     }
-    print_message("%s: res %u, %u rays, %u occluded, %u near, %zu refs\n", what, grid.res, n, blocked,
-                  grid.near_count, grid.ref_count);
+    size_t front = 0;
+    for (size_t c = 0; c < (size_t)PGRID_LIGHT_FACES * grid.res * grid.res; c++)
+        front += grid.cell_first[c + 1] - grid.cell_front[c];
+    print_message("%s: res %u, %u rays, %u occluded, %u near, %zu refs (%zu facing the light, of %u culled meshes)\n",
+                  what, grid.res, n, blocked, grid.near_count, grid.ref_count, front, grids->culled_count);
     if (n > 100) assert_true(blocked > 0 && blocked < n); /* both answers were checked */
     free(rays);
+    free(prims);
     free(expected);
     free(engine);
     free(ours);
@@ -164,23 +173,24 @@ static void test_light_grid_rays_match_reference_and_brute_force(void **state)
         pgrid_shadows grids;
         assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
         assert_int_equal(grids.light_count, s->light_count);
-        uint32_t count;
-        rtt_vec3 *points = shadow_origins(s, ref, 48, 36, 800, &count, 7u + (uint32_t)sc);
+        uint32_t count, *prims;
+        rtt_vec3 *points = shadow_origins(s, ref, 48, 36, 800, &count, 7u + (uint32_t)sc, &prims);
         uint32_t seed = 99u + (uint32_t)sc;
         for (size_t r = 0; r < sizeof resolutions / sizeof resolutions[0]; r++) {
             char what[96];
             for (uint32_t l = 0; l < s->light_count; l++) {
                 snprintf(what, sizeof what, "%s light %u", scenes[sc], l);
-                check_light(s, ref, &grids, points, count, resolutions[r], s->lights[l].position, what);
+                check_light(s, ref, &grids, points, prims, count, resolutions[r], s->lights[l].position, what);
             }
             /* a light somewhere in the scene's box: near triangles, rays from every side */
             const rtt_vec3 lo = s->bounds.lo, hi = s->bounds.hi;
             const rtt_vec3 inside = {random_in(&seed, lo.x, hi.x), random_in(&seed, lo.y, hi.y),
                                      random_in(&seed, lo.z, hi.z)};
             snprintf(what, sizeof what, "%s light inside", scenes[sc]);
-            check_light(s, ref, &grids, points, count, resolutions[r], inside, what);
+            check_light(s, ref, &grids, points, prims, count, resolutions[r], inside, what);
         }
         free(points);
+        free(prims);
         pgrid_shadows_free(&grids);
         rtt_engine_destroy(ref);
         rtt_scene_free(s);
@@ -207,16 +217,18 @@ static void test_light_grid_on_a_triangle_soup(void **state)
     assert_non_null(ref);
     pgrid_shadows grids;
     assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
-    uint32_t count;
-    rtt_vec3 *points = shadow_origins(s, ref, 32, 32, 2000, &count, 5u);
+    uint32_t count, *prims;
+    rtt_vec3 *points = shadow_origins(s, ref, 32, 32, 2000, &count, 5u, &prims);
     for (int l = 0; l < 4; l++) {
         const rtt_vec3 light = {random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f),
                                 random_in(&seed, -1.2f, 1.2f)};
-        check_light(s, ref, &grids, points, count, l % 2 ? 200 : 16, light, "soup");
+        check_light(s, ref, &grids, points, prims, count, l % 2 ? 200 : 16, light, "soup");
     }
     /* on a corner of a triangle: that triangle is a near one */
-    check_light(s, ref, &grids, points, count, 0, s->vertices[s->triangles[3].v[1]], "soup, light on a corner");
+    check_light(s, ref, &grids, points, prims, count, 0, s->vertices[s->triangles[3].v[1]],
+                "soup, light on a corner");
     free(points);
+    free(prims);
     pgrid_shadows_free(&grids);
     rtt_engine_destroy(ref);
     rtt_scene_free(s);

@@ -66,6 +66,8 @@ typedef struct pgrid_light {
     float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
     uint32_t *refs;            /* indices into pgrid_shadows.corners, ascending per cell */
     size_t ref_count;
+    uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */
+    uint8_t *front;            /* per scene triangle: 1 when it is one of those (a culled mesh's, facing the light) */
     uint32_t *near;            /* tested by every ray */
     uint32_t near_count;
 } pgrid_light;
@@ -75,6 +77,16 @@ typedef struct pgrid_light {
 typedef struct pgrid_shadows {
     kd_corners *corners;
     uint32_t corner_count;
+    /* back-face culling: per mesh 1 when it is closed and consistently
+     * oriented (every directed edge's reverse used once, by vertex index),
+     * its outward side (+1: the winding's normal, -1: the opposite) and
+     * its box grown by `box_grow` (lo xyz, hi xyz); the culled meshes */
+    uint8_t *mesh_culled;
+    int8_t *mesh_outward;
+    float (*mesh_box)[6];
+    uint32_t *culled;
+    uint32_t culled_count;
+    const uint32_t *triangle_mesh; /* the scene's */
     pgrid_light *lights;
     uint32_t light_count;
     double build_seconds;
@@ -113,10 +125,11 @@ static inline uint32_t pgrid_light_cell_of(uint32_t res, float dx, float dy, flo
 
 /* The light-grid kernel (pgrid_shadow.c, one copy per instruction set):
  * occluded[i] = 1 when rays[i] (from its origin towards light `light`, as
- * the shader proxy makes them) is blocked, else 0; the rays are sorted by
+ * the shader proxy makes them; origin_prim[i] the triangle its origin lies
+ * on, RTT_MISS or origin_prim NULL when none or unknown) is blocked, else 0; the rays are sorted by
  * cell and dominant axis and traced per cell in packets of the set's lanes.
  * False when out of memory. */
-typedef bool (*pgrid_occluded_fn)(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
-                                  uint8_t *occluded);
+typedef bool (*pgrid_occluded_fn)(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                                  const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);
 
 #endif

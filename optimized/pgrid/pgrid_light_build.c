@@ -44,13 +44,24 @@ static footprint face_footprint(const double c[3][3], uint32_t face, double mu, 
     double poly[2][16][3];
     int n = 3;
     memcpy(poly[0], c, 3 * sizeof poly[0][0]);
-    for (int k = 0; k < 4 && n > 0; k++) {
+    footprint f = {FOOTPRINT_NONE, 0, 0, 0};
+    /* the four planes' values at the corners: wholly outside one, no
+     * footprint; inside all four, no clipping */
+    bool inside = true;
+    for (int k = 0; k < 4; k++) {
+        const uint32_t across = k < 2 ? u : v;
+        const double side = k % 2 ? 1.0 : -1.0;
+        int out = 0;
+        for (int i = 0; i < 3; i++) out += sign * wide * c[i][axis] + side * c[i][across] < 0.0;
+        if (out == 3) return f;
+        inside = inside && out == 0;
+    }
+    for (int k = 0; !inside && k < 4 && n > 0; k++) {
         double plane[3] = {0.0, 0.0, 0.0};
         plane[axis] = sign * wide;
         plane[k < 2 ? u : v] = k % 2 ? 1.0 : -1.0;
         n = clip_plane((const double(*)[3])poly[k % 2], n, plane, poly[(k + 1) % 2]);
     }
-    footprint f = {FOOTPRINT_NONE, 0, 0, 0};
     if (n == 0) return f;
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i < n; i++) {
@@ -106,6 +117,8 @@ void pgrid_light_free(pgrid_light *light)
     free(light->cell_first);
     free(light->cell_min);
     free(light->refs);
+    free(light->cell_front);
+    free(light->front);
     free(light->near);
     memset(light, 0, sizeof *light);
 }
@@ -122,11 +135,14 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
     light->reach = (float)(4.0 * E);
     const size_t cells = (size_t)PGRID_LIGHT_FACES * res * res, n = grids->corner_count;
     light->cell_first = calloc(cells + 1, sizeof *light->cell_first);
+    light->cell_front = calloc(cells + 1, sizeof *light->cell_front);
     light->cell_min = malloc(cells * sizeof *light->cell_min);
     light->near = malloc((n + 1) * sizeof *light->near);
+    light->front = calloc((size_t)scene->triangle_count + 1, 1);
     footprint *prints = malloc((n * PGRID_LIGHT_FACES + 1) * sizeof *prints);
     float *bound = malloc((n + 1) * sizeof *bound);
-    bool ok = light->cell_first && light->cell_min && light->near && prints && bound;
+    bool ok = light->cell_first && light->cell_front && light->cell_min && light->near && light->front && prints &&
+              bound;
     for (size_t c = 0; ok && c < cells; c++) light->cell_min[c] = INFINITY;
     for (uint32_t i = 0; ok && i < n; i++) {
         const kd_corners *k = &grids->corners[i];
@@ -136,6 +152,18 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
             c[2][a] = (double)k->c[a] - position[a];
         const double d = distance_bound(c);
         bound[i] = (float)(d * (1.0 - 1e-6));
+        const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
+        bool front = false;
+        if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
+            /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
+            double e1[3], e2[3];
+            for (int a = 0; a < 3; a++) e1[a] = c[1][a] - c[0][a], e2[a] = c[2][a] - c[0][a];
+            const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                         nz = e1[0] * e2[1] - e1[1] * e2[0];
+            const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
+            front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
+        }
+        light->front[prim] = front;
         const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
         footprint *f = &prints[(size_t)i * PGRID_LIGHT_FACES];
         if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
@@ -150,27 +178,41 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
                 for (uint32_t x = f[face].x0; x <= f[face].x1; x++) {
                     const size_t cell = ((size_t)face * res + y) * res + x;
                     light->cell_first[cell + 1]++;
-                    if (bound[i] < light->cell_min[cell]) light->cell_min[cell] = bound[i];
+                    if (front) {
+                        light->cell_front[cell]++; /* for now: the cell's front count */
+                    } else if (bound[i] < light->cell_min[cell]) {
+                        light->cell_min[cell] = bound[i];
+                    }
                 }
         }
     }
     if (ok) {
-        for (size_t c = 0; c < cells; c++) light->cell_first[c + 1] += light->cell_first[c];
+        for (size_t c = 0; c < cells; c++) {
+            light->cell_first[c + 1] += light->cell_first[c];
+            light->cell_front[c] = light->cell_first[c + 1] - light->cell_front[c];
+        }
         light->ref_count = light->cell_first[cells];
         light->refs = malloc((light->ref_count + 1) * sizeof *light->refs);
         ok = light->refs != NULL;
     }
     if (ok) {
-        uint32_t *fill = malloc((cells + 1) * sizeof *fill);
+        /* two cursors per cell: the main references from cell_first, the front ones from cell_front */
+        uint32_t *fill = malloc((2 * cells + 1) * sizeof *fill);
         ok = fill != NULL;
-        if (ok) memcpy(fill, light->cell_first, cells * sizeof *fill);
-        for (uint32_t i = 0; ok && i < n; i++)
+        if (ok) {
+            memcpy(fill, light->cell_first, cells * sizeof *fill);
+            memcpy(fill + cells, light->cell_front, cells * sizeof *fill);
+        }
+        for (uint32_t i = 0; ok && i < n; i++) {
+            const size_t cursor = light->front[grids->corners[i].prim] ? cells : 0;
             for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
                 const footprint *f = &prints[(size_t)i * PGRID_LIGHT_FACES + face];
                 if (f->x0 == FOOTPRINT_NONE) continue;
                 for (uint32_t y = f->y0; y <= f->y1; y++)
-                    for (uint32_t x = f->x0; x <= f->x1; x++) light->refs[fill[((size_t)face * res + y) * res + x]++] = i;
+                    for (uint32_t x = f->x0; x <= f->x1; x++)
+                        light->refs[fill[cursor + ((size_t)face * res + y) * res + x]++] = i;
             }
+        }
         free(fill);
     }
     free(prints);
@@ -179,11 +221,77 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
     return ok;
 }
 
+/* Sorts 64-bit keys (least-significant-digit radix, 16 bits a pass, as
+ * many passes as `largest` needs); the result is in keys.  False when out
+ * of memory. */
+static bool sort_u64(uint64_t *keys, uint64_t *spare, size_t count, uint64_t largest)
+{
+    enum { BITS = 16, BUCKETS = 1 << BITS };
+    uint32_t *histogram = malloc(BUCKETS * sizeof *histogram);
+    if (!histogram) return false;
+    for (uint32_t shift = 0; shift < 64 && (largest >> shift) != 0; shift += BITS) {
+        memset(histogram, 0, BUCKETS * sizeof *histogram);
+        for (size_t i = 0; i < count; i++) histogram[(keys[i] >> shift) & (BUCKETS - 1)]++;
+        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
+            const uint32_t k = histogram[b];
+            histogram[b] = sum, sum += k;
+        }
+        for (size_t i = 0; i < count; i++) spare[histogram[(keys[i] >> shift) & (BUCKETS - 1)]++] = keys[i];
+        memcpy(keys, spare, count * sizeof *keys);
+    }
+    free(histogram);
+    return true;
+}
+
+/* Whether closed mesh m is consistently oriented (every directed edge, by
+ * vertex index, used once and its reverse once) with a non-zero volume,
+ * and its outward side.  Vertices split at seams make a mesh fail: it is
+ * then not culled, which costs speed, never exactness. */
+static bool mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward)
+{
+    const size_t most = (size_t)mesh->triangle_count * 3;
+    uint64_t *edges = malloc(4 * most * sizeof *edges + 8);
+    if (!edges) return false;
+    uint64_t *reverse = edges + most, *spare = edges + 2 * most;
+    size_t count = 0;
+    uint64_t largest = 0;
+    double volume = 0.0;
+    const rtt_vec3 o = scene->vertices[scene->triangles[mesh->first_triangle].v[0]];
+    for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
+        if (degenerate && degenerate[t]) continue;
+        const uint32_t *v = scene->triangles[t].v;
+        for (int k = 0; k < 3; k++) {
+            const uint64_t a = v[k], b = v[(k + 1) % 3];
+            edges[count] = a << 32 | b, reverse[count] = b << 32 | a;
+            if (edges[count] > largest) largest = edges[count];
+            if (reverse[count] > largest) largest = reverse[count];
+            count++;
+        }
+        double p[3][3];
+        for (int k = 0; k < 3; k++) {
+            const rtt_vec3 q = scene->vertices[v[k]];
+            p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
+        }
+        volume += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                  p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+    }
+    bool ok = sort_u64(edges, spare, count, largest) && sort_u64(reverse, spare, count, largest) && count > 0 &&
+              volume != 0.0 && isfinite(volume);
+    for (size_t i = 0; ok && i < count; i++) ok = edges[i] == reverse[i] && (i == 0 || edges[i] != edges[i - 1]);
+    free(edges);
+    *outward = volume > 0.0 ? 1 : -1;
+    return ok;
+}
+
 void pgrid_shadows_free(pgrid_shadows *grids)
 {
     for (uint32_t l = 0; grids->lights && l < grids->light_count; l++) pgrid_light_free(&grids->lights[l]);
     free(grids->lights);
     free(grids->corners);
+    free(grids->mesh_culled);
+    free(grids->mesh_outward);
+    free(grids->mesh_box);
+    free(grids->culled);
     memset(grids, 0, sizeof *grids);
 }
 
@@ -194,7 +302,31 @@ bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uin
     memset(grids, 0, sizeof *grids);
     grids->corners = aligned_alloc(64, ((size_t)scene->triangle_count + 1) * sizeof *grids->corners + 64);
     grids->lights = calloc(scene->light_count + 1, sizeof *grids->lights);
-    bool ok = grids->corners && grids->lights;
+    grids->mesh_culled = calloc(scene->mesh_count + 1, 1);
+    grids->mesh_outward = calloc(scene->mesh_count + 1, 1);
+    grids->mesh_box = calloc(scene->mesh_count + 1, sizeof *grids->mesh_box);
+    grids->culled = calloc(scene->mesh_count + 1, sizeof *grids->culled);
+    grids->triangle_mesh = scene->mesh_count ? scene->triangle_mesh : NULL;
+    bool ok = grids->corners && grids->lights && grids->mesh_culled && grids->mesh_outward && grids->mesh_box &&
+              grids->culled;
+    /* a culled mesh's box, grown by four ray epsilons and 2^-12 of the coordinates' magnitude */
+    const float zero[3] = {0.0f, 0.0f, 0.0f};
+    const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
+    for (uint32_t m = 0; ok && m < scene->mesh_count; m++) {
+        const rtt_mesh *mesh = &scene->meshes[m];
+        if (!mesh->closed || !mesh->triangle_count || !mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
+            continue;
+        float *box = grids->mesh_box[m];
+        for (int a = 0; a < 3; a++) box[a] = INFINITY, box[3 + a] = -INFINITY;
+        for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++)
+            for (int k = 0; k < 3; k++) {
+                const float *q = &scene->vertices[scene->triangles[t].v[k]].x;
+                for (int a = 0; a < 3; a++) box[a] = fminf(box[a], q[a]), box[3 + a] = fmaxf(box[3 + a], q[a]);
+            }
+        for (int a = 0; a < 3; a++) box[a] -= grow + fabsf(box[a]) * 1e-5f, box[3 + a] += grow + fabsf(box[3 + a]) * 1e-5f;
+        grids->mesh_culled[m] = 1;
+        grids->culled[grids->culled_count++] = m;
+    }
     for (uint32_t i = 0; ok && i < scene->triangle_count; i++) {
         if (degenerate && degenerate[i]) continue;
         rtt_vec3 tri[3];

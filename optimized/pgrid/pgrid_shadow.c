@@ -12,9 +12,11 @@
  * shear is its own ray's; a lane with an edge function, det or T that is
  * zero, subnormal, infinite or NaN is decided again by wt_decide1 (double).
  * So a lane answers as the reference for each triangle tested. */
+#include <float.h>
 #include <immintrin.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "isect_woop_watertight.h"
 #include "pgrid_isa.h"
@@ -104,8 +106,10 @@ typedef struct shadow_packet {
     uint32_t kx, ky, kz;
 } shadow_packet;
 
-/* The lanes of `active` that `tri` occludes (tnear < t < tfar). */
-static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, uint32_t active)
+/* The lanes of `active` that `tri` occludes (tnear < t < tfar); with
+ * `entering` non-NULL, the lanes that cross it at -tnear < t <= tnear are
+ * added there (the ray may start inside a culled solid, pgrid_light.h). */
+static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, uint32_t active, uint32_t *entering)
 {
     const uint32_t kx = p->kx, ky = p->ky, kz = p->kz;
     const vf ox = vf_load(p->org[kx]), oy = vf_load(p->org[ky]), oz = vf_load(p->org[kz]);
@@ -135,8 +139,13 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
     const vf t_scaled = vf_add(vf_add(vf_mul(u, az), vf_mul(v, bz)), vf_mul(w, cz));
     const vm normal = vm_and(edges_normal, vm_and(vm_normal(det), vm_normal(t_scaled)));
     const vf t = vf_div(t_scaled, det);
-    const vm in_range = vm_and(vm_gt(t, vf_load(p->tnear)), vm_lt(t, vf_load(p->tfar)));
+    const vf tnear = vf_load(p->tnear);
+    const vm in_range = vm_and(vm_gt(t, tnear), vm_lt(t, vf_load(p->tfar)));
     uint32_t hit = inside & vm_bits(vm_and(normal, in_range));
+    if (entering) {
+        const vm window = vm_and(vm_gt(t, vf_sub(vf_set1(0.0f), tnear)), vm_lt(vf_sub(t, tnear), vf_set1(FLT_MIN)));
+        *entering |= inside & vm_bits(vm_and(normal, window));
+    }
     const uint32_t slow = active & ~vm_bits(normal);
     if (slow) {
         _Alignas(64) float lane[9][LANES];
@@ -151,37 +160,75 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
                 hit |= 1u << l;
             else
                 hit &= ~(1u << l);
+            if (entering && wt_decide1(&one, -p->tnear[l], nextafterf(p->tnear[l], INFINITY), &tl, &ul, &vl))
+                *entering |= 1u << l;
         }
     }
     return hit;
 }
 
-/* The lanes of `active` occluded by one of list[0 .. count). */
+/* The lanes of `active` occluded by one of list[0 .. count); `entering`
+ * as occluded_lanes' (complete for the lanes not occluded). */
 static uint32_t occluded_list(const pgrid_shadows *g, const uint32_t *list, uint32_t count, const shadow_packet *p,
-                              uint32_t active)
+                              uint32_t active, uint32_t *entering)
 {
     uint32_t hit = 0;
     for (uint32_t i = 0; i < count && (hit & active) != active; i++)
-        hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit);
+        hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit, entering);
     return hit;
 }
 
-static int compare_keys(const void *a, const void *b)
+/* Must the ray from `org` on triangle `prim` (RTT_MISS: unknown) meet the
+ * culled meshes' front faces too?  When its own mesh is culled and its
+ * triangle does not face the light (the ray goes into the solid), or its
+ * origin lies in the grown box of another culled mesh (it may start inside
+ * that solid). */
+static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, const float org[3], uint32_t prim)
 {
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
+    const uint32_t own = prim != RTT_MISS && g->triangle_mesh ? g->triangle_mesh[prim] : UINT32_MAX;
+    if (own != UINT32_MAX && g->mesh_culled[own] && !L->front[prim]) return true;
+    for (uint32_t i = 0; i < g->culled_count; i++) {
+        const uint32_t m = g->culled[i];
+        if (m == own) continue;
+        const float *box = g->mesh_box[m];
+        if (org[0] >= box[0] && org[1] >= box[1] && org[2] >= box[2] && org[0] <= box[3] && org[1] <= box[4] &&
+            org[2] <= box[5])
+            return true;
+    }
+    return false;
 }
 
-bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
-                           uint8_t *occluded);
+/* Sorts keys (cell * 3 + kz in the high word, the ray's index in the low)
+ * by their high word, stably (a batch in pixel order stays so within a
+ * cell): least-significant-digit radix, 11 bits a pass, as many passes as
+ * the largest key needs.  The result is in keys. */
+static void sort_keys(uint64_t *keys, uint64_t *spare, uint32_t count, uint32_t largest)
+{
+    enum { BITS = 11, BUCKETS = 1 << BITS };
+    uint32_t histogram[BUCKETS];
+    for (uint32_t shift = 32; shift < 64 && (largest >> (shift - 32)) != 0; shift += BITS) {
+        memset(histogram, 0, sizeof histogram);
+        for (uint32_t i = 0; i < count; i++) histogram[(keys[i] >> shift) & (BUCKETS - 1)]++;
+        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
+            const uint32_t n = histogram[b];
+            histogram[b] = sum, sum += n;
+        }
+        for (uint32_t i = 0; i < count; i++) spare[histogram[(keys[i] >> shift) & (BUCKETS - 1)]++] = keys[i];
+        memcpy(keys, spare, (size_t)count * sizeof *keys);
+    }
+}
 
-bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
-                           uint8_t *occluded)
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);
+
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded)
 {
     if (!count) return true;
     const pgrid_light *L = &grids->lights[light];
-    uint64_t *keys = malloc((size_t)count * sizeof *keys);
+    uint64_t *keys = malloc(2 * (size_t)count * sizeof *keys);
     if (!keys) return false;
+    uint32_t largest = 0;
     for (uint32_t i = 0; i < count; i++) {
         const rtt_ray *r = &rays[i];
         const uint32_t cell = pgrid_light_cell_of(L->res, r->org[0] - L->position[0], r->org[1] - L->position[1],
@@ -189,8 +236,9 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
         const float ax = fabsf(r->dir[0]), ay = fabsf(r->dir[1]), az = fabsf(r->dir[2]);
         const uint32_t kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
         keys[i] = (uint64_t)(cell * 3u + kz) << 32 | i;
+        if (cell * 3u + kz > largest) largest = cell * 3u + kz;
     }
-    qsort(keys, count, sizeof *keys, compare_keys);
+    sort_keys(keys, keys + count, count, largest);
     shadow_packet p;
     for (uint32_t first = 0; first < count;) {
         const uint32_t key = (uint32_t)(keys[first] >> 32);
@@ -199,9 +247,10 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
         const uint32_t cell = key / 3u, kz = key % 3u;
         p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
         const float cell_min = L->cell_min[cell];
-        uint32_t active = 0, reaching = 0;
+        uint32_t active = 0, reaching = 0, full = 0;
         for (uint32_t l = 0; l < LANES; l++) {
-            const rtt_ray *r = &rays[(uint32_t)keys[first + (l < n ? l : 0)]];
+            const uint32_t index = (uint32_t)keys[first + (l < n ? l : 0)];
+            const rtt_ray *r = &rays[index];
             for (int a = 0; a < 3; a++) p.org[a][l] = r->org[a];
             p.sx[l] = r->dir[p.kx] / r->dir[kz];
             p.sy[l] = r->dir[p.ky] / r->dir[kz];
@@ -211,13 +260,21 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
             active |= 1u << l;
             /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
             if (!(r->tnear + r->tfar + L->reach < cell_min)) reaching |= 1u << l;
+            if (grids->culled_count && needs_front_faces(grids, L, r->org, origin_prim ? origin_prim[index] : RTT_MISS))
+                full |= 1u << l;
         }
-        uint32_t hit = 0;
+        uint32_t hit = 0, entering = 0;
+        uint32_t *watch = grids->culled_count ? &entering : NULL;
         if (reaching)
-            hit = occluded_list(grids, L->refs + L->cell_first[cell], L->cell_first[cell + 1] - L->cell_first[cell],
-                                &p, reaching);
+            hit = occluded_list(grids, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
+                                reaching, watch);
         if (L->near_count && (hit & active) != active)
-            hit |= occluded_list(grids, L->near, L->near_count, &p, active & ~hit);
+            hit |= occluded_list(grids, L->near, L->near_count, &p, active & ~hit, watch);
+        /* the front faces, for the lanes that may start inside a culled solid */
+        const uint32_t front = (full | entering) & active & ~hit;
+        if (front)
+            hit |= occluded_list(grids, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
+                                 &p, front, NULL);
         for (uint32_t l = 0; l < n; l++) occluded[(uint32_t)keys[first + l]] = (uint8_t)(hit >> l & 1u);
         first += n;
     }

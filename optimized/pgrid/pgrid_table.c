@@ -9,7 +9,8 @@
 #define PGRID_KERNEL_COPY(isa)                                                                                \
     void pgrid_trace_cell_##isa(const pgrid_eye *, uint32_t, float *, uint32_t *);                            \
     void pgrid_resolve_cell_##isa(const pgrid_eye *, uint32_t, const float *, const uint32_t *, rtt_hit *, size_t); \
-    bool pgrid_shadow_occluded_##isa(const pgrid_shadows *, uint32_t, const rtt_ray *, uint32_t, uint8_t *);
+    bool pgrid_shadow_occluded_##isa(const pgrid_shadows *, uint32_t, const rtt_ray *, const uint32_t *, uint32_t, \
+                                     uint8_t *);
 PGRID_KERNEL_COPY(sse4)
 PGRID_KERNEL_COPY(avx2)
 PGRID_KERNEL_COPY(avx512)

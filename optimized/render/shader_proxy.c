@@ -229,21 +229,30 @@ static void trace_light_grids(const sp_shading *sh, const sp_tracer *tr, sp_scra
     const sp_light_request *requests = SP_ARRAY(s->requests, sp_light_request);
     const rtt_ray *shadow_rays = SP_ARRAY(s->shadow_rays, rtt_ray);
     uint8_t *clear = SP_ARRAY(s->shadow_clear, uint8_t);
+    uint32_t *prim = malloc(((size_t)(end - first) + 1) * sizeof *prim); /* per ray: the triangle it starts on */
+    if (!prim) {
+        s->failed = true;
+        return;
+    }
     uint32_t from = 0;
     for (uint32_t l = 0; l < lights; l++) {
         uint32_t to = from;
         for (uint32_t i = first; i < end; i++) {
             const sp_light_request *q = &requests[(size_t)(i - first) * lights + l];
-            if (nodes[i].hit.prim != RTT_MISS && q->first + q->rays > to) to = q->first + q->rays;
+            if (nodes[i].hit.prim == RTT_MISS) continue;
+            for (uint32_t k = 0; k < q->rays; k++) prim[q->first + k - from] = nodes[i].hit.prim;
+            if (q->first + q->rays > to) to = q->first + q->rays;
         }
         if (to == from) continue;
-        if (!tr->light_grid_occluded(tr->light_grids, l, &shadow_rays[from], to - from, &clear[from])) {
+        if (!tr->light_grid_occluded(tr->light_grids, l, &shadow_rays[from], prim, to - from, &clear[from])) {
+            free(prim);
             s->failed = true;
             return;
         }
         for (uint32_t i = from; i < to; i++) clear[i] = !clear[i];
         from = to;
     }
+    free(prim);
 }
 
 /* Step 2 for cone:N and pyramid:N: each group (one point, one light) as one
