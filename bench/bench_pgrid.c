@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "bench_internal.h"
+#include "engine/clock.h"
 #include "engine/threads.h"
 #include "pgrid_eye.h"
 
@@ -79,7 +80,8 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
 
 /* ---- hard shadows through the light grid (Table 1's shadow columns) ----
  * A frame is the light grid's build for the bench's light (light 0, whose
- * rays bench_rays_shadow makes) plus the shadow rays of every pixel,
+ * rays bench_rays_shadow makes; the scene's half, corners and culled
+ * meshes, is built once, as the kd-tree) plus the shadow rays of every pixel,
  * batched per eye-ray cell (PGRID_EYE_CELL_DEFAULT pixels square, in
  * pixel order within), each batch through the kernel on the thread pool. */
 
@@ -124,13 +126,16 @@ static void trace_shadow_cell(void *context, uint32_t thread, uint32_t cell)
 static void run_shadow_frame(void *context)
 {
     pgrid_shadow_frame *f = context;
-    rtt_error err;
-    pgrid_shadows_free(&f->grids);
-    if (!pgrid_shadows_build(&f->grids, f->scene, f->degenerate, 0, &err)) {
+    const uint64_t t0 = rtt_clock_ns();
+    pgrid_shadows_free_lights(&f->grids);
+    const rtt_vec3 at = f->scene->lights[0].position;
+    const float position[3] = {at.x, at.y, at.z};
+    if (!pgrid_light_build(&f->grids.lights[0], &f->grids, f->scene, position, 0)) {
         f->failed = true;
         return;
     }
-    f->build_seconds[f->runs++] = f->grids.build_seconds;
+    f->grids.light_count = 1;
+    f->build_seconds[f->runs++] = 1e-9 * (double)(rtt_clock_ns() - t0);
     rtt_parallel_run(f->cells_x * f->cells_y, f->threads, trace_shadow_cell, f);
 }
 
@@ -146,7 +151,8 @@ bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, c
     f.pixel = calloc(threads, sizeof *f.pixel);
     f.occluded = malloc((size_t)rays->width * rays->height + 1);
     f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
-    bool ok = f.batch && f.pixel && f.occluded && f.build_seconds;
+    rtt_error err;
+    bool ok = f.batch && f.pixel && f.occluded && f.build_seconds && pgrid_shadows_prepare(&f.grids, scene, degenerate, &err);
     for (uint32_t t = 0; ok && t < threads; t++) {
         f.batch[t] = malloc((size_t)side * side * sizeof **f.batch);
         f.pixel[t] = malloc((size_t)side * side * (2 * sizeof **f.pixel + 1)); /* pixels, prims, answers */

@@ -98,6 +98,14 @@ typedef struct pgrid_shadows {
  * filled) when out of memory; pgrid_shadows_free frees what was built. */
 bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
                          rtt_error *err);
+/* The two halves of pgrid_shadows_build: what depends on the scene alone
+ * (the corners, which meshes are culled; as a kd-tree, built once per
+ * scene where the caller keeps it: the bench) and the grids of the lights
+ * (per frame; pgrid_shadows_free_lights frees them, keeping the first
+ * half).  build_seconds is the second's. */
+bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err);
+bool pgrid_shadows_build_lights(pgrid_shadows *grids, const rtt_scene *scene, uint32_t res, rtt_error *err);
+void pgrid_shadows_free_lights(pgrid_shadows *grids);
 /* The same for one light at `position` (the tests and the fuzzer). */
 bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt_scene *scene,
                        const float position[3], uint32_t res);

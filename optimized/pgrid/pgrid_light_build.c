@@ -68,8 +68,8 @@ static footprint face_footprint(const double c[3][3], uint32_t face, double mu, 
         const double *q = poly[0][i], major = sign * q[axis];
         if (!(major > 0.0)) return f; /* only at the apex: such triangles are near ones */
         const double s = q[u] / major, t = q[v] / major;
-        lo[0] = fmin(lo[0], s), hi[0] = fmax(hi[0], s);
-        lo[1] = fmin(lo[1], t), hi[1] = fmax(hi[1], t);
+        lo[0] = s < lo[0] ? s : lo[0], hi[0] = s > hi[0] ? s : hi[0];
+        lo[1] = t < lo[1] ? t : lo[1], hi[1] = t > hi[1] ? t : hi[1];
     }
     int32_t cell[4];
     for (int k = 0; k < 2; k++) {
@@ -81,13 +81,33 @@ static footprint face_footprint(const double c[3][3], uint32_t face, double mu, 
     return f;
 }
 
+/* The one face whose pyramid narrowed by mu holds every corner of c (then
+ * the triangle lies there, its pyramid being convex, and meets no other
+ * face's pyramid widened by mu), or PGRID_LIGHT_FACES when there is none. */
+static uint32_t single_face(const double c[3][3], double mu)
+{
+    uint32_t face = PGRID_LIGHT_FACES;
+    for (int i = 0; i < 3; i++) {
+        const double ax = fabs(c[i][0]), ay = fabs(c[i][1]), az = fabs(c[i][2]);
+        const uint32_t axis = (ax >= ay && ax >= az) ? 0u : (ay >= az ? 1u : 2u);
+        const double major = axis == 0 ? ax : axis == 1 ? ay : az, narrow = major * (1.0 - 2.0 * mu);
+        const double u = fabs(c[i][(axis + 1) % 3]), v = fabs(c[i][(axis + 2) % 3]);
+        if (!(u < narrow && v < narrow)) return PGRID_LIGHT_FACES;
+        const uint32_t f = 2u * axis + (c[i][axis] < 0.0 ? 1u : 0u);
+        if (i > 0 && f != face) return PGRID_LIGHT_FACES;
+        face = f;
+    }
+    return face;
+}
+
 /* A lower bound of the distance from the origin to the triangle c: the
  * larger of the distances to its box and to its plane. */
 static double distance_bound(const double c[3][3])
 {
     double box = 0.0;
     for (int k = 0; k < 3; k++) {
-        const double lo = fmin(c[0][k], fmin(c[1][k], c[2][k])), hi = fmax(c[0][k], fmax(c[1][k], c[2][k]));
+        double lo = c[0][k], hi = c[0][k];
+        for (int i = 1; i < 3; i++) lo = c[i][k] < lo ? c[i][k] : lo, hi = c[i][k] > hi ? c[i][k] : hi;
         const double gap = lo > 0.0 ? lo : hi < 0.0 ? -hi : 0.0;
         box += gap * gap;
     }
@@ -171,7 +191,12 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
             for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) f[face].x0 = FOOTPRINT_NONE;
             continue;
         }
+        const uint32_t only = single_face((const double(*)[3])c, mu);
         for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+            if (only != PGRID_LIGHT_FACES && face != only) {
+                f[face].x0 = FOOTPRINT_NONE;
+                continue;
+            }
             f[face] = face_footprint((const double(*)[3])c, face, mu, res);
             if (f[face].x0 == FOOTPRINT_NONE) continue;
             for (uint32_t y = f[face].y0; y <= f[face].y1; y++)
@@ -285,7 +310,7 @@ static bool mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, con
 
 void pgrid_shadows_free(pgrid_shadows *grids)
 {
-    for (uint32_t l = 0; grids->lights && l < grids->light_count; l++) pgrid_light_free(&grids->lights[l]);
+    pgrid_shadows_free_lights(grids);
     free(grids->lights);
     free(grids->corners);
     free(grids->mesh_culled);
@@ -295,10 +320,8 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     memset(grids, 0, sizeof *grids);
 }
 
-bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
-                         rtt_error *err)
+bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
 {
-    const uint64_t t0 = rtt_clock_ns();
     memset(grids, 0, sizeof *grids);
     grids->corners = aligned_alloc(64, ((size_t)scene->triangle_count + 1) * sizeof *grids->corners + 64);
     grids->lights = calloc(scene->light_count + 1, sizeof *grids->lights);
@@ -338,6 +361,21 @@ bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uin
         k->c[0] = tri[2].x, k->c[1] = tri[2].y, k->c[2] = tri[2].z;
         k->prim = i;
     }
+    if (!ok) pgrid_shadows_free(grids);
+    return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
+}
+
+void pgrid_shadows_free_lights(pgrid_shadows *grids)
+{
+    for (uint32_t l = 0; grids->lights && l < grids->light_count; l++) pgrid_light_free(&grids->lights[l]);
+    grids->light_count = 0;
+}
+
+bool pgrid_shadows_build_lights(pgrid_shadows *grids, const rtt_scene *scene, uint32_t res, rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    pgrid_shadows_free_lights(grids);
+    bool ok = true;
     for (uint32_t l = 0; ok && l < scene->light_count; l++) {
         const rtt_vec3 p = scene->lights[l].position;
         const float position[3] = {p.x, p.y, p.z};
@@ -345,6 +383,19 @@ bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uin
         if (ok) grids->light_count = l + 1;
     }
     grids->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
-    if (!ok) pgrid_shadows_free(grids);
+    if (!ok) pgrid_shadows_free_lights(grids);
     return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
+}
+
+bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
+                         rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    if (!pgrid_shadows_prepare(grids, scene, degenerate, err)) return false;
+    if (!pgrid_shadows_build_lights(grids, scene, res, err)) {
+        pgrid_shadows_free(grids);
+        return false;
+    }
+    grids->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
+    return true;
 }
