@@ -34,13 +34,17 @@
  *    no triangle of the cell when |L - p| + 4E < that bound, and is clear
  *    without a test (the per-cell distance culling of section 5.2).
  *
- * Both faces of every triangle are kept.  The paper keeps only the
- * triangles facing away from the light on closed meshes and shadows hit
- * points on back faces without a ray; a ray whose origin is inside a closed
- * solid at t = epsilon (a point within epsilon of a concave edge, an object
- * touching or inside another) then loses the occluder the reference finds,
- * and rtt_mesh.closed says nothing of orientation, so that culling is not
- * here (pgrid README, "Exactness"). */
+ *
+ * Back-face culling (the paper's): on a closed, consistently oriented mesh
+ * (pgrid_shadows.mesh_culled) a triangle with the light on its outer side
+ * by more than 4E faces the light; such triangles are kept apart at the
+ * end of each cell's list (cell_front .. cell_first[c + 1]) and tested only
+ * for the rays that may start inside a culled solid: from a triangle of a
+ * culled mesh that does not face the light, from inside another culled
+ * mesh's grown box, or crossing a kept triangle within (-epsilon, epsilon]
+ * of the origin.  A ray starting outside every solid meets an entering
+ * face, which is kept, before any face that faces the light.  The pgrid
+ * README ("Hard shadows") says what this assumes. */
 #ifndef RTT_OPTIMIZED_PGRID_LIGHT_H
 #define RTT_OPTIMIZED_PGRID_LIGHT_H
 
