@@ -68,6 +68,7 @@ typedef struct pgrid_light {
     float reach;               /* 4E: slack of the per-cell distance test */
     uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] ..) */
     float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
+    float *bound;              /* per corner record: its d_T (the same test per triangle) */
     uint32_t *refs;            /* indices into pgrid_shadows.corners, ascending per cell */
     size_t ref_count;
     uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */

@@ -136,6 +136,7 @@ void pgrid_light_free(pgrid_light *light)
 {
     free(light->cell_first);
     free(light->cell_min);
+    free(light->bound);
     free(light->refs);
     free(light->cell_front);
     free(light->front);
@@ -160,7 +161,7 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
     light->near = malloc((n + 1) * sizeof *light->near);
     light->front = calloc((size_t)scene->triangle_count + 1, 1);
     footprint *prints = malloc((n * PGRID_LIGHT_FACES + 1) * sizeof *prints);
-    float *bound = malloc((n + 1) * sizeof *bound);
+    float *bound = light->bound = malloc((n + 1) * sizeof *bound);
     bool ok = light->cell_first && light->cell_front && light->cell_min && light->near && light->front && prints &&
               bound;
     for (size_t c = 0; ok && c < cells; c++) light->cell_min[c] = INFINITY;
@@ -241,7 +242,6 @@ bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt
         free(fill);
     }
     free(prints);
-    free(bound);
     if (!ok) pgrid_light_free(light);
     return ok;
 }

@@ -169,12 +169,16 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
 
 /* The lanes of `active` occluded by one of list[0 .. count); `entering`
  * as occluded_lanes' (complete for the lanes not occluded). */
-static uint32_t occluded_list(const pgrid_shadows *g, const uint32_t *list, uint32_t count, const shadow_packet *p,
-                              uint32_t active, uint32_t *entering)
+static uint32_t occluded_list(const pgrid_shadows *g, const pgrid_light *L, const uint32_t *list, uint32_t count,
+                              const shadow_packet *p, uint32_t active, uint32_t *entering)
 {
+    /* the farthest any lane reaches from the light: triangles beyond it are skipped (the per-cell test, per triangle) */
+    float reach = 0.0f;
+    for (uint32_t l = 0; l < LANES; l++)
+        if (active >> l & 1u && p->reach[l] > reach) reach = p->reach[l];
     uint32_t hit = 0;
     for (uint32_t i = 0; i < count && (hit & active) != active; i++)
-        hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit, entering);
+        if (!(L->bound[list[i]] > reach)) hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit, entering);
     return hit;
 }
 
@@ -259,21 +263,22 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
             if (l >= n) continue;
             active |= 1u << l;
             /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
-            if (!(r->tnear + r->tfar + L->reach < cell_min)) reaching |= 1u << l;
+            p.reach[l] = r->tnear + r->tfar + L->reach;
+            if (!(p.reach[l] < cell_min)) reaching |= 1u << l;
             if (grids->culled_count && needs_front_faces(grids, L, r->org, origin_prim ? origin_prim[index] : RTT_MISS))
                 full |= 1u << l;
         }
         uint32_t hit = 0, entering = 0;
         uint32_t *watch = grids->culled_count ? &entering : NULL;
         if (reaching)
-            hit = occluded_list(grids, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
+            hit = occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
                                 reaching, watch);
         if (L->near_count && (hit & active) != active)
-            hit |= occluded_list(grids, L->near, L->near_count, &p, active & ~hit, watch);
+            hit |= occluded_list(grids, L, L->near, L->near_count, &p, active & ~hit, watch);
         /* the front faces, for the lanes that may start inside a culled solid */
         const uint32_t front = (full | entering) & active & ~hit;
         if (front)
-            hit |= occluded_list(grids, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
+            hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
                                  &p, front, NULL);
         for (uint32_t l = 0; l < n; l++) occluded[(uint32_t)keys[first + l]] = (uint8_t)(hit >> l & 1u);
         first += n;
