@@ -6,7 +6,8 @@
  * a light's centre over (epsilon, distance - epsilon)), from the eye rays'
  * hit points and from points all over the scene's box, lights at the
  * scene's and at random places (inside the geometry too, which fills the
- * near list).  Then the renderer: --shadows pgrid gives hard's image bit for
+ * near list); the culling on a real closed mesh (the bunny, when cached).
+ * Then the renderer: --shadows pgrid gives hard's image bit for
  * bit (same rays, same visibility), with --accel pgrid and kd; and the
  * method's name, parse and refusal by the reference renderer. */
 #include <math.h>
@@ -285,6 +286,77 @@ static void test_render_pgrid_shadows_equal_hard(void **state)
     }
 }
 
+/* Culling at a real scale: the Stanford bunny (one closed mesh of 75k
+ * triangles, from bench/fetch-scenes.sh's cache; skipped without it), its
+ * eye hits at 384x384 through the eye grid, each hit's shadow ray (the
+ * shader proxy's: from rtt_surface_at's point, its prim known) through the
+ * light grid at every instruction set against the reference engine.  The
+ * grazing rays at the shadow terminator are the ones the culling rules must
+ * catch (pgrid README, "Hard shadows"). */
+static void test_light_grid_culling_on_the_bunny(void **state)
+{
+    (void)state;
+    const char *home = getenv("HOME");
+    char path[600];
+    snprintf(path, sizeof path, "%s/.cache/rtt-data/meshes/bunny00.off", home ? home : "");
+    FILE *probe = fopen(path, "rb");
+    if (!probe) {
+        print_message("note: %s not cached (bash bench/fetch-scenes.sh): skipped\n", path);
+        skip();
+    }
+    fclose(probe);
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) fail_msg("%s: %s", path, err.message);
+    rtt_engine *opt = rtt_optimized_engine_create(s, NULL, &err), *ref = rtt_reference_engine_create(s, NULL, &err);
+    assert_true(opt && ref);
+    enum { SIDE = 384 };
+    rtt_hit *hits = malloc((size_t)SIDE * SIDE * sizeof *hits);
+    rtt_ray *rays = malloc((size_t)SIDE * SIDE * sizeof *rays);
+    uint32_t *prims = malloc((size_t)SIDE * SIDE * sizeof *prims);
+    uint8_t *expected = malloc((size_t)SIDE * SIDE), *ours = malloc((size_t)SIDE * SIDE);
+    assert_true(hits && rays && prims && expected && ours);
+    const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, SIDE, SIDE);
+    pgrid_eye eye = {0};
+    assert_true(pgrid_eye_trace_frame(&eye, pgrid_kernel_find("", RTT_ISA_SSE4), s, optimized_engine_degenerate(opt),
+                                      &frame, SIDE, SIDE, 0, 2, hits, NULL, &err));
+    pgrid_eye_free(&eye);
+    pgrid_shadows grids;
+    assert_true(pgrid_shadows_build(&grids, s, optimized_engine_degenerate(opt), 0, &err));
+    assert_int_equal(grids.culled_count, 1);
+    /* the default light sits at the eye, which sees no shadow: one above and to the side */
+    const rtt_vec3 size = rtt_v3_sub(s->bounds.hi, s->bounds.lo);
+    const rtt_vec3 light = rtt_v3_add(s->camera.eye, rtt_v3(0.8f * size.x, 0.9f * size.y, 0.1f * size.z));
+    const float position[3] = {light.x, light.y, light.z};
+    pgrid_light_free(&grids.lights[0]);
+    assert_true(pgrid_light_build(&grids.lights[0], &grids, s, position, 0));
+    uint32_t n = 0, blocked = 0;
+    for (uint32_t i = 0; i < SIDE * SIDE; i++) {
+        if (hits[i].prim == RTT_MISS) continue;
+        const rtt_ray eye_ray = rtt_camera_ray(&frame, i % SIDE, i / SIDE);
+        const rtt_surface surf = rtt_surface_at(s, &eye_ray, &hits[i]);
+        if (shadow_ray(s, surf.point, light, &rays[n])) prims[n++] = hits[i].prim;
+    }
+    rtt_engine_occluded(ref, rays, expected, n);
+    for (uint32_t i = 0; i < n; i++) expected[i] = expected[i] != 0, blocked += expected[i];
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        assert_true(k->shadow_occluded(&grids, 0, rays, prims, n, ours));
+        for (uint32_t i = 0; i < n; i++)
+            if (ours[i] != expected[i])
+                fail_msg("bunny (%s): ray %u from prim %u: grid %u, reference %u", rtt_isa_name(isa), i, prims[i], ours[i],
+                         expected[i]);
+    }
+    print_message("bunny: %u shadow rays, %u occluded\n", n, blocked);
+    assert_true(blocked > 0 && blocked < n);
+    pgrid_shadows_free(&grids);
+    free(hits), free(rays), free(prims), free(expected), free(ours);
+    rtt_engine_destroy(opt);
+    rtt_engine_destroy(ref);
+    rtt_scene_free(s);
+}
+
 static void test_pgrid_shadow_method_name_and_refusals(void **state)
 {
     (void)state;
@@ -308,6 +380,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_light_grid_rays_match_reference_and_brute_force),
         cmocka_unit_test(test_light_grid_on_a_triangle_soup),
+        cmocka_unit_test(test_light_grid_culling_on_the_bunny),
         cmocka_unit_test(test_render_pgrid_shadows_equal_hard),
         cmocka_unit_test(test_pgrid_shadow_method_name_and_refusals),
     };

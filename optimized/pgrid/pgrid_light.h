@@ -60,6 +60,11 @@
 #define PGRID_LIGHT_RES_DEFAULT 200u
 #define PGRID_LIGHT_RES_MAX 2048u
 #define PGRID_LIGHT_FACES 6u
+/* A ray from a light-facing triangle of a culled mesh whose direction makes
+ * a cosine below this with the triangle's outward normal grazes it: its
+ * origin, rounded, may lie inside the solid, so it meets the front faces
+ * too (pgrid README, "Hard shadows"). */
+#define PGRID_GRAZING_COSINE 0.1f
 
 /* The grid of one light. */
 typedef struct pgrid_light {
@@ -91,6 +96,7 @@ typedef struct pgrid_shadows {
     float (*mesh_box)[6];
     uint32_t *culled;
     uint32_t culled_count;
+    float (*outward_normal)[3];    /* per scene triangle of a culled mesh: its unit outward normal */
     const uint32_t *triangle_mesh; /* the scene's */
     pgrid_light *lights;
     uint32_t light_count;

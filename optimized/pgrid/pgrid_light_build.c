@@ -317,6 +317,7 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     free(grids->mesh_outward);
     free(grids->mesh_box);
     free(grids->culled);
+    free(grids->outward_normal);
     memset(grids, 0, sizeof *grids);
 }
 
@@ -329,9 +330,10 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
     grids->mesh_outward = calloc(scene->mesh_count + 1, 1);
     grids->mesh_box = calloc(scene->mesh_count + 1, sizeof *grids->mesh_box);
     grids->culled = calloc(scene->mesh_count + 1, sizeof *grids->culled);
+    grids->outward_normal = calloc((size_t)scene->triangle_count + 1, sizeof *grids->outward_normal);
     grids->triangle_mesh = scene->mesh_count ? scene->triangle_mesh : NULL;
     bool ok = grids->corners && grids->lights && grids->mesh_culled && grids->mesh_outward && grids->mesh_box &&
-              grids->culled;
+              grids->culled && grids->outward_normal;
     /* a culled mesh's box, grown by four ray epsilons and 2^-12 of the coordinates' magnitude */
     const float zero[3] = {0.0f, 0.0f, 0.0f};
     const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
@@ -347,6 +349,16 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
                 for (int a = 0; a < 3; a++) box[a] = fminf(box[a], q[a]), box[3 + a] = fmaxf(box[3 + a], q[a]);
             }
         for (int a = 0; a < 3; a++) box[a] -= grow + fabsf(box[a]) * 1e-5f, box[3 + a] += grow + fabsf(box[3 + a]) * 1e-5f;
+        for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
+            rtt_vec3 c[3];
+            rtt_scene_triangle(scene, t, c);
+            double e1[3], e2[3];
+            for (int a = 0; a < 3; a++)
+                e1[a] = (double)rtt_v3_get(c[1], a) - rtt_v3_get(c[0], a), e2[a] = (double)rtt_v3_get(c[2], a) - rtt_v3_get(c[0], a);
+            const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+            const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * grids->mesh_outward[m];
+            for (int a = 0; a < 3; a++) grids->outward_normal[t][a] = len != 0.0 ? (float)(n[a] / len) : 0.0f;
+        }
         grids->mesh_culled[m] = 1;
         grids->culled[grids->culled_count++] = m;
     }

@@ -182,15 +182,20 @@ static uint32_t occluded_list(const pgrid_shadows *g, const pgrid_light *L, cons
     return hit;
 }
 
-/* Must the ray from `org` on triangle `prim` (RTT_MISS: unknown) meet the
- * culled meshes' front faces too?  When its own mesh is culled and its
- * triangle does not face the light (the ray goes into the solid), or its
- * origin lies in the grown box of another culled mesh (it may start inside
- * that solid). */
-static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, const float org[3], uint32_t prim)
+/* Must ray r from triangle `prim` (RTT_MISS: unknown) meet the culled
+ * meshes' front faces too?  When its own mesh is culled and its triangle
+ * does not face the light (the ray goes into the solid) or the ray grazes
+ * it (PGRID_GRAZING_COSINE), or its origin lies in the grown box of another
+ * culled mesh (it may start inside that solid). */
+static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, const rtt_ray *r, uint32_t prim)
 {
+    const float *org = r->org;
     const uint32_t own = prim != RTT_MISS && g->triangle_mesh ? g->triangle_mesh[prim] : UINT32_MAX;
-    if (own != UINT32_MAX && g->mesh_culled[own] && !L->front[prim]) return true;
+    if (own != UINT32_MAX && g->mesh_culled[own]) {
+        if (!L->front[prim]) return true;
+        const float *n = g->outward_normal[prim];
+        if (!(n[0] * r->dir[0] + n[1] * r->dir[1] + n[2] * r->dir[2] >= PGRID_GRAZING_COSINE)) return true;
+    }
     for (uint32_t i = 0; i < g->culled_count; i++) {
         const uint32_t m = g->culled[i];
         if (m == own) continue;
@@ -265,7 +270,7 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
             /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
             p.reach[l] = r->tnear + r->tfar + L->reach;
             if (!(p.reach[l] < cell_min)) reaching |= 1u << l;
-            if (grids->culled_count && needs_front_faces(grids, L, r->org, origin_prim ? origin_prim[index] : RTT_MISS))
+            if (grids->culled_count && needs_front_faces(grids, L, r, origin_prim ? origin_prim[index] : RTT_MISS))
                 full |= 1u << l;
         }
         uint32_t hit = 0, entering = 0;
