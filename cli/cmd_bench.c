@@ -228,7 +228,7 @@ const cli_command bench_command = {
         "           robust and default scene flags; the BVH kernels (bvh-mono, the\n"
         "           16/8/4-wide bvh-packet) on the same rays in 4x4 pixel blocks\n"
         "  shadow   hard-shadow rays through our occlusion kernels (kd-tree, BVH and\n"
-        "           the light grid of --shadows pgrid, built every frame) and\n"
+        "           the pgrid shadow method's light grid, built every frame) and\n"
         "           rtcOccluded1/16\n"
         "  render   full frames per traversal, and per shadow method (none, hard,\n"
         "           multi:4/16/32, cone:16, pyramid:16, edgewidth; methods the renderer\n"
