@@ -324,7 +324,9 @@ void pgrid_shadows_free(pgrid_shadows *grids)
 bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
 {
     memset(grids, 0, sizeof *grids);
-    grids->corners = aligned_alloc(64, ((size_t)scene->triangle_count + 1) * sizeof *grids->corners + 64);
+    /* aligned_alloc wants a size that is a multiple of the alignment (fuzz_pgrid under ASan) */
+    const size_t corner_bytes = (((size_t)scene->triangle_count + 1) * sizeof *grids->corners + 63) & ~(size_t)63;
+    grids->corners = aligned_alloc(64, corner_bytes);
     grids->lights = calloc(scene->light_count + 1, sizeof *grids->lights);
     grids->mesh_culled = calloc(scene->mesh_count + 1, 1);
     grids->mesh_outward = calloc(scene->mesh_count + 1, 1);
