@@ -107,6 +107,15 @@ bool bench_frusta_row(const bvh_tree *tree, const bench_soft *soft, const bench_
 bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t width, uint32_t height,
                      uint32_t cell, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
 
+/* Times hard shadows through the light grid (bench_pgrid.c): each frame
+ * the grid of light 0 and every pixel's shadow ray, batched per eye-ray
+ * cell; origin_prim: per pixel the triangle its ray starts on.  Fills row
+ * and build_row as bench_pgrid_row; result gets the
+ * occlusion bit per pixel. */
+bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,
+                            const uint32_t *origin_prim, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row,
+                            uint32_t *result);
+
 /* The software Z-buffer anchor (bench_llvmpipe.c): Mesa's llvmpipe through
  * OSMesa drawing the view with the prim as colour; result gets each pixel's
  * prim (RTT_MISS for the background).  Unavailable without OSMesa. */

@@ -5,11 +5,14 @@
  * rows.  The rays are the pixel formula, so unlike the other rows nothing
  * is loaded: that is the method.  The build's median is reported as a
  * build row of the same method, so the build share is build / frame. */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bench_internal.h"
+#include "engine/clock.h"
+#include "engine/threads.h"
 #include "pgrid_eye.h"
 
 typedef struct pgrid_frame {
@@ -73,4 +76,115 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
     free(f.hits);
     free(f.build_seconds);
     return true;
+}
+
+/* ---- hard shadows through the light grid (Table 1's shadow columns) ----
+ * A frame is the light grid's build for the bench's light (light 0, whose
+ * rays bench_rays_shadow makes; the scene's half, corners and culled
+ * meshes, is built once, as the kd-tree) plus the shadow rays of every pixel,
+ * batched per eye-ray cell (PGRID_EYE_CELL_DEFAULT pixels square, in
+ * pixel order within), each batch through the kernel on the thread pool. */
+
+typedef struct pgrid_shadow_frame {
+    pgrid_shadows grids;
+    const pgrid_kernel *kernel;
+    const rtt_scene *scene;
+    const uint8_t *degenerate;
+    const bench_rays *rays;
+    const uint32_t *origin_prim;
+    uint32_t cells_x, cells_y, threads;
+    rtt_ray **batch;            /* per thread: one cell's active rays */
+    uint32_t **pixel;           /* per thread: their pixels */
+    uint8_t *occluded;          /* per pixel */
+    double *build_seconds;
+    uint32_t runs;
+    _Atomic bool failed;
+} pgrid_shadow_frame;
+
+static void trace_shadow_cell(void *context, uint32_t thread, uint32_t cell)
+{
+    pgrid_shadow_frame *f = context;
+    const uint32_t side = PGRID_EYE_CELL_DEFAULT, w = f->rays->width, h = f->rays->height;
+    const uint32_t x0 = (cell % f->cells_x) * side, y0 = (cell / f->cells_x) * side;
+    const uint32_t x1 = x0 + side < w ? x0 + side : w, y1 = y0 + side < h ? y0 + side : h;
+    rtt_ray *batch = f->batch[thread];
+    uint32_t *pixel = f->pixel[thread], *prim = pixel + side * side, n = 0;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = x0; x < x1; x++) {
+            const uint32_t i = y * w + x;
+            f->occluded[i] = 0;
+            if (!bench_ray_active(&f->rays->rays[i])) continue;
+            batch[n] = f->rays->rays[i];
+            prim[n] = f->origin_prim[i];
+            pixel[n++] = i;
+        }
+    uint8_t *out = (uint8_t *)(prim + side * side);
+    if (!f->kernel->shadow_occluded(&f->grids, 0, batch, prim, n, out)) f->failed = true;
+    for (uint32_t k = 0; k < n; k++) f->occluded[pixel[k]] = out[k];
+}
+
+static void run_shadow_frame(void *context)
+{
+    pgrid_shadow_frame *f = context;
+    const uint64_t t0 = rtt_clock_ns();
+    pgrid_shadows_free_lights(&f->grids);
+    const rtt_vec3 at = f->scene->lights[0].position;
+    const float position[3] = {at.x, at.y, at.z};
+    if (!pgrid_light_build(&f->grids.lights[0], &f->grids, f->scene, position, 0)) {
+        f->failed = true;
+        return;
+    }
+    f->grids.light_count = 1;
+    f->build_seconds[f->runs++] = 1e-9 * (double)(rtt_clock_ns() - t0);
+    rtt_parallel_run(f->cells_x * f->cells_y, f->threads, trace_shadow_cell, f);
+}
+
+bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,
+                            const uint32_t *origin_prim, const bench_trace_spec *spec, rtt_bench_row *row,
+                            rtt_bench_row *build_row, uint32_t *result)
+{
+    const uint32_t side = PGRID_EYE_CELL_DEFAULT, threads = rtt_thread_count(spec->threads);
+    pgrid_shadow_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
+                            .degenerate = degenerate, .rays = rays, .origin_prim = origin_prim, .threads = threads,
+                            .cells_x = (rays->width + side - 1) / side, .cells_y = (rays->height + side - 1) / side};
+    f.batch = calloc(threads, sizeof *f.batch);
+    f.pixel = calloc(threads, sizeof *f.pixel);
+    f.occluded = malloc((size_t)rays->width * rays->height + 1);
+    f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
+    rtt_error err;
+    bool ok = f.batch && f.pixel && f.occluded && f.build_seconds && pgrid_shadows_prepare(&f.grids, scene, degenerate, &err);
+    for (uint32_t t = 0; ok && t < threads; t++) {
+        f.batch[t] = malloc((size_t)side * side * sizeof **f.batch);
+        f.pixel[t] = malloc((size_t)side * side * (2 * sizeof **f.pixel + 1)); /* pixels, prims, answers */
+        ok = f.batch[t] && f.pixel[t];
+    }
+    if (ok) {
+        snprintf(row->variant, sizeof row->variant, "%s/%s light %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
+                 PGRID_LIGHT_RES_DEFAULT);
+        bench_time_frames(run_shadow_frame, &f, spec->warmup, spec->frames, row);
+        if (f.failed) snprintf(row->error, sizeof row->error, "out of memory in the light grid");
+        double *timed = f.build_seconds + spec->warmup;
+        qsort(timed, spec->frames, sizeof *timed, compare_double);
+        build_row->seconds = timed[spec->frames / 2];
+        build_row->seconds_min = timed[0];
+        build_row->frames = spec->frames;
+        const pgrid_light *L = f.grids.light_count ? &f.grids.lights[0] : NULL;
+        build_row->memory_bytes = (size_t)f.grids.corner_count * sizeof(kd_corners) +
+                                  (L ? L->ref_count * sizeof(uint32_t) +
+                                           ((size_t)PGRID_LIGHT_FACES * L->res * L->res) * 2 * sizeof(uint32_t)
+                                     : 0);
+        snprintf(build_row->variant, sizeof build_row->variant, "%s", row->variant);
+        if (result)
+            for (size_t i = 0; i < (size_t)rays->width * rays->height; i++) result[i] = f.occluded[i];
+    }
+    for (uint32_t t = 0; t < threads && f.batch && f.pixel; t++) {
+        free(f.batch[t]);
+        free(f.pixel[t]);
+    }
+    pgrid_shadows_free(&f.grids);
+    free(f.batch);
+    free(f.pixel);
+    free(f.occluded);
+    free(f.build_seconds);
+    return ok;
 }

@@ -411,6 +411,31 @@ static bool run_primary(bench_state *s, const bench_rays *rays)
     return run_kernel_rows(s, RTT_BENCH_PRIMARY, rays, methods, n) && run_bvh_rows(s, RTT_BENCH_PRIMARY, rays);
 }
 
+/* --shadows pgrid's light grid on the shadow rays (bench_pgrid_shadow_row). */
+static bool run_pgrid_shadow_rows(bench_state *s, const bench_rays *rays, const uint32_t *origin_prim)
+{
+    for (uint32_t t = 0; t < s->config->thread_count; t++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_SHADOW, "rtt", s->config->threads[t]);
+        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
+        snprintf(row.method, sizeof row.method, "pgrid");
+        snprintf(build.method, sizeof build.method, "pgrid light");
+        snprintf(row.family, sizeof row.family, "pgrid");
+        snprintf(build.family, sizeof build.family, "build");
+        row.rays = rays->active;
+        build.rays = s->scene->triangle_count;
+        progress(s, &row);
+        bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, false, s->config->isa};
+        bool check = t == 0 && s->have_oracle;
+        if (!bench_pgrid_shadow_row(s->scene, optimized_engine_degenerate(s->engine), rays, origin_prim, &spec, &row,
+                                    &build,
+                                    check ? s->result : NULL))
+            return false;
+        if (check && !row.error[0]) row.agree = agreement(s, rays);
+        if (!bench_report_push(s->report, &row) || !bench_report_push(s->report, &build)) return false;
+    }
+    return true;
+}
+
 static bool run_shadow(bench_state *s, const bench_rays *primary)
 {
     size_t pixels = (size_t)s->width * s->height;
@@ -424,7 +449,7 @@ static bool run_shadow(bench_state *s, const bench_rays *primary)
         for (size_t i = 0; i < pixels; i++) prim[i] = hits[i].prim, t[i] = hits[i].t;
         ok = bench_rays_shadow(s->scene, primary, prim, t, &shadow);
     }
-    free(hits), free(prim), free(t);
+    free(hits), free(t);
     static const uint32_t lanes[] = {1, 16};
     ok = ok && run_peer_rows(s, RTT_BENCH_SHADOW, &shadow, lanes, 2);
     kernel_method methods[] = {
@@ -435,6 +460,8 @@ static bool run_shadow(bench_state *s, const bench_rays *primary)
     };
     ok = ok && run_kernel_rows(s, RTT_BENCH_SHADOW, &shadow, methods, sizeof methods / sizeof methods[0]);
     ok = ok && run_bvh_rows(s, RTT_BENCH_SHADOW, &shadow);
+    if (runs_accel(s, RTT_ACCEL_PGRID)) ok = ok && run_pgrid_shadow_rows(s, &shadow, prim);
+    free(prim);
     bench_rays_free(&shadow);
     return ok;
 }

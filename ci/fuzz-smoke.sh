@@ -33,7 +33,7 @@ build=${FUZZ_BUILD:-$root/build-fuzz}
 seconds=${FUZZ_SECONDS:-60}
 seed=${FUZZ_SEED:-1}
 jobs=${JOBS:-2}
-harnesses=(${FUZZ_HARNESSES:-scene_json q3bsp assimp mesh_header kdt kd_build exr pk3 q3_shader texture})
+harnesses=(${FUZZ_HARNESSES:-scene_json q3bsp assimp mesh_header kdt kd_build pgrid exr pk3 q3_shader texture})
 
 if ! command -v clang >/dev/null; then
   echo "fuzz-smoke: clang is not installed (ci/install-deps.sh installs it)" >&2

@@ -76,7 +76,8 @@ static const cli_option render_options[] = {
              "lights; refused with quad lights), interleaved[:N][:nofilter] (N = 4..32, default 16: the pixel's 4x4 "
              "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines), "
              "frusta[:N][:nofilter] (interleaved's samples and filter, each pixel's samples traced as one of 16 "
-             "multi-frusta; the optimized engine with --accel bvh)",
+             "multi-frusta; the optimized engine with --accel bvh), pgrid (hard "
+             "shadows through a perspective grid per light; the optimized engine)",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--spp", .value_name = "N",
      .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "

@@ -64,6 +64,7 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
     };
     if (strcmp(text, "none") == 0) { opt->shadows = RTT_SHADOWS_NONE; return true; }
     if (strcmp(text, "hard") == 0) { opt->shadows = RTT_SHADOWS_HARD; return true; }
+    if (strcmp(text, "pgrid") == 0) { opt->shadows = RTT_SHADOWS_PGRID; return true; }
     for (size_t i = 0; i < sizeof counted / sizeof counted[0]; i++) {
         size_t len = strlen(counted[i].name);
         if (strncmp(text, counted[i].name, len) == 0) {
@@ -87,17 +88,27 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         return parse_interleaved(text, text + 6, RTT_SHADOWS_FRUSTA, opt, err);
     return rtt_error_set(err,
                          "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R], "
-                         "interleaved[:N][:nofilter] or frusta[:N][:nofilter]",
+                         "interleaved[:N][:nofilter], frusta[:N][:nofilter] or pgrid",
                          text);
 }
 
-static const char *const method_names[] = {"none", "hard", "multi", "cone", "pyramid", "edgewidth", "interleaved",
-                                           "frusta"};
+static const char *const method_names[] = {
+    [RTT_SHADOWS_NONE] = "none",           [RTT_SHADOWS_HARD] = "hard",
+    [RTT_SHADOWS_MULTI] = "multi",         [RTT_SHADOWS_CONE] = "cone",
+    [RTT_SHADOWS_PYRAMID] = "pyramid",     [RTT_SHADOWS_EDGEWIDTH] = "edgewidth",
+    [RTT_SHADOWS_INTERLEAVED] = "interleaved", [RTT_SHADOWS_FRUSTA] = "frusta",
+    [RTT_SHADOWS_PGRID] = "pgrid"};
 _Static_assert(sizeof method_names / sizeof method_names[0] == RTT_SHADOW_METHOD_COUNT, "a name per shadow method");
+
+/* A value of the enum with a name. */
+static bool method_known(rtt_shadow_method method)
+{
+    return (unsigned)method < RTT_SHADOW_METHOD_COUNT && method_names[method] != NULL;
+}
 
 const char *rtt_shadow_method_name(rtt_shadow_method method)
 {
-    return (unsigned)method < RTT_SHADOW_METHOD_COUNT ? method_names[method] : "unknown";
+    return method_known(method) ? method_names[method] : "unknown";
 }
 
 static const char *sampled_method_name(rtt_shadow_method m)
@@ -109,7 +120,7 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
                       uint32_t height, rtt_error *err)
 {
     const char *sampled = sampled_method_name(opt->shadows);
-    if ((unsigned)opt->shadows >= RTT_SHADOW_METHOD_COUNT)
+    if (!method_known(opt->shadows))
         return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
     if (sampled && (opt->shadow_samples < 1 || opt->shadow_samples > RTT_MAX_SHADOW_SAMPLES))
         return rtt_error_set(err, "shadow method %s:%u: the sample count must be a whole number from 1 to %u", sampled,
@@ -153,7 +164,7 @@ bool rtt_render_options_check(const char *name, const rtt_render_options *opt, r
 {
     if (!rtt_engine_options_check(name, &opt->engine, err)) return false;
     const rtt_engine_class *cls = rtt_engine_find(name);
-    if ((unsigned)opt->shadows >= RTT_SHADOW_METHOD_COUNT)
+    if (!method_known(opt->shadows))
         return rtt_error_set(err, "unknown shadow method %d", (int)opt->shadows);
     if (!(cls->shadow_methods & (1u << opt->shadows)))
         return rtt_error_set(err, "engine \"%s\" does not render %s shadows", name,

@@ -15,7 +15,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${FUZZ_BUILD:-$root/build-fuzz}
 seconds=${FUZZ_SECONDS:-600}
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(kd_build kdt scene_json q3bsp exr assimp mesh_header pk3 q3_shader texture)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(kd_build pgrid kdt scene_json q3bsp exr assimp mesh_header pk3 q3_shader texture)
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 

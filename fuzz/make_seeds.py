@@ -164,6 +164,18 @@ nan = struct.pack("<f", float("nan"))
 raw = bytes([0, 1, 0, 0, 0]) + (bytes([0xFF]) + nan + struct.pack("<2f", 0, 0)) + bytes([0xFF]) + struct.pack("<3f", 1, 0, 0) + bytes([0xFF]) + struct.pack("<3f", 0, 1, 0)
 write("kd_build", "raw_nan", raw)
 
+# --- pgrid: see the layout comment in fuzz_pgrid.c ----------------------------
+floor = [[(p(-4), p(-1), p(-4)), (p(4), p(-1), p(-4)), (p(4), p(-1), p(4))],
+         [(p(-4), p(-1), p(-4)), (p(4), p(-1), p(4)), (p(-4), p(-1), p(4))]]
+light = bytes([3, p(2), p(6), p(3)])                                            # a palette point
+on_floor = b"".join(bytes([1, 12 + k % 2, 40 * k % 256, 90 * k % 256]) for k in range(12))  # surface points
+on_cube = b"".join(bytes([1, k, 128, 64]) for k in range(12)) + b"".join(bytes([0, k]) for k in range(8))
+write("pgrid", "cube_floor", kd_input(cube + floor, [len(cube) + 1, 0, 0, 6], light + on_floor + on_cube))
+write("pgrid", "cube_floor_coarse", kd_input(cube + floor, [len(cube) + 1, 0, 1, 1], light + on_floor + on_cube))
+write("pgrid", "light_on_a_vertex", kd_input(cube + floor, [len(cube) + 1, 0, 0, 4], bytes([0, 3]) + on_floor + on_cube))
+write("pgrid", "far_huge", kd_input(cube + floor, [len(cube) + 1, 2 << 1, 2, 6], light + on_floor + on_cube))
+write("pgrid", "tiny", kd_input(cube + floor, [len(cube) + 1, 1 << 1, 0, 5], bytes([2, 1, 6]) + on_floor + on_cube))
+
 
 # --- kdt: mutations of a baked file -----------------------------------------
 # tri.kdt, box.kdt and thin_plate.kdt are made with `rtt bake` (README.md):

@@ -49,10 +49,10 @@ bool view_choices_make(const char *name, const rtt_render_options *start, const 
     char *slash = strchr(current, '/');
     if (slash) *slash = '\0';
     collect_traversals(out, start, current[0] ? current : NULL);
-    for (int m = 0; out->shadow_count < VIEW_CHOICES_MAX; m++) {
+    for (int m = 0; m < (int)RTT_SHADOW_METHOD_COUNT && out->shadow_count < VIEW_CHOICES_MAX; m++) {
         rtt_render_options trial = *start;
         char text[VIEW_LABEL_MAX];
-        if (!shadow_text((rtt_shadow_method)m, text, &trial)) break;
+        if (!shadow_text((rtt_shadow_method)m, text, &trial)) continue; /* a value without a method */
         if (!(out->cls->shadow_methods & (1u << m))) continue;
         if (trial.shadows == start->shadows) {
             out->shadow = out->shadow_count;

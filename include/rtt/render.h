@@ -16,13 +16,14 @@ typedef enum rtt_shadow_method {
     RTT_SHADOWS_PYRAMID,    /* the same samples under a pyramid frustum (Table 4.6) */
     RTT_SHADOWS_EDGEWIDTH,  /* Edge Width Soft Shadows (thesis chapter 5) */
     RTT_SHADOWS_INTERLEAVED, /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
-    RTT_SHADOWS_FRUSTA = 7   /* interleaved's samples and filter traced as multi-frusta (optimized, --accel bvh) */
+    RTT_SHADOWS_FRUSTA,      /* interleaved's samples and filter traced as multi-frusta (optimized, --accel bvh) */
+    RTT_SHADOWS_PGRID        /* hard shadows through a perspective grid per light (Hunt & Mark 2008, 5.2) */
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
 #define RTT_MAX_SPP 256u
-#define RTT_SHADOW_METHOD_COUNT 8u             /* rtt_shadow_method values */
-#define RTT_SHADOWS_ALL 0xFFu                 /* every rtt_shadow_method bit */
+#define RTT_SHADOW_METHOD_COUNT 9u             /* rtt_shadow_method values */
+#define RTT_SHADOWS_ALL 0x1FFu                /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {

@@ -40,6 +40,8 @@
 #include "rtt/error.h"
 #include "rtt/shade.h"
 
+#include "pgrid_light.h"
+
 #define PGRID_NO_TRIANGLE UINT32_MAX
 /* The cell side in pixels when the caller gives none (bench/results/pgrid.md,
  * "Cell size": the sweep on this machine's 1 MiB-per-core L2). */
@@ -119,6 +121,7 @@ typedef struct pgrid_kernel {
     const char *implements;
     pgrid_cell_fn trace_cell;
     pgrid_resolve_fn resolve_cell;
+    pgrid_occluded_fn shadow_occluded; /* --shadows pgrid: shadow rays through the light grids (pgrid_light.h) */
     uint32_t lanes;            /* pixels per packet: 16 (AVX-512), 8 (AVX2), 4 (SSE4.1) */
     rtt_isa isa;
 } pgrid_kernel;

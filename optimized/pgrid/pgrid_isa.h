@@ -17,5 +17,6 @@
 
 #define pgrid_trace_cell PGRID_ISA(pgrid_trace_cell)
 #define pgrid_resolve_cell PGRID_ISA(pgrid_resolve_cell)
+#define pgrid_shadow_occluded PGRID_ISA(pgrid_shadow_occluded)
 
 #endif

@@ -30,7 +30,9 @@
  * opaque); interleaved:N traces the N samples of the pixel's interleaved set
  * (rtt/interleaved.h) in 2x2 packets like multi:N and, at the primary hits,
  * leaves the light terms to the renderer's rtt_shadow_planes instead of
- * adding them (the filter needs the whole image).  multi, cone, pyramid and
+ * adding them (the filter needs the whole image); pgrid traces hard's rays
+ * (one to each light's centre) through the frame's light grids
+ * (../pgrid/pgrid_light.h), each light's rays of the batch together.  multi, cone, pyramid and
  * interleaved sample sphere and quad lights alike.
  *
  * Transparent shadows (scenes with a transparent material): after any of
@@ -227,6 +229,42 @@ static void trace_shadows(const sp_tracer *tr, sp_scratch *s, uint32_t rays)
     for (uint32_t i = 0; i < rays; i++) clear[i] = !(occluded[i / 4] >> (i % 4) & 1u);
 }
 
+/* Step 2 for pgrid: each light's rays (contiguous: gather_shadows goes
+ * light by light) through that light's grid. */
+static void trace_light_grids(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t d, uint32_t first,
+                              uint32_t end)
+{
+    const uint32_t lights = sh->scene->light_count;
+    const sp_node *nodes = sp_level_nodes(s, d);
+    const sp_light_request *requests = SP_ARRAY(s->requests, sp_light_request);
+    const rtt_ray *shadow_rays = SP_ARRAY(s->shadow_rays, rtt_ray);
+    uint8_t *clear = SP_ARRAY(s->shadow_clear, uint8_t);
+    uint32_t *prim = malloc(((size_t)(end - first) + 1) * sizeof *prim); /* per ray: the triangle it starts on */
+    if (!prim) {
+        s->failed = true;
+        return;
+    }
+    uint32_t from = 0;
+    for (uint32_t l = 0; l < lights; l++) {
+        uint32_t to = from;
+        for (uint32_t i = first; i < end; i++) {
+            const sp_light_request *q = &requests[(size_t)(i - first) * lights + l];
+            if (nodes[i].hit.prim == RTT_MISS) continue;
+            for (uint32_t k = 0; k < q->rays; k++) prim[q->first + k - from] = nodes[i].hit.prim;
+            if (q->first + q->rays > to) to = q->first + q->rays;
+        }
+        if (to == from) continue;
+        if (!tr->light_grid_occluded(tr->light_grids, l, &shadow_rays[from], prim, to - from, &clear[from])) {
+            free(prim);
+            s->failed = true;
+            return;
+        }
+        for (uint32_t i = from; i < to; i++) clear[i] = !clear[i];
+        from = to;
+    }
+    free(prim);
+}
+
 /* Step 2 for cone:N and pyramid:N: each group (one point, one light) as one
  * block under its proxy. */
 static void trace_shadow_groups(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t rays,
@@ -418,6 +456,8 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
         uint64_t t1 = s->timing ? rtt_clock_ns() : 0;
         if (is_grouped(sh->shadows))
             trace_shadow_groups(sh, tr, s, rays, groups);
+        else if (sh->shadows == RTT_SHADOWS_PGRID)
+            trace_light_grids(sh, tr, s, d, first, end);
         else if (sp_frusta_hard(sh, tr))
             sp_frusta_trace_rays(sh, tr, s, rays);
         else

@@ -22,6 +22,7 @@
 #include "kd_tree.h"
 #include "kernels.h"
 #include "packet.h"
+#include "pgrid_light.h"
 #include "rtt/edge_width.h"
 #include "rtt/interleaved.h"
 #include "rtt/render.h"
@@ -43,6 +44,10 @@ typedef struct sp_tracer {
     const bvh_tree *bvh;
     const bvh_kernel *bvh_kernel;
     const bvh_shadow_kernel *bvh_shadows; /* frusta:N's soft-shadow frusta (bvh only) */
+    /* --shadows pgrid: the frame's light grids and their kernel (hard
+     * shadow rays go there instead of the kernels above) */
+    const pgrid_shadows *light_grids;
+    pgrid_occluded_fn light_grid_occluded;
 } sp_tracer;
 
 typedef struct sp_shading {

@@ -1,0 +1,205 @@
+/* Fuzz harness for the light grids of --shadows pgrid
+ * (optimized/pgrid/pgrid_light.h): bytes → triangles (palette coordinates
+ * with shared vertices, signed zeros, tiny, denormal and huge values, or raw
+ * float bits; scaled and moved away from the origin), a light (at a vertex,
+ * on an edge's midpoint or at a palette point), a grid resolution, and
+ * shadow-ray origins (at vertices, on triangles, at palette points).  The
+ * grid is built and its invariants checked (references in range and
+ * ascending per cell, the near list in range); then every shadow ray the
+ * shader proxy would make from those origins to the light (epsilon to
+ * distance - epsilon) is traced through the grid at every instruction set
+ * this CPU runs and must answer exactly as the brute force: any
+ * non-degenerate triangle the reference's watertight test
+ * (rtt_reference_intersect_triangle) finds on it.
+ *
+ * Input: [count - 1] [mode] [offset] [res] then 3 * count vertex controls (a
+ * byte < 48 repeats an earlier vertex, else three coordinates), the light
+ * as a point (control byte: vertex, surface, edge midpoint or palette
+ * point, and its operands), then the origins as points the same way. */
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz_common.h"
+#include "pgrid_eye.h"
+#include "pgrid_light.h"
+#include "rtt/reference.h"
+#include "rtt/rtt.h"
+
+#define MAX_TRIANGLES 40u
+#define MAX_ORIGINS 64u
+
+typedef struct byte_reader {
+    const uint8_t *data;
+    size_t size, at;
+} byte_reader;
+
+static uint8_t next_byte(byte_reader *in) { return in->at < in->size ? in->data[in->at++] : 0; }
+
+static float next_raw_float(byte_reader *in)
+{
+    uint32_t bits = 0;
+    for (int k = 0; k < 4; k++) bits |= (uint32_t)next_byte(in) << (8 * k);
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+static float palette_float(uint8_t b)
+{
+    static const float specials[] = {0.0f, -0.0f, 0.5f, -0.5f, 0.25f, 1e-3f, 1e-20f, -1e-20f,
+                                     1e-40f, FLT_MIN, 1e10f, -1e10f, 1e20f, 3.3e6f, 0.1f, 0.3f};
+    if (b < 16) return specials[b];
+    if (b < 16 + 33) return (float)((int)b - 32);
+    return (float)((int)b - 152) / 8.0f;
+}
+
+static const float scales[8] = {1.0f, 1e-20f, 1e20f, 1e-6f, 1e6f, 1.0f, 1e-3f, 1e3f};
+static const float offsets[4] = {0.0f, 1e4f, -1e7f, 3e5f};
+
+static float coordinate(byte_reader *in, bool raw, float scale, float offset)
+{
+    return raw ? next_raw_float(in) : palette_float(next_byte(in)) * scale + offset;
+}
+
+static rtt_vec3 palette_point(byte_reader *in, const rtt_scene *scene, float scale, float offset)
+{
+    const double p[3] = {palette_float(next_byte(in)) * scale + offset, palette_float(next_byte(in)) * scale + offset,
+                         palette_float(next_byte(in)) * scale + offset};
+    return rtt_scene_point_to_stored(scene, p);
+}
+
+/* A point on triangle b % count at barycentrics from two bytes (its index in *prim). */
+static rtt_vec3 surface_point(byte_reader *in, const rtt_scene *scene, uint32_t *prim)
+{
+    rtt_vec3 c[3];
+    *prim = next_byte(in) % scene->triangle_count;
+    rtt_scene_triangle(scene, *prim, c);
+    float u = (float)next_byte(in) / 255.0f, v = (float)next_byte(in) / 255.0f;
+    if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+    return rtt_v3_add(c[0], rtt_v3_add(rtt_v3_scale(rtt_v3_sub(c[1], c[0]), u), rtt_v3_scale(rtt_v3_sub(c[2], c[0]), v)));
+}
+
+/* *prim: the triangle the point lies on, RTT_MISS when none is known. */
+static rtt_vec3 decode_point(byte_reader *in, const rtt_scene *scene, float scale, float offset, uint32_t *prim)
+{
+    const uint8_t control = next_byte(in);
+    *prim = RTT_MISS;
+    switch (control % 4) {
+    case 0: return scene->vertices[next_byte(in) % scene->vertex_count];
+    case 1: return surface_point(in, scene, prim);
+    case 2: {
+        const rtt_vec3 a = scene->vertices[next_byte(in) % scene->vertex_count];
+        const rtt_vec3 b = scene->vertices[next_byte(in) % scene->vertex_count];
+        return rtt_v3_scale(rtt_v3_add(a, b), 0.5f);
+    }
+    default: return palette_point(in, scene, scale, offset);
+    }
+}
+
+static uint8_t brute_force(const rtt_scene *scene, const uint8_t *degenerate, const rtt_ray *ray)
+{
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        if (degenerate[i]) continue;
+        rtt_vec3 c[3];
+        rtt_scene_triangle(scene, i, c);
+        float t, u, v;
+        if (rtt_reference_intersect_triangle(ray, c, &t, &u, &v)) return 1;
+    }
+    return 0;
+}
+
+static void check_invariants(const pgrid_shadows *grids, const pgrid_light *light)
+{
+    const size_t cells = (size_t)PGRID_LIGHT_FACES * light->res * light->res;
+    if (light->cell_first[0] != 0 || light->cell_first[cells] != light->ref_count)
+        fuzz_fail("light grid: the cell ranges do not cover the references");
+    for (size_t c = 0; c < cells; c++) {
+        if (light->cell_first[c] > light->cell_first[c + 1]) fuzz_fail("light grid: cell %zu's range is reversed", c);
+        for (uint32_t r = light->cell_first[c]; r < light->cell_first[c + 1]; r++) {
+            if (light->refs[r] >= grids->corner_count) fuzz_fail("light grid: cell %zu names triangle %u", c, light->refs[r]);
+            if (r > light->cell_first[c] && light->refs[r] <= light->refs[r - 1])
+                fuzz_fail("light grid: cell %zu's list is not ascending", c);
+        }
+    }
+    for (uint32_t i = 0; i < light->near_count; i++)
+        if (light->near[i] >= grids->corner_count) fuzz_fail("light grid: the near list names triangle %u", light->near[i]);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    byte_reader in = {data, size, 0};
+    const uint32_t triangle_count = 1 + next_byte(&in) % MAX_TRIANGLES;
+    const uint8_t mode = next_byte(&in);
+    const bool raw = mode & 1;
+    const float scale = scales[(mode >> 1) % 8], offset = offsets[next_byte(&in) % 4];
+    static const uint32_t resolutions[] = {0, 1, 2, 5, 16, 64, 200, 333};
+    const uint32_t res = resolutions[next_byte(&in) % 8];
+    float xyz[MAX_TRIANGLES * 9];
+    for (uint32_t v = 0; v < triangle_count * 3; v++) {
+        const uint8_t control = next_byte(&in);
+        if (control < 48 && v > 0)
+            memcpy(&xyz[v * 3], &xyz[(control % v) * 3], 3 * sizeof(float));
+        else
+            for (int k = 0; k < 3; k++) xyz[v * 3 + k] = coordinate(&in, raw, scale, offset);
+    }
+    for (size_t i = 0; i < (size_t)triangle_count * 9; i++)
+        if (!isfinite(xyz[i])) return 0; /* refused by rtt_scene_from_triangles (fuzz_kd_build checks how) */
+    rtt_error err = {""};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, triangle_count, &err);
+    if (!scene) fuzz_fail("rtt_scene_from_triangles refused finite input: %s", err.message);
+    uint8_t degenerate[MAX_TRIANGLES];
+    for (uint32_t i = 0; i < scene->triangle_count; i++) {
+        rtt_vec3 c[3];
+        rtt_scene_triangle(scene, i, c);
+        degenerate[i] = rtt_triangle_is_degenerate(c);
+    }
+    uint32_t light_prim;
+    const rtt_vec3 light_at = decode_point(&in, scene, scale, offset, &light_prim);
+    if (!isfinite(light_at.x) || !isfinite(light_at.y) || !isfinite(light_at.z)) {
+        rtt_scene_free(scene);
+        return 0;
+    }
+    pgrid_shadows grids;
+    if (!pgrid_shadows_build(&grids, scene, degenerate, 0, &err)) fuzz_fail("light grids: %s", err.message);
+    pgrid_light light;
+    const float position[3] = {light_at.x, light_at.y, light_at.z};
+    if (!pgrid_light_build(&light, &grids, scene, position, res)) fuzz_fail("light grid: out of memory");
+    check_invariants(&grids, &light);
+    pgrid_shadows one = grids;
+    one.lights = &light, one.light_count = 1;
+
+    const float epsilon = rtt_scene_ray_epsilon(scene);
+    rtt_ray rays[MAX_ORIGINS];
+    uint8_t expected[MAX_ORIGINS], ours[MAX_ORIGINS];
+    uint32_t prims[MAX_ORIGINS], n = 0;
+    while (in.at < in.size && n < MAX_ORIGINS) {
+        const rtt_vec3 p = decode_point(&in, scene, scale, offset, &prims[n]);
+        const rtt_vec3 to = rtt_v3_sub(light_at, p);
+        const float distance = rtt_v3_length(to);
+        if (!isfinite(distance) || !(distance > 2.0f * epsilon)) continue;
+        const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / distance);
+        rays[n] = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, epsilon, distance - epsilon};
+        expected[n] = brute_force(scene, degenerate, &rays[n]);
+        n++;
+    }
+    for (rtt_isa isa = RTT_ISA_SSE4; isa < RTT_ISA_COUNT; isa = (rtt_isa)(isa + 1)) {
+        if (!rtt_isa_supported(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        if (!k) fuzz_fail("no pgrid kernel for %s", rtt_isa_name(isa));
+        if (!k->shadow_occluded(&one, 0, rays, prims, n, ours)) fuzz_fail("light grid: out of memory tracing");
+        for (uint32_t i = 0; i < n; i++)
+            if (ours[i] != expected[i])
+                fuzz_fail("light grid (%s, res %u): ray %u org (%a %a %a) dir (%a %a %a) tnear %a tfar %a: grid %u, "
+                          "brute force %u", rtt_isa_name(isa), light.res, i, (double)rays[i].org[0],
+                          (double)rays[i].org[1], (double)rays[i].org[2], (double)rays[i].dir[0],
+                          (double)rays[i].dir[1], (double)rays[i].dir[2], (double)rays[i].tnear,
+                          (double)rays[i].tfar, ours[i], expected[i]);
+    }
+    pgrid_light_free(&light);
+    pgrid_shadows_free(&grids);
+    rtt_scene_free(scene);
+    return 0;
+}

@@ -1,0 +1,154 @@
+/* Hunt & Mark 2008, section 5.2: hard shadows through a perspective grid
+ * per light, rebuilt every frame.  The light's view is the six-face
+ * arrangement (a cube around the light: face 2 * axis + (d[axis] < 0) for
+ * the direction d = p - L of a point p from the light L, its major axis by
+ * the reference's tie rule), each face a res x res grid of the face
+ * coordinates (d[axis + 1], d[axis + 2]) / |d[axis]| in [-1, 1].  The paper
+ * bounds the visible hit points with one frustum; the six faces take any
+ * shadow ray, wherever its origin, with no pass over the hit points first.
+ *
+ * A shadow ray of the shader proxy runs from p towards L over
+ * (epsilon, |L - p| - epsilon): it is looked up in the cell of p's
+ * direction and tested against the triangles of that cell (and of the near
+ * list) with the reference's watertight test (Woop, Benthin & Wald), the
+ * same arithmetic in the same order, so a triangle tested answers as the
+ * reference's.  Exactness is then the binning's: every triangle the
+ * reference could find on the ray must be in the ray's cell.
+ *
+ *  - A triangle is binned by its exact footprint on each face, clipped
+ *    (in double) to the face's pyramid widened by the margin mu_T and
+ *    bounded by its clipped corners' face coordinates widened by mu_T too.
+ *  - mu_T covers the rounding of the ray's own direction and of the
+ *    reference's test: every point the reference can accept on the ray is
+ *    within E = 2^-14 M of the exact segment p-L (M the largest coordinate
+ *    magnitude of the scene's bounds and the light), which seen from L is an
+ *    angle of at most 2E / (d_T - 2E) for a triangle at least d_T from L;
+ *    mu_T = 1e-5 + 4 times that angle (a face coordinate is tan of an angle
+ *    at most 45 degrees off the axis, so at most twice the angle; twice
+ *    again for margin), with 1e-5 for the rounding of the ray's face
+ *    coordinates themselves.
+ *  - A triangle within 256 E of the light, or whose mu_T would pass 1e-2,
+ *    goes to the near list, tested by every ray.
+ *  - Per cell the smallest lower bound d_T over its triangles (the larger of
+ *    the distance from L to its box and to its plane): a ray from p reaches
+ *    no triangle of the cell when |L - p| + 4E < that bound, and is clear
+ *    without a test (the per-cell distance culling of section 5.2).
+ *
+ *
+ * Back-face culling (the paper's): on a closed, consistently oriented mesh
+ * (pgrid_shadows.mesh_culled) a triangle with the light on its outer side
+ * by more than 4E faces the light; such triangles are kept apart at the
+ * end of each cell's list (cell_front .. cell_first[c + 1]) and tested only
+ * for the rays that may start inside a culled solid: from a triangle of a
+ * culled mesh that does not face the light, from inside another culled
+ * mesh's grown box, or crossing a kept triangle within (-epsilon, epsilon]
+ * of the origin.  A ray starting outside every solid meets an entering
+ * face, which is kept, before any face that faces the light.  The pgrid
+ * README ("Hard shadows") says what this assumes. */
+#ifndef RTT_OPTIMIZED_PGRID_LIGHT_H
+#define RTT_OPTIMIZED_PGRID_LIGHT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "kd_tree.h"
+#include "rtt/engine.h"
+#include "rtt/error.h"
+
+/* Cells per face side when the caller gives none (the paper's 200). */
+#define PGRID_LIGHT_RES_DEFAULT 200u
+#define PGRID_LIGHT_RES_MAX 2048u
+#define PGRID_LIGHT_FACES 6u
+/* A ray from a light-facing triangle of a culled mesh whose direction makes
+ * a cosine below this with the triangle's outward normal grazes it: its
+ * origin, rounded, may lie inside the solid, so it meets the front faces
+ * too (pgrid README, "Hard shadows"). */
+#define PGRID_GRAZING_COSINE 0.1f
+
+/* The grid of one light. */
+typedef struct pgrid_light {
+    float position[3];
+    uint32_t res;              /* cells per face side */
+    float reach;               /* 4E: slack of the per-cell distance test */
+    uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] ..) */
+    float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
+    float *bound;              /* per corner record: its d_T (the same test per triangle) */
+    uint32_t *refs;            /* indices into pgrid_shadows.corners, ascending per cell */
+    size_t ref_count;
+    uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */
+    uint8_t *front;            /* per scene triangle: 1 when it is one of those (a culled mesh's, facing the light) */
+    uint32_t *near;            /* tested by every ray */
+    uint32_t near_count;
+} pgrid_light;
+
+/* The light grids of one frame: the scene's non-degenerate triangles'
+ * corners (in global order, prim kept) and a grid per light. */
+typedef struct pgrid_shadows {
+    kd_corners *corners;
+    uint32_t corner_count;
+    /* back-face culling: per mesh 1 when it is closed and consistently
+     * oriented (every directed edge's reverse used once, by vertex index),
+     * its outward side (+1: the winding's normal, -1: the opposite) and
+     * its box grown by `box_grow` (lo xyz, hi xyz); the culled meshes */
+    uint8_t *mesh_culled;
+    int8_t *mesh_outward;
+    float (*mesh_box)[6];
+    uint32_t *culled;
+    uint32_t culled_count;
+    float (*outward_normal)[3];    /* per scene triangle of a culled mesh: its unit outward normal */
+    const uint32_t *triangle_mesh; /* the scene's */
+    pgrid_light *lights;
+    uint32_t light_count;
+    double build_seconds;
+} pgrid_shadows;
+
+/* Builds a grid of res x res cells per face (0 → PGRID_LIGHT_RES_DEFAULT,
+ * at most PGRID_LIGHT_RES_MAX) at the centre of every light of the scene,
+ * over the triangles not flagged in `degenerate` (NULL: none).  False (err
+ * filled) when out of memory; pgrid_shadows_free frees what was built. */
+bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
+                         rtt_error *err);
+/* The two halves of pgrid_shadows_build: what depends on the scene alone
+ * (the corners, which meshes are culled; as a kd-tree, built once per
+ * scene where the caller keeps it: the bench) and the grids of the lights
+ * (per frame; pgrid_shadows_free_lights frees them, keeping the first
+ * half).  build_seconds is the second's. */
+bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err);
+bool pgrid_shadows_build_lights(pgrid_shadows *grids, const rtt_scene *scene, uint32_t res, rtt_error *err);
+void pgrid_shadows_free_lights(pgrid_shadows *grids);
+/* The same for one light at `position` (the tests and the fuzzer). */
+bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt_scene *scene,
+                       const float position[3], uint32_t res);
+void pgrid_light_free(pgrid_light *light);
+void pgrid_shadows_free(pgrid_shadows *grids);
+
+/* The cell of direction d = p - L: face * res^2 + y * res + x.  The same
+ * code on both sides (baseline and kernels). */
+static inline uint32_t pgrid_light_cell_of(uint32_t res, float dx, float dy, float dz)
+{
+    const float d[3] = {dx, dy, dz};
+    const float ax = d[0] < 0.0f ? -d[0] : d[0], ay = d[1] < 0.0f ? -d[1] : d[1], az = d[2] < 0.0f ? -d[2] : d[2];
+    const uint32_t axis = (ax >= ay && ax >= az) ? 0u : (ay >= az ? 1u : 2u);
+    const float major = axis == 0 ? ax : axis == 1 ? ay : az;
+    const uint32_t face = 2u * axis + (d[axis] < 0.0f ? 1u : 0u);
+    float s = d[(axis + 1) % 3] / major, t = d[(axis + 2) % 3] / major;
+    if (!(s >= -1.0f)) s = -1.0f; /* also NaN: any cell, the test decides */
+    if (!(t >= -1.0f)) t = -1.0f;
+    const float half = 0.5f * (float)res;
+    uint32_t x = (uint32_t)((s + 1.0f) * half), y = (uint32_t)((t + 1.0f) * half);
+    if (x >= res) x = res - 1;
+    if (y >= res) y = res - 1;
+    return (face * res + y) * res + x;
+}
+
+/* The light-grid kernel (pgrid_shadow.c, one copy per instruction set):
+ * occluded[i] = 1 when rays[i] (from its origin towards light `light`, as
+ * the shader proxy makes them; origin_prim[i] the triangle its origin lies
+ * on, RTT_MISS or origin_prim NULL when none or unknown) is blocked, else 0; the rays are sorted by
+ * cell and dominant axis and traced per cell in packets of the set's lanes.
+ * False when out of memory. */
+typedef bool (*pgrid_occluded_fn)(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                                  const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);
+
+#endif

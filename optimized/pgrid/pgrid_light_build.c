@@ -1,0 +1,415 @@
+/* The light grids' per-frame build (pgrid_light.h): corners once, then per
+ * light every triangle's footprint on the six faces in double, counted and
+ * placed by a counting sort (each cell's list in global triangle order). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine/clock.h"
+#include "pgrid_light.h"
+
+#define FOOTPRINT_NONE UINT16_MAX
+#define NEAR_FACTOR 256.0
+#define MU_MAX 1e-2
+
+/* A triangle's cell rectangle on one face (inclusive; x0 = NONE: none). */
+typedef struct footprint {
+    uint16_t x0, y0, x1, y1;
+} footprint;
+
+/* Keeps the part of polygon p (n corners) with dot(plane, q) >= 0. */
+static int clip_plane(const double (*p)[3], int n, const double plane[3], double (*out)[3])
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = p[i], *b = p[(i + 1) % n];
+        const double da = plane[0] * a[0] + plane[1] * a[1] + plane[2] * a[2];
+        const double db = plane[0] * b[0] + plane[1] * b[1] + plane[2] * b[2];
+        if (da >= 0.0) memcpy(out[m++], a, sizeof out[0]);
+        if ((da >= 0.0) != (db >= 0.0)) {
+            const double s = da / (da - db);
+            for (int k = 0; k < 3; k++) out[m][k] = a[k] + s * (b[k] - a[k]);
+            m++;
+        }
+    }
+    return m;
+}
+
+/* The footprint of corners c (relative to the light) on `face`, its
+ * pyramid and rectangle widened by mu. */
+static footprint face_footprint(const double c[3][3], uint32_t face, double mu, uint32_t res)
+{
+    const uint32_t axis = face / 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const double sign = face % 2 ? -1.0 : 1.0, wide = 1.0 + mu;
+    double poly[2][16][3];
+    int n = 3;
+    memcpy(poly[0], c, 3 * sizeof poly[0][0]);
+    footprint f = {FOOTPRINT_NONE, 0, 0, 0};
+    /* the four planes' values at the corners: wholly outside one, no
+     * footprint; inside all four, no clipping */
+    bool inside = true;
+    for (int k = 0; k < 4; k++) {
+        const uint32_t across = k < 2 ? u : v;
+        const double side = k % 2 ? 1.0 : -1.0;
+        int out = 0;
+        for (int i = 0; i < 3; i++) out += sign * wide * c[i][axis] + side * c[i][across] < 0.0;
+        if (out == 3) return f;
+        inside = inside && out == 0;
+    }
+    for (int k = 0; !inside && k < 4 && n > 0; k++) {
+        double plane[3] = {0.0, 0.0, 0.0};
+        plane[axis] = sign * wide;
+        plane[k < 2 ? u : v] = k % 2 ? 1.0 : -1.0;
+        n = clip_plane((const double(*)[3])poly[k % 2], n, plane, poly[(k + 1) % 2]);
+    }
+    if (n == 0) return f;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < n; i++) {
+        const double *q = poly[0][i], major = sign * q[axis];
+        if (!(major > 0.0)) return f; /* only at the apex: such triangles are near ones */
+        const double s = q[u] / major, t = q[v] / major;
+        lo[0] = s < lo[0] ? s : lo[0], hi[0] = s > hi[0] ? s : hi[0];
+        lo[1] = t < lo[1] ? t : lo[1], hi[1] = t > hi[1] ? t : hi[1];
+    }
+    int32_t cell[4];
+    for (int k = 0; k < 2; k++) {
+        const double a = ((lo[k] - mu) + 1.0) * 0.5 * res, b = ((hi[k] + mu) + 1.0) * 0.5 * res;
+        cell[k] = a < 0.0 ? 0 : a >= res ? (int32_t)res - 1 : (int32_t)a;
+        cell[2 + k] = b < 0.0 ? 0 : b >= res ? (int32_t)res - 1 : (int32_t)b;
+    }
+    f = (footprint){(uint16_t)cell[0], (uint16_t)cell[1], (uint16_t)cell[2], (uint16_t)cell[3]};
+    return f;
+}
+
+/* The one face whose pyramid narrowed by mu holds every corner of c (then
+ * the triangle lies there, its pyramid being convex, and meets no other
+ * face's pyramid widened by mu), or PGRID_LIGHT_FACES when there is none. */
+static uint32_t single_face(const double c[3][3], double mu)
+{
+    uint32_t face = PGRID_LIGHT_FACES;
+    for (int i = 0; i < 3; i++) {
+        const double ax = fabs(c[i][0]), ay = fabs(c[i][1]), az = fabs(c[i][2]);
+        const uint32_t axis = (ax >= ay && ax >= az) ? 0u : (ay >= az ? 1u : 2u);
+        const double major = axis == 0 ? ax : axis == 1 ? ay : az, narrow = major * (1.0 - 2.0 * mu);
+        const double u = fabs(c[i][(axis + 1) % 3]), v = fabs(c[i][(axis + 2) % 3]);
+        if (!(u < narrow && v < narrow)) return PGRID_LIGHT_FACES;
+        const uint32_t f = 2u * axis + (c[i][axis] < 0.0 ? 1u : 0u);
+        if (i > 0 && f != face) return PGRID_LIGHT_FACES;
+        face = f;
+    }
+    return face;
+}
+
+/* A lower bound of the distance from the origin to the triangle c: the
+ * larger of the distances to its box and to its plane. */
+static double distance_bound(const double c[3][3])
+{
+    double box = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double lo = c[0][k], hi = c[0][k];
+        for (int i = 1; i < 3; i++) lo = c[i][k] < lo ? c[i][k] : lo, hi = c[i][k] > hi ? c[i][k] : hi;
+        const double gap = lo > 0.0 ? lo : hi < 0.0 ? -hi : 0.0;
+        box += gap * gap;
+    }
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) e1[k] = c[1][k] - c[0][k], e2[k] = c[2][k] - c[0][k];
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double plane = len > 0.0 ? fabs(n[0] * c[0][0] + n[1] * c[0][1] + n[2] * c[0][2]) / len : 0.0;
+    const double b = sqrt(box);
+    return b > plane ? b : plane;
+}
+
+/* E: the largest coordinate magnitude of the scene's bounds and the light, times 2^-14. */
+static double error_bound(const rtt_scene *scene, const float position[3])
+{
+    double m = 0.0;
+    const float *lo = &scene->bounds.lo.x, *hi = &scene->bounds.hi.x;
+    for (int k = 0; k < 3; k++) {
+        m = fmax(m, fabs((double)position[k]));
+        if (!rtt_bounds_is_empty(scene->bounds)) m = fmax(m, fmax(fabs((double)lo[k]), fabs((double)hi[k])));
+    }
+    return ldexp(m > 0.0 ? m : 1.0, -14);
+}
+
+void pgrid_light_free(pgrid_light *light)
+{
+    free(light->cell_first);
+    free(light->cell_min);
+    free(light->bound);
+    free(light->refs);
+    free(light->cell_front);
+    free(light->front);
+    free(light->near);
+    memset(light, 0, sizeof *light);
+}
+
+bool pgrid_light_build(pgrid_light *light, const pgrid_shadows *grids, const rtt_scene *scene,
+                       const float position[3], uint32_t res)
+{
+    memset(light, 0, sizeof *light);
+    if (res == 0) res = PGRID_LIGHT_RES_DEFAULT;
+    if (res > PGRID_LIGHT_RES_MAX) res = PGRID_LIGHT_RES_MAX;
+    memcpy(light->position, position, sizeof light->position);
+    light->res = res;
+    const double E = error_bound(scene, position);
+    light->reach = (float)(4.0 * E);
+    const size_t cells = (size_t)PGRID_LIGHT_FACES * res * res, n = grids->corner_count;
+    light->cell_first = calloc(cells + 1, sizeof *light->cell_first);
+    light->cell_front = calloc(cells + 1, sizeof *light->cell_front);
+    light->cell_min = malloc(cells * sizeof *light->cell_min);
+    light->near = malloc((n + 1) * sizeof *light->near);
+    light->front = calloc((size_t)scene->triangle_count + 1, 1);
+    footprint *prints = malloc((n * PGRID_LIGHT_FACES + 1) * sizeof *prints);
+    float *bound = light->bound = malloc((n + 1) * sizeof *bound);
+    bool ok = light->cell_first && light->cell_front && light->cell_min && light->near && light->front && prints &&
+              bound;
+    for (size_t c = 0; ok && c < cells; c++) light->cell_min[c] = INFINITY;
+    for (uint32_t i = 0; ok && i < n; i++) {
+        const kd_corners *k = &grids->corners[i];
+        double c[3][3];
+        for (int a = 0; a < 3; a++)
+            c[0][a] = (double)k->a[a] - position[a], c[1][a] = (double)k->b[a] - position[a],
+            c[2][a] = (double)k->c[a] - position[a];
+        const double d = distance_bound(c);
+        bound[i] = (float)(d * (1.0 - 1e-6));
+        const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
+        bool front = false;
+        if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
+            /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
+            double e1[3], e2[3];
+            for (int a = 0; a < 3; a++) e1[a] = c[1][a] - c[0][a], e2[a] = c[2][a] - c[0][a];
+            const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                         nz = e1[0] * e2[1] - e1[1] * e2[0];
+            const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
+            front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
+        }
+        light->front[prim] = front;
+        const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
+        footprint *f = &prints[(size_t)i * PGRID_LIGHT_FACES];
+        if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
+            light->near[light->near_count++] = i;
+            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) f[face].x0 = FOOTPRINT_NONE;
+            continue;
+        }
+        const uint32_t only = single_face((const double(*)[3])c, mu);
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+            if (only != PGRID_LIGHT_FACES && face != only) {
+                f[face].x0 = FOOTPRINT_NONE;
+                continue;
+            }
+            f[face] = face_footprint((const double(*)[3])c, face, mu, res);
+            if (f[face].x0 == FOOTPRINT_NONE) continue;
+            for (uint32_t y = f[face].y0; y <= f[face].y1; y++)
+                for (uint32_t x = f[face].x0; x <= f[face].x1; x++) {
+                    const size_t cell = ((size_t)face * res + y) * res + x;
+                    light->cell_first[cell + 1]++;
+                    if (front) {
+                        light->cell_front[cell]++; /* for now: the cell's front count */
+                    } else if (bound[i] < light->cell_min[cell]) {
+                        light->cell_min[cell] = bound[i];
+                    }
+                }
+        }
+    }
+    if (ok) {
+        for (size_t c = 0; c < cells; c++) {
+            light->cell_first[c + 1] += light->cell_first[c];
+            light->cell_front[c] = light->cell_first[c + 1] - light->cell_front[c];
+        }
+        light->ref_count = light->cell_first[cells];
+        light->refs = malloc((light->ref_count + 1) * sizeof *light->refs);
+        ok = light->refs != NULL;
+    }
+    if (ok) {
+        /* two cursors per cell: the main references from cell_first, the front ones from cell_front */
+        uint32_t *fill = malloc((2 * cells + 1) * sizeof *fill);
+        ok = fill != NULL;
+        if (ok) {
+            memcpy(fill, light->cell_first, cells * sizeof *fill);
+            memcpy(fill + cells, light->cell_front, cells * sizeof *fill);
+        }
+        for (uint32_t i = 0; ok && i < n; i++) {
+            const size_t cursor = light->front[grids->corners[i].prim] ? cells : 0;
+            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+                const footprint *f = &prints[(size_t)i * PGRID_LIGHT_FACES + face];
+                if (f->x0 == FOOTPRINT_NONE) continue;
+                for (uint32_t y = f->y0; y <= f->y1; y++)
+                    for (uint32_t x = f->x0; x <= f->x1; x++)
+                        light->refs[fill[cursor + ((size_t)face * res + y) * res + x]++] = i;
+            }
+        }
+        free(fill);
+    }
+    free(prints);
+    if (!ok) pgrid_light_free(light);
+    return ok;
+}
+
+/* Sorts 64-bit keys (least-significant-digit radix, 16 bits a pass, as
+ * many passes as `largest` needs); the result is in keys.  False when out
+ * of memory. */
+static bool sort_u64(uint64_t *keys, uint64_t *spare, size_t count, uint64_t largest)
+{
+    enum { BITS = 16, BUCKETS = 1 << BITS };
+    uint32_t *histogram = malloc(BUCKETS * sizeof *histogram);
+    if (!histogram) return false;
+    for (uint32_t shift = 0; shift < 64 && (largest >> shift) != 0; shift += BITS) {
+        memset(histogram, 0, BUCKETS * sizeof *histogram);
+        for (size_t i = 0; i < count; i++) histogram[(keys[i] >> shift) & (BUCKETS - 1)]++;
+        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
+            const uint32_t k = histogram[b];
+            histogram[b] = sum, sum += k;
+        }
+        for (size_t i = 0; i < count; i++) spare[histogram[(keys[i] >> shift) & (BUCKETS - 1)]++] = keys[i];
+        memcpy(keys, spare, count * sizeof *keys);
+    }
+    free(histogram);
+    return true;
+}
+
+/* Whether closed mesh m is consistently oriented (every directed edge, by
+ * vertex index, used once and its reverse once) with a non-zero volume,
+ * and its outward side.  Vertices split at seams make a mesh fail: it is
+ * then not culled, which costs speed, never exactness. */
+static bool mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward)
+{
+    const size_t most = (size_t)mesh->triangle_count * 3;
+    uint64_t *edges = malloc(4 * most * sizeof *edges + 8);
+    if (!edges) return false;
+    uint64_t *reverse = edges + most, *spare = edges + 2 * most;
+    size_t count = 0;
+    uint64_t largest = 0;
+    double volume = 0.0;
+    const rtt_vec3 o = scene->vertices[scene->triangles[mesh->first_triangle].v[0]];
+    for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
+        if (degenerate && degenerate[t]) continue;
+        const uint32_t *v = scene->triangles[t].v;
+        for (int k = 0; k < 3; k++) {
+            const uint64_t a = v[k], b = v[(k + 1) % 3];
+            edges[count] = a << 32 | b, reverse[count] = b << 32 | a;
+            if (edges[count] > largest) largest = edges[count];
+            if (reverse[count] > largest) largest = reverse[count];
+            count++;
+        }
+        double p[3][3];
+        for (int k = 0; k < 3; k++) {
+            const rtt_vec3 q = scene->vertices[v[k]];
+            p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
+        }
+        volume += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                  p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+    }
+    bool ok = sort_u64(edges, spare, count, largest) && sort_u64(reverse, spare, count, largest) && count > 0 &&
+              volume != 0.0 && isfinite(volume);
+    for (size_t i = 0; ok && i < count; i++) ok = edges[i] == reverse[i] && (i == 0 || edges[i] != edges[i - 1]);
+    free(edges);
+    *outward = volume > 0.0 ? 1 : -1;
+    return ok;
+}
+
+void pgrid_shadows_free(pgrid_shadows *grids)
+{
+    pgrid_shadows_free_lights(grids);
+    free(grids->lights);
+    free(grids->corners);
+    free(grids->mesh_culled);
+    free(grids->mesh_outward);
+    free(grids->mesh_box);
+    free(grids->culled);
+    free(grids->outward_normal);
+    memset(grids, 0, sizeof *grids);
+}
+
+bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
+{
+    memset(grids, 0, sizeof *grids);
+    /* aligned_alloc wants a size that is a multiple of the alignment (fuzz_pgrid under ASan) */
+    const size_t corner_bytes = (((size_t)scene->triangle_count + 1) * sizeof *grids->corners + 63) & ~(size_t)63;
+    grids->corners = aligned_alloc(64, corner_bytes);
+    grids->lights = calloc(scene->light_count + 1, sizeof *grids->lights);
+    grids->mesh_culled = calloc(scene->mesh_count + 1, 1);
+    grids->mesh_outward = calloc(scene->mesh_count + 1, 1);
+    grids->mesh_box = calloc(scene->mesh_count + 1, sizeof *grids->mesh_box);
+    grids->culled = calloc(scene->mesh_count + 1, sizeof *grids->culled);
+    grids->outward_normal = calloc((size_t)scene->triangle_count + 1, sizeof *grids->outward_normal);
+    grids->triangle_mesh = scene->mesh_count ? scene->triangle_mesh : NULL;
+    bool ok = grids->corners && grids->lights && grids->mesh_culled && grids->mesh_outward && grids->mesh_box &&
+              grids->culled && grids->outward_normal;
+    /* a culled mesh's box, grown by four ray epsilons and 2^-12 of the coordinates' magnitude */
+    const float zero[3] = {0.0f, 0.0f, 0.0f};
+    const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
+    for (uint32_t m = 0; ok && m < scene->mesh_count; m++) {
+        const rtt_mesh *mesh = &scene->meshes[m];
+        if (!mesh->closed || !mesh->triangle_count || !mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
+            continue;
+        float *box = grids->mesh_box[m];
+        for (int a = 0; a < 3; a++) box[a] = INFINITY, box[3 + a] = -INFINITY;
+        for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++)
+            for (int k = 0; k < 3; k++) {
+                const float *q = &scene->vertices[scene->triangles[t].v[k]].x;
+                for (int a = 0; a < 3; a++) box[a] = fminf(box[a], q[a]), box[3 + a] = fmaxf(box[3 + a], q[a]);
+            }
+        for (int a = 0; a < 3; a++) box[a] -= grow + fabsf(box[a]) * 1e-5f, box[3 + a] += grow + fabsf(box[3 + a]) * 1e-5f;
+        for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
+            rtt_vec3 c[3];
+            rtt_scene_triangle(scene, t, c);
+            double e1[3], e2[3];
+            for (int a = 0; a < 3; a++)
+                e1[a] = (double)rtt_v3_get(c[1], a) - rtt_v3_get(c[0], a), e2[a] = (double)rtt_v3_get(c[2], a) - rtt_v3_get(c[0], a);
+            const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+            const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * grids->mesh_outward[m];
+            for (int a = 0; a < 3; a++) grids->outward_normal[t][a] = len != 0.0 ? (float)(n[a] / len) : 0.0f;
+        }
+        grids->mesh_culled[m] = 1;
+        grids->culled[grids->culled_count++] = m;
+    }
+    for (uint32_t i = 0; ok && i < scene->triangle_count; i++) {
+        if (degenerate && degenerate[i]) continue;
+        rtt_vec3 tri[3];
+        rtt_scene_triangle(scene, i, tri);
+        kd_corners *k = &grids->corners[grids->corner_count++];
+        memset(k, 0, sizeof *k);
+        k->a[0] = tri[0].x, k->a[1] = tri[0].y, k->a[2] = tri[0].z;
+        k->b[0] = tri[1].x, k->b[1] = tri[1].y, k->b[2] = tri[1].z;
+        k->c[0] = tri[2].x, k->c[1] = tri[2].y, k->c[2] = tri[2].z;
+        k->prim = i;
+    }
+    if (!ok) pgrid_shadows_free(grids);
+    return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
+}
+
+void pgrid_shadows_free_lights(pgrid_shadows *grids)
+{
+    for (uint32_t l = 0; grids->lights && l < grids->light_count; l++) pgrid_light_free(&grids->lights[l]);
+    grids->light_count = 0;
+}
+
+bool pgrid_shadows_build_lights(pgrid_shadows *grids, const rtt_scene *scene, uint32_t res, rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    pgrid_shadows_free_lights(grids);
+    bool ok = true;
+    for (uint32_t l = 0; ok && l < scene->light_count; l++) {
+        const rtt_vec3 p = scene->lights[l].position;
+        const float position[3] = {p.x, p.y, p.z};
+        ok = pgrid_light_build(&grids->lights[l], grids, scene, position, res);
+        if (ok) grids->light_count = l + 1;
+    }
+    grids->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
+    if (!ok) pgrid_shadows_free_lights(grids);
+    return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
+}
+
+bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
+                         rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    if (!pgrid_shadows_prepare(grids, scene, degenerate, err)) return false;
+    if (!pgrid_shadows_build_lights(grids, scene, res, err)) {
+        pgrid_shadows_free(grids);
+        return false;
+    }
+    grids->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
+    return true;
+}

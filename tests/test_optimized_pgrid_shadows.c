@@ -1,0 +1,388 @@
+/* --shadows pgrid (optimized/pgrid/pgrid_light.h): the light grids' shadow
+ * rays against the reference engine and a brute force over every triangle
+ * (the reference's watertight test, rtt_reference_intersect_triangle), per
+ * ray, at every instruction set this CPU runs and at several grid
+ * resolutions; the shadow rays are the shader proxy's (from a point towards
+ * a light's centre over (epsilon, distance - epsilon)), from the eye rays'
+ * hit points and from points all over the scene's box, lights at the
+ * scene's and at random places (inside the geometry too, which fills the
+ * near list); the culling on a real closed mesh (the bunny, when cached).
+ * Then the renderer: --shadows pgrid gives hard's image bit for
+ * bit (same rays, same visibility), with --accel pgrid and kd; and the
+ * method's name, parse and refusal by the reference renderer. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "engine_optimized.h"
+#include "pgrid_eye.h"
+#include "pgrid_light.h"
+#include "rtt/image.h"
+#include "rtt/optimized.h"
+#include "rtt/reference.h"
+#include "rtt/shade.h"
+#include "test_isa.h"
+
+static rtt_scene *load_scene(const char *name)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/scenes/%s", RTT_SOURCE_DIR, name);
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) fail_msg("%s: %s", path, err.message);
+    return s;
+}
+
+static uint32_t next_random(uint32_t *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+static float random_in(uint32_t *state, float lo, float hi)
+{
+    return lo + (hi - lo) * (float)next_random(state) / (float)(1u << 24);
+}
+
+/* Brute force: any triangle with tnear < t < tfar. */
+static uint8_t brute_force_occluded(const rtt_scene *s, const rtt_ray *r)
+{
+    for (uint32_t i = 0; i < s->triangle_count; i++) {
+        rtt_vec3 c[3];
+        rtt_scene_triangle(s, i, c);
+        float t, u, v;
+        if (rtt_reference_intersect_triangle(r, c, &t, &u, &v)) return 1;
+    }
+    return 0;
+}
+
+/* The shader proxy's shadow ray from p to target; false when none fits. */
+static bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, rtt_ray *out)
+{
+    const float epsilon = rtt_scene_ray_epsilon(s);
+    rtt_vec3 to = rtt_v3_sub(target, p);
+    float distance = rtt_v3_length(to);
+    if (!(distance > 2.0f * epsilon)) return false;
+    rtt_vec3 dir = rtt_v3_scale(to, 1.0f / distance);
+    *out = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, epsilon, distance - epsilon};
+    return true;
+}
+
+/* Origins: the eye rays' hits at w x h, then `extra` points in the scene's box grown by a quarter. */
+static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w, uint32_t h, uint32_t extra,
+                                uint32_t *count, uint32_t seed, uint32_t **prims)
+{
+    rtt_vec3 *points = malloc(((size_t)w * h + extra) * sizeof *points);
+    *prims = malloc(((size_t)w * h + extra) * sizeof **prims);
+    assert_non_null(points);
+    assert_non_null(*prims);
+    rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    uint32_t n = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            rtt_ray r = rtt_camera_ray(&frame, x, y);
+            rtt_hit hit;
+            rtt_engine_intersect(ref, &r, &hit, 1);
+            if (hit.prim == RTT_MISS) continue;
+            (*prims)[n] = hit.prim;
+            points[n++] = (rtt_vec3){r.org[0] + hit.t * r.dir[0], r.org[1] + hit.t * r.dir[1], r.org[2] + hit.t * r.dir[2]};
+        }
+    const rtt_vec3 lo = s->bounds.lo, hi = s->bounds.hi, grow = rtt_v3_scale(rtt_v3_sub(hi, lo), 0.25f);
+    for (uint32_t i = 0; i < extra; i++, (*prims)[n - 1] = RTT_MISS)
+        points[n++] = (rtt_vec3){random_in(&seed, lo.x - grow.x, hi.x + grow.x),
+                                 random_in(&seed, lo.y - grow.y, hi.y + grow.y),
+                                 random_in(&seed, lo.z - grow.z, hi.z + grow.z)};
+    *count = n;
+    return points;
+}
+
+/* Every ray from `points` to `light` through the grid at every instruction
+ * set, against the reference engine and the brute force. */
+static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids, const rtt_vec3 *points,
+                        const uint32_t *point_prims, uint32_t point_count, uint32_t res, rtt_vec3 light,
+                        const char *what)
+{
+    pgrid_shadows one = *grids;
+    pgrid_light grid;
+    const float position[3] = {light.x, light.y, light.z};
+    assert_true(pgrid_light_build(&grid, grids, s, position, res));
+    one.lights = &grid, one.light_count = 1;
+    rtt_ray *rays = malloc((size_t)point_count * sizeof *rays);
+    uint32_t *prims = malloc(((size_t)point_count + 1) * sizeof *prims);
+    uint8_t *expected = malloc(point_count + 1), *engine = malloc(point_count + 1), *ours = malloc(point_count + 1);
+    assert_true(rays && prims && expected && engine && ours);
+    uint32_t n = 0, blocked = 0;
+    for (uint32_t i = 0; i < point_count; i++)
+        if (shadow_ray(s, points[i], light, &rays[n])) prims[n++] = point_prims[i];
+    rtt_engine_occluded(ref, rays, engine, n);
+    for (uint32_t i = 0; i < n; i++) {
+        expected[i] = brute_force_occluded(s, &rays[i]);
+        if (expected[i] != (engine[i] != 0))
+            fail_msg("%s: ray %u: the brute force says %u, the reference engine %u", what, i, expected[i], engine[i]);
+        blocked += expected[i];
+    }
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        assert_non_null(k);
+        assert_int_equal(k->isa, isa);
+        /* whole, and in small batches (partial packets, other sort runs) */
+        assert_true(k->shadow_occluded(&one, 0, rays, prims, n, ours));
+        for (uint32_t i = 0; i < n; i++)
+            if (ours[i] != expected[i])
+                fail_msg("%s (%s, res %u): ray %u from (%g %g %g): grid %u, reference %u", what, rtt_isa_name(isa), res,
+                         i, (double)rays[i].org[0], (double)rays[i].org[1], (double)rays[i].org[2], ours[i],
+                         expected[i]);
+        for (uint32_t first = 0; first < n; first += 37) {
+            const uint32_t m = n - first < 37 ? n - first : 37;
+            assert_true(k->shadow_occluded(&one, 0, rays + first, NULL, m, ours + first));
+        }
+        for (uint32_t i = 0; i < n; i++) assert_int_equal(ours[i], expected[i]);
+    }
+    size_t front = 0;
+    for (size_t c = 0; c < (size_t)PGRID_LIGHT_FACES * grid.res * grid.res; c++)
+        front += grid.cell_first[c + 1] - grid.cell_front[c];
+    print_message("%s: res %u, %u rays, %u occluded, %u near, %zu refs (%zu facing the light, of %u culled meshes)\n",
+                  what, grid.res, n, blocked, grid.near_count, grid.ref_count, front, grids->culled_count);
+    if (n > 100) assert_true(blocked > 0 && blocked < n); /* both answers were checked */
+    free(rays);
+    free(prims);
+    free(expected);
+    free(engine);
+    free(ours);
+    pgrid_light_free(&grid);
+}
+
+static void test_light_grid_rays_match_reference_and_brute_force(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"demo.json", "mesh_obj.json", "shadow_thin_plate.json",
+                                         "shadow_on_shadow.json", "light_sphere.json", "shadow_occluder_sizes.json"};
+    static const uint32_t resolutions[] = {0, 7, 64};
+    for (size_t sc = 0; sc < sizeof scenes / sizeof scenes[0]; sc++) {
+        rtt_scene *s = load_scene(scenes[sc]);
+        rtt_error err = {{0}};
+        rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+        assert_non_null(ref);
+        pgrid_shadows grids;
+        assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
+        assert_int_equal(grids.light_count, s->light_count);
+        uint32_t count, *prims;
+        rtt_vec3 *points = shadow_origins(s, ref, 48, 36, 800, &count, 7u + (uint32_t)sc, &prims);
+        uint32_t seed = 99u + (uint32_t)sc;
+        for (size_t r = 0; r < sizeof resolutions / sizeof resolutions[0]; r++) {
+            char what[96];
+            for (uint32_t l = 0; l < s->light_count; l++) {
+                snprintf(what, sizeof what, "%s light %u", scenes[sc], l);
+                check_light(s, ref, &grids, points, prims, count, resolutions[r], s->lights[l].position, what);
+            }
+            /* a light somewhere in the scene's box: near triangles, rays from every side */
+            const rtt_vec3 lo = s->bounds.lo, hi = s->bounds.hi;
+            const rtt_vec3 inside = {random_in(&seed, lo.x, hi.x), random_in(&seed, lo.y, hi.y),
+                                     random_in(&seed, lo.z, hi.z)};
+            snprintf(what, sizeof what, "%s light inside", scenes[sc]);
+            check_light(s, ref, &grids, points, prims, count, resolutions[r], inside, what);
+        }
+        free(points);
+        free(prims);
+        pgrid_shadows_free(&grids);
+        rtt_engine_destroy(ref);
+        rtt_scene_free(s);
+    }
+}
+
+/* A soup of random triangles, some huge, some tiny, lights among them. */
+static void test_light_grid_on_a_triangle_soup(void **state)
+{
+    (void)state;
+    uint32_t seed = 12345u;
+    enum { COUNT = 300 };
+    float *xyz = malloc(COUNT * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t i = 0; i < COUNT; i++) {
+        const float size = i % 10 == 0 ? 4.0f : i % 3 == 0 ? 0.01f : 0.3f;
+        const float c[3] = {random_in(&seed, -1, 1), random_in(&seed, -1, 1), random_in(&seed, -1, 1)};
+        for (int k = 0; k < 9; k++) xyz[9 * i + k] = c[k % 3] + random_in(&seed, -size, size);
+    }
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_from_triangles(xyz, COUNT, &err);
+    assert_non_null(s);
+    rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+    assert_non_null(ref);
+    pgrid_shadows grids;
+    assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
+    uint32_t count, *prims;
+    rtt_vec3 *points = shadow_origins(s, ref, 32, 32, 2000, &count, 5u, &prims);
+    for (int l = 0; l < 4; l++) {
+        const rtt_vec3 light = {random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f),
+                                random_in(&seed, -1.2f, 1.2f)};
+        check_light(s, ref, &grids, points, prims, count, l % 2 ? 200 : 16, light, "soup");
+    }
+    /* on a corner of a triangle: that triangle is a near one */
+    check_light(s, ref, &grids, points, prims, count, 0, s->vertices[s->triangles[3].v[1]],
+                "soup, light on a corner");
+    free(points);
+    free(prims);
+    pgrid_shadows_free(&grids);
+    rtt_engine_destroy(ref);
+    rtt_scene_free(s);
+    free(xyz);
+}
+
+/* The renderer: pgrid's image is hard's, bit for bit, and near the reference's. */
+static void test_render_pgrid_shadows_equal_hard(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"demo.json", "shadow_transparent.json", "light_quad.json"};
+    static const rtt_accel accels[] = {RTT_ACCEL_PGRID, RTT_ACCEL_KD};
+    for (size_t sc = 0; sc < sizeof scenes / sizeof scenes[0]; sc++) {
+        rtt_scene *s = load_scene(scenes[sc]);
+        rtt_error err = {{0}};
+        rtt_engine *engine = rtt_optimized_engine_create(s, NULL, &err);
+        rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+        assert_non_null(engine);
+        assert_non_null(ref);
+        for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+            if (!isa_runs(isa)) continue;
+            for (size_t a = 0; a < 2; a++) {
+                rtt_render_options ro;
+                rtt_render_options_default(&ro);
+                ro.width = 80, ro.height = 60, ro.threads = 2;
+                ro.engine.accel = accels[a];
+                ro.engine.isa = isa;
+                rtt_image *hard = rtt_image_create(80, 60, 0, &err), *grid = rtt_image_create(80, 60, 0, &err),
+                          *reference = rtt_image_create(80, 60, 0, &err);
+                assert_true(hard && grid && reference);
+                ro.shadows = RTT_SHADOWS_HARD;
+                if (!rtt_optimized_render(engine, &ro, hard, NULL, &err)) fail_msg("hard: %s", err.message);
+                ro.shadows = RTT_SHADOWS_PGRID;
+                if (!rtt_optimized_render(engine, &ro, grid, NULL, &err)) fail_msg("pgrid: %s", err.message);
+                if (memcmp(hard->rgb, grid->rgb, (size_t)80 * 60 * 3 * sizeof *hard->rgb) != 0)
+                    fail_msg("%s %s accel %d: --shadows pgrid differs from hard", scenes[sc], rtt_isa_name(isa),
+                             (int)accels[a]);
+                rtt_render_options rr;
+                rtt_render_options_default(&rr);
+                rr.width = 80, rr.height = 60, rr.threads = 2;
+                if (!rtt_reference_render(s, ref, &rr, reference, NULL, &err)) fail_msg("reference: %s", err.message);
+                rtt_image_metrics mt;
+                assert_true(rtt_image_compare(grid, reference, &mt, &err));
+                if (mt.rmse > 2e-3 || mt.share_over_1_255 > 0.005)
+                    fail_msg("%s: RMSE %g against the reference", scenes[sc], mt.rmse);
+                rtt_image_free(hard);
+                rtt_image_free(grid);
+                rtt_image_free(reference);
+            }
+        }
+        rtt_engine_destroy(engine);
+        rtt_engine_destroy(ref);
+        rtt_scene_free(s);
+    }
+}
+
+/* Culling at a real scale: the Stanford bunny (one closed mesh of 75k
+ * triangles, from bench/fetch-scenes.sh's cache; skipped without it), its
+ * eye hits at 384x384 through the eye grid, each hit's shadow ray (the
+ * shader proxy's: from rtt_surface_at's point, its prim known) through the
+ * light grid at every instruction set against the reference engine.  The
+ * grazing rays at the shadow terminator are the ones the culling rules must
+ * catch (pgrid README, "Hard shadows"). */
+static void test_light_grid_culling_on_the_bunny(void **state)
+{
+    (void)state;
+    const char *home = getenv("HOME");
+    char path[600];
+    snprintf(path, sizeof path, "%s/.cache/rtt-data/meshes/bunny00.off", home ? home : "");
+    FILE *probe = fopen(path, "rb");
+    if (!probe) {
+        print_message("note: %s not cached (bash bench/fetch-scenes.sh): skipped\n", path);
+        skip();
+    }
+    fclose(probe);
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) fail_msg("%s: %s", path, err.message);
+    rtt_engine *opt = rtt_optimized_engine_create(s, NULL, &err), *ref = rtt_reference_engine_create(s, NULL, &err);
+    assert_true(opt && ref);
+    enum { SIDE = 384 };
+    rtt_hit *hits = malloc((size_t)SIDE * SIDE * sizeof *hits);
+    rtt_ray *rays = malloc((size_t)SIDE * SIDE * sizeof *rays);
+    uint32_t *prims = malloc((size_t)SIDE * SIDE * sizeof *prims);
+    uint8_t *expected = malloc((size_t)SIDE * SIDE), *ours = malloc((size_t)SIDE * SIDE);
+    assert_true(hits && rays && prims && expected && ours);
+    const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, SIDE, SIDE);
+    pgrid_eye eye = {0};
+    assert_true(pgrid_eye_trace_frame(&eye, pgrid_kernel_find("", RTT_ISA_SSE4), s, optimized_engine_degenerate(opt),
+                                      &frame, SIDE, SIDE, 0, 2, hits, NULL, &err));
+    pgrid_eye_free(&eye);
+    pgrid_shadows grids;
+    assert_true(pgrid_shadows_build(&grids, s, optimized_engine_degenerate(opt), 0, &err));
+    assert_int_equal(grids.culled_count, 1);
+    /* the default light sits at the eye, which sees no shadow: one above and to the side */
+    const rtt_vec3 size = rtt_v3_sub(s->bounds.hi, s->bounds.lo);
+    const rtt_vec3 light = rtt_v3_add(s->camera.eye, rtt_v3(0.8f * size.x, 0.9f * size.y, 0.1f * size.z));
+    const float position[3] = {light.x, light.y, light.z};
+    pgrid_light_free(&grids.lights[0]);
+    assert_true(pgrid_light_build(&grids.lights[0], &grids, s, position, 0));
+    uint32_t n = 0, blocked = 0;
+    for (uint32_t i = 0; i < SIDE * SIDE; i++) {
+        if (hits[i].prim == RTT_MISS) continue;
+        const rtt_ray eye_ray = rtt_camera_ray(&frame, i % SIDE, i / SIDE);
+        const rtt_surface surf = rtt_surface_at(s, &eye_ray, &hits[i]);
+        if (shadow_ray(s, surf.point, light, &rays[n])) prims[n++] = hits[i].prim;
+    }
+    rtt_engine_occluded(ref, rays, expected, n);
+    for (uint32_t i = 0; i < n; i++) expected[i] = expected[i] != 0, blocked += expected[i];
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        assert_true(k->shadow_occluded(&grids, 0, rays, prims, n, ours));
+        for (uint32_t i = 0; i < n; i++)
+            if (ours[i] != expected[i])
+                fail_msg("bunny (%s): ray %u from prim %u: grid %u, reference %u", rtt_isa_name(isa), i, prims[i], ours[i],
+                         expected[i]);
+    }
+    print_message("bunny: %u shadow rays, %u occluded\n", n, blocked);
+    assert_true(blocked > 0 && blocked < n);
+    pgrid_shadows_free(&grids);
+    free(hits), free(rays), free(prims), free(expected), free(ours);
+    rtt_engine_destroy(opt);
+    rtt_engine_destroy(ref);
+    rtt_scene_free(s);
+}
+
+static void test_pgrid_shadow_method_name_and_refusals(void **state)
+{
+    (void)state;
+    rtt_render_options opt;
+    rtt_render_options_default(&opt);
+    rtt_error err = {{0}};
+    rtt_engine_register(&rtt_optimized_engine_class, NULL);
+    rtt_engine_register(&rtt_reference_engine_class, NULL);
+    assert_true(rtt_shadow_method_parse("pgrid", &opt, &err));
+    assert_int_equal(opt.shadows, RTT_SHADOWS_PGRID);
+    assert_string_equal(rtt_shadow_method_name(RTT_SHADOWS_PGRID), "pgrid");
+    assert_false(rtt_shadow_method_parse("pgrid:8", &opt, &err)); /* soft light grids: not here */
+    if (!rtt_render_options_check("optimized", &opt, &err)) fail_msg("%s", err.message);
+    opt.shadows = RTT_SHADOWS_PGRID;
+    assert_false(rtt_render_options_check("reference", &opt, &err));
+    assert_non_null(strstr(err.message, "pgrid"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_light_grid_rays_match_reference_and_brute_force),
+        cmocka_unit_test(test_light_grid_on_a_triangle_soup),
+        cmocka_unit_test(test_light_grid_culling_on_the_bunny),
+        cmocka_unit_test(test_render_pgrid_shadows_equal_hard),
+        cmocka_unit_test(test_pgrid_shadow_method_name_and_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
