@@ -20,15 +20,7 @@ void bench_base_name(const char *path, char out[64])
 bool rtt_bench_apply_view(rtt_scene *scene, const rtt_view *view, rtt_error *err)
 {
     rtt_scene_set_camera_at(scene, &view->camera, view->eye, view->look_at);
-    if (view->has_light) {
-        rtt_light *one = realloc(scene->lights, sizeof *one);
-        if (!one) return rtt_error_set(err, "%s: out of memory for a light", scene->path);
-        *one = view->light;
-        one->position = rtt_scene_point_to_stored(scene, view->light_position); /* in the scene's own coordinates */
-        scene->lights = one;
-        scene->light_count = 1;
-        scene->light_source = RTT_LIGHTS_FROM_OPTIONS;
-    }
+    if (view->has_light && !rtt_scene_use_view_light(scene, view, err)) return false;
     if (view->width) {
         scene->width = view->width;
         scene->height = view->height;

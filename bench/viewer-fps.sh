@@ -61,7 +61,7 @@ for scene in $scenes; do
     path="$(scene_path "$scene")"
     for t in $threads; do
         # the view's own light, as rtt bench uses it
-        xvfb-run -a -s "-screen 0 1280x1024x24" "$rtt" view "$path" --view "$src/bench/views.json:$scene" \
+        xvfb-run -a -s "-screen 0 1280x1024x24" "$rtt" view "$path" --view "$src/bench/views.json:$scene" --lights view \
             --width "$size" --height "$size" --threads "$t" --tile 16 --spp 1 --script "$script" >"$work/out.txt"
         sed -n 's/^bench: [0-9]* frames, \([0-9.]*\) fps, \([0-9.]*\) Mrays\/s, \([a-z0-9]*\) \([a-z0-9-]*\)\/[a-z0-9]*, shadows \([a-z:0-9.]*\), .*/\3:\4\t\5\t\1\t\2/p' \
             "$work/out.txt" | sed "s/^/$scene\t$t\t/" >>"$tsv.tmp"

@@ -8,7 +8,7 @@
 #include "camera_options.h"
 #include "cli.h"
 
-const char *const cli_light_choices[] = {"map", "camera", NULL};
+const char *const cli_light_choices[] = {"map", "camera", "view", NULL};
 
 /* "X,Y,Z" in double, each finite in float too (what a scene can hold). */
 static bool parse_xyz(const char *value, double xyz[3])
@@ -69,6 +69,8 @@ int cli_camera_check(const cli_parsed *parsed, cli_camera_args *camera, const ch
         return cli_refuse(parsed, "--lights",
                           "only a Quake III map (.bsp) given as SCENE has light entities; %s is not one",
                           scene_path);
+    if (cli_given(parsed, "--lights") && camera->lights == CLI_LIGHTS_VIEW && !camera->view)
+        return cli_refuse(parsed, "--lights", "view takes the light of --view's view, and no --view is given");
     if (!camera->view) return CLI_CONTINUE;
     static const char *const replaced[] = {"--eye", "--look-at", "--up"};
     for (int i = 0; i < 3; i++)
@@ -83,6 +85,12 @@ int cli_camera_check(const cli_parsed *parsed, cli_camera_args *camera, const ch
         return cli_fail(&err);
     }
     camera->chosen = rtt_views_find(&camera->views, name);
+    if (camera->chosen && cli_given(parsed, "--lights") && camera->lights == CLI_LIGHTS_VIEW &&
+        !camera->chosen->has_light) {
+        int rc = cli_refuse(parsed, "--lights", "view \"%s\" of %s has no light", name, file);
+        cli_camera_free(camera);
+        return rc;
+    }
     if (camera->chosen) return CLI_CONTINUE;
     char names[256];
     rtt_views_names(&camera->views, names, sizeof names);
@@ -127,6 +135,8 @@ int cli_camera_apply(const cli_parsed *parsed, const cli_camera_args *camera, rt
     rtt_error err = {{0}};
     if (camera->lights == CLI_LIGHTS_CAMERA)
         return rtt_scene_use_camera_light(scene, &err) ? CLI_CONTINUE : cli_fail(&err);
+    if (camera->lights == CLI_LIGHTS_VIEW) /* cli_camera_check made sure the view has one */
+        return rtt_scene_use_view_light(scene, camera->chosen, &err) ? CLI_CONTINUE : cli_fail(&err);
     if (scene->light_source != RTT_LIGHTS_MAP && scene->light_source != RTT_LIGHTS_MAP_GRID) {
         rtt_error_set(&err, "%s: the map has neither light entities nor a light grid to light it with (--lights map)", scene->path);
         return cli_fail(&err);

@@ -1,6 +1,6 @@
 /* The camera and light options of every command that renders or traces from
  * the scene's camera (render, bench, conform, info): --eye, --look-at, --up,
- * --fov, --view FILE[:NAME] and --lights map|camera.
+ * --fov, --view FILE[:NAME] and --lights map|camera|view.
  *
  * cli_camera_check runs before the scene is loaded: it refuses what does not
  * go together (exit 2), reads the views file (exit 1 on a bad file) and picks
@@ -12,7 +12,7 @@
 #include "options.h"
 #include "rtt/views.h"
 
-typedef enum cli_lights { CLI_LIGHTS_MAP = 0, CLI_LIGHTS_CAMERA = 1 } cli_lights;
+typedef enum cli_lights { CLI_LIGHTS_MAP = 0, CLI_LIGHTS_CAMERA = 1, CLI_LIGHTS_VIEW = 2 } cli_lights;
 
 typedef struct cli_camera_args {
     double eye[3], look_at[3]; /* in the scene's own coordinates, in double */
@@ -44,9 +44,10 @@ extern const char *const cli_light_choices[];
          .help = "the camera of view NAME of a views file such as bench/views.json (default NAME: the scene "   \
                  "file's base name); --fov still applies, --eye, --look-at, --up do not go with it",            \
          .kind = CLI_STRING, CLI_FIELD(type, member.view)},                                                     \
-        {.name = "--lights", .value_name = "map|camera",                                                        \
+        {.name = "--lights", .value_name = "map|camera|view",                                                   \
          .help = "map: a Quake III map's own light entities (the default for a .bsp); camera: one point "       \
-                 "light at the camera (the default for a scene with no lights)",                                \
+                 "light at the camera (the default for a scene with no lights); view: the light of --view's "   \
+                 "view (as rtt bench lights it)",                                                               \
          .kind = CLI_CHOICE, CLI_FIELD(type, member.lights), .choices = cli_light_choices}
 
 /* Before loading SCENE: CLI_CONTINUE, or the exit code. */

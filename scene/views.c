@@ -167,6 +167,19 @@ void rtt_scene_set_camera_at(rtt_scene *scene, const rtt_camera *camera, const d
         scene->lights[0].position = camera->eye;
 }
 
+bool rtt_scene_use_view_light(rtt_scene *scene, const rtt_view *view, rtt_error *err)
+{
+    if (!view->has_light) return rtt_error_set(err, "view \"%s\" has no light", view->name);
+    rtt_light *one = realloc(scene->lights, sizeof *one);
+    if (!one) return rtt_error_set(err, "%s: out of memory for a light", scene->path);
+    *one = view->light;
+    one->position = rtt_scene_point_to_stored(scene, view->light_position);
+    scene->lights = one;
+    scene->light_count = 1;
+    scene->light_source = RTT_LIGHTS_FROM_OPTIONS;
+    return true;
+}
+
 bool rtt_scene_use_camera_light(rtt_scene *scene, rtt_error *err)
 {
     rtt_light *one = realloc(scene->lights, sizeof *one);

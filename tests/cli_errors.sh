@@ -167,7 +167,10 @@ expect 1 "unknown.json:1: a: unknown key \"colour\"" -- render "$scene" --view "
 expect 1 "syntax.json:1: JSON syntax error" -- render "$scene" --view "$work/syntax.json"
 expect 1 "missing.json: cannot open" -- render "$scene" --view "$work/missing.json"
 expect 2 "--lights map: only a Quake III map \(.bsp\)" -- render "$scene" --lights map
-expect 2 "--lights sun: expected map or camera" -- render "$scene" --lights sun
+expect 2 "--lights sun: expected map, camera or view" -- render "$scene" --lights sun
+expect 2 "--lights view: view takes the light of --view's view, and no --view is given" -- render "$scene" --lights view
+expect 2 "--lights view: view \"near\" of .*views.json has no light" -- \
+    render "$scene" --view "$work/views.json:near" --lights view
 expect 2 "--eye 0,0,1: --extremes builds its own scenes and cameras" -- conform --extremes --eye 0,0,1
 expect 2 "--views .*: does not go with --view" -- bench "$scene" --views "$work/views.json" --view "$work/views.json"
 

@@ -24,6 +24,12 @@ grep -q "camera      eye (1, 1.5, 4), look-at (0, 0.5, 0), up (0, 1, 0), fov 45 
     fail "info does not print the --view camera: $(grep camera "$work/info")"
 "$rtt" info "$scene" --engine reference --lights camera | grep -q "lights      1 (0 sphere, 0 quad, 1 point) from one point light at the camera" ||
     fail "--lights camera"
+# --lights view: the view's one light, as rtt bench lights it
+printf '{ "lit": { "camera": { "eye": [1, 1.5, 4], "look_at": [0, 0.5, 0] }, "light": { "position": [1, 4, 2], "radius": 0.5 } } }\n' >"$work/lit.json"
+"$rtt" info "$scene" --engine reference --view "$work/lit.json:lit" --lights view >"$work/info"
+grep -q "lights      1 (1 sphere, 0 quad, 0 point) from the command line" "$work/info" &&
+    grep -q "sphere at (1, 4, 2), colour (1, 1, 1), intensity 1, attenuation \[1, 0, 0\], radius 0.5" "$work/info" ||
+    fail "--lights view: $(grep -A1 'lights ' "$work/info")"
 
 # a bare mesh's default light follows the camera
 "$rtt" info "$src/scenes/meshes/cube.obj" --engine reference --eye 3,2,1 >"$work/mesh.info"

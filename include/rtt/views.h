@@ -69,5 +69,8 @@ void rtt_scene_set_camera_at(rtt_scene *scene, const rtt_camera *camera, const d
 /* Replaces the scene's lights by the default: one white point light at the
  * camera's eye, intensity 1, no fall-off. */
 bool rtt_scene_use_camera_light(rtt_scene *scene, rtt_error *err);
+/* Replaces the scene's lights by the view's one light (view->has_light; its
+ * position, in the scene's own coordinates, moved to the stored ones). */
+bool rtt_scene_use_view_light(rtt_scene *scene, const rtt_view *view, rtt_error *err);
 
 #endif
