@@ -55,6 +55,7 @@ typedef struct viewer {
     bool scripted;
     double fps, mrays;          /* of the last rendered frame */
     uint64_t last_rays;
+    uint64_t last_render_ns, last_present_ns; /* of the last frame: rtt_render, and the hand-over to SDL */
     uint32_t frames_rendered;
     uint32_t screenshots;
     char overlay[OVERLAY_MAX];
@@ -133,8 +134,12 @@ static bool render_frame(viewer *v, rtt_error *err)
     rtt_render_stats stats;
     const uint64_t start = rtt_clock_ns();
     if (!rtt_render(engine, &v->render, v->image, &stats, err)) return false;
+    const uint64_t rendered = rtt_clock_ns();
     present(v);
-    const double seconds = 1e-9 * (double)(rtt_clock_ns() - start);
+    const uint64_t end = rtt_clock_ns();
+    v->last_render_ns = rendered - start;
+    v->last_present_ns = end - rendered;
+    const double seconds = 1e-9 * (double)(end - start);
     v->last_rays = stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
     v->fps = seconds > 0 ? 1.0 / seconds : 0.0;
     v->mrays = seconds > 0 ? 1e-6 * (double)v->last_rays / seconds : 0.0;
@@ -377,18 +382,24 @@ static bool run_frames(viewer *v, int32_t n, bool force, rtt_error *err)
 static bool run_bench(viewer *v, int32_t n, rtt_error *err)
 {
     const uint64_t start = rtt_clock_ns();
-    uint64_t rays = 0;
+    uint64_t rays = 0, render_ns = 0, present_ns = 0;
     for (int32_t i = 0; i < n; i++) {
         if (!frame(v, 0.0f, true, err)) return false;
         rays += v->last_rays;
+        render_ns += v->last_render_ns;
+        present_ns += v->last_present_ns;
     }
     const double seconds = 1e-9 * (double)(rtt_clock_ns() - start);
     const char *kernel = view_choices_label(&v->choices, VIEW_CHOICE_TRAVERSAL);
-    printf("bench: %d frames, %.2f fps, %.2f Mrays/s, %s %s/%s, shadows %s, %ux%u, threads %u\n", n,
+    /* the frame's two parts, a frame's mean: rtt_render, and the texture update and present */
+    printf("bench: %d frames, %.2f fps, %.2f Mrays/s, %s %s/%s, shadows %s, %ux%u, threads %u, render %.2f ms, "
+           "present %.2f ms\n",
+           n,
            seconds > 0 ? n / seconds : 0.0, seconds > 0 ? 1e-6 * (double)rays / seconds : 0.0,
            rtt_accel_name(v->render.engine.accel), kernel[0] ? kernel : v->opt->engine,
            view_choices_label(&v->choices, VIEW_CHOICE_ISA), view_choices_label(&v->choices, VIEW_CHOICE_SHADOWS),
-           v->width, v->height, rtt_thread_count(v->render.threads));
+           v->width, v->height, rtt_thread_count(v->render.threads), n > 0 ? 1e-6 * (double)render_ns / n : 0.0,
+           n > 0 ? 1e-6 * (double)present_ns / n : 0.0);
     fflush(stdout);
     return true;
 }
