@@ -233,6 +233,7 @@ static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *
             snprintf(row.method, sizeof row.method, "%s", name);
             snprintf(row.family, sizeof row.family, "%s", name);
             snprintf(row.variant, sizeof row.variant, "bvh");
+            snprintf(row.isect, sizeof row.isect, "%s", s->bvh->watertight ? "watertight" : "projected");
             row.rays = rays->active;
             progress(s, &row);
             bench_trace_spec spec = {is_occlusion(kind), row.threads, s->warmup, s->frames, t == 0,
