@@ -233,6 +233,7 @@ static bool run_bvh_rows(bench_state *s, rtt_bench_kind kind, const bench_rays *
             snprintf(row.method, sizeof row.method, "%s", name);
             snprintf(row.family, sizeof row.family, "%s", name);
             snprintf(row.variant, sizeof row.variant, "bvh");
+            snprintf(row.isect, sizeof row.isect, "%s", s->bvh->watertight ? "watertight" : "projected");
             row.rays = rays->active;
             progress(s, &row);
             bench_trace_spec spec = {is_occlusion(kind), row.threads, s->warmup, s->frames, t == 0,
@@ -392,7 +393,8 @@ static bool run_primary(bench_state *s, const bench_rays *rays)
         return false;
     if (runs_accel(s, RTT_ACCEL_PGRID) && !run_pgrid_primary(s, rays)) return false;
 
-    if (!runs_accel(s, RTT_ACCEL_KD)) return true;
+    /* --accel bvh: the BVH rows only (they follow the kd rows otherwise) */
+    if (!runs_accel(s, RTT_ACCEL_KD)) return !runs_accel(s, RTT_ACCEL_BVH) || run_bvh_rows(s, RTT_BENCH_PRIMARY, rays);
     kernel_method methods[32];
     size_t n = 0;
     methods[n++] = (kernel_method){"mono", 0, 1};

@@ -12,9 +12,9 @@
  *     their tree info must hold its bounds (depth <= max_depth, references
  *     <= reference_cap);
  *  3. the rays go through the reference and every optimized traversal mode
- *     of both structures (the kd kernels with the watertight test, or the
- *     projected one when flag bit 3 is set; the BVH kernels have the
- *     projected test only) and each answer is checked against brute force
+ *     of both structures (the kd and BVH kernels with the watertight test,
+ *     or the projected one when flag bit 3 is set) and each answer is
+ *     checked against brute force
  *     (fuzz_oracle.h: strict for the reference and the watertight test,
  *     which is the reference's arithmetic; lenient near edges for the
  *     projected test);
@@ -230,12 +230,10 @@ static void check_engines(const rtt_scene *scene, const rtt_ray *rays, size_t ra
     static const rtt_accel accels[] = {RTT_ACCEL_KD, RTT_ACCEL_BVH};
     for (size_t a = 0; a < sizeof accels / sizeof accels[0]; a++) {
         opt.accel = accels[a];
-        const bool lenient = projected || accels[a] == RTT_ACCEL_BVH;
+        const bool lenient = projected;
         for (uint32_t mode = 0; (kernel = rtt_optimized_engine_class.kernel(accels[a], mode)); mode++) {
             snprintf(opt.traversal, sizeof opt.traversal, "%s", kernel);
-            opt.isect = accels[a] == RTT_ACCEL_BVH ? RTT_ISECT_PROJECTED
-                        : projected                 ? RTT_ISECT_PROJECTED
-                                                    : RTT_ISECT_WATERTIGHT;
+            opt.isect = projected ? RTT_ISECT_PROJECTED : RTT_ISECT_WATERTIGHT;
             rtt_engine *optimized = rtt_engine_create("optimized", scene, &opt, &err);
             if (!optimized)
                 fuzz_fail("optimized engine (%s) refused a valid scene: %s", kernel, err.message);

@@ -101,9 +101,6 @@ static bool unknown_traversal(const rtt_engine_options *opt, const char *(*name_
 
 static bool optimized_check(const rtt_engine_options *opt, rtt_error *err)
 {
-    if (opt->accel == RTT_ACCEL_BVH && opt->isect == RTT_ISECT_WATERTIGHT)
-        return rtt_error_set(err, "the BVH kernels have the projected triangle test only: the watertight test is the "
-                                  "kd-tree's (use --accel kd, or --isect projected)");
     if (opt->accel == RTT_ACCEL_BVH)
         return bvh_kernel_find(opt->traversal, RTT_ISA_AVX512) ? true : unknown_traversal(opt, bvh_kernel_name_at, err);
     if (opt->accel == RTT_ACCEL_PGRID)
@@ -140,7 +137,9 @@ static const char *optimized_kernel_name(rtt_engine *base)
 
 static const char *optimized_isect_name(rtt_engine *base)
 {
-    return rtt_isect_name(((optimized_engine *)base)->tree.corners ? RTT_ISECT_WATERTIGHT : RTT_ISECT_PROJECTED);
+    const optimized_engine *e = (optimized_engine *)base;
+    const bool watertight = e->bvh_kernel ? e->bvh.watertight : e->tree.corners != NULL;
+    return rtt_isect_name(watertight ? RTT_ISECT_WATERTIGHT : RTT_ISECT_PROJECTED);
 }
 
 static optimized_engine *as_optimized(rtt_engine *engine)
@@ -245,6 +244,7 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
     e->opt = *opt;
     if (e->opt.tile == 0) e->opt.tile = 8;
     const rtt_isa isa = rtt_isa_resolve(opt->isa);
+    const rtt_isect isect = opt->isect == RTT_ISECT_DEFAULT ? RTT_OPTIMIZED_DEFAULT_ISECT : opt->isect;
     if (opt->accel == RTT_ACCEL_BVH) {
         /* a baked .kdt holds a kd-tree: the BVH is built whatever the scene carries */
         e->bvh_kernel = bvh_kernel_find(opt->traversal, isa);
@@ -255,6 +255,8 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
             free(e);
             return NULL;
         }
+        /* the leaves carry both the records and the corners: the test is a flag */
+        e->bvh.watertight = isect == RTT_ISECT_WATERTIGHT;
         return &e->base;
     }
     if (opt->accel == RTT_ACCEL_PGRID) {
@@ -265,7 +267,6 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
         e->kernel = kd_kernel_find(opt->traversal, isa);
         snprintf(e->kernel_label, sizeof e->kernel_label, "%s/%s", e->kernel->name, rtt_isa_name(e->kernel->isa));
     }
-    const rtt_isect isect = opt->isect == RTT_ISECT_DEFAULT ? RTT_OPTIMIZED_DEFAULT_ISECT : opt->isect;
     if (!flag_degenerate(e, scene, err)) {
         free(e);
         return NULL;

@@ -112,6 +112,54 @@ static inline int setup_small_soup_projected(void **state)
     return setup_soup_with(state, 2000, 0.08f, 0x9e3779b97f4a7c15ull, RTT_ISECT_PROJECTED);
 }
 
+/* A closed octahedron of radius 1 around (0.3, -0.2, 0.1), far enough from
+ * the origin that its corners are not round numbers: 8 faces, every edge
+ * shared by two. */
+#define OCTAHEDRON_CENTRE_X 0.3f
+#define OCTAHEDRON_CENTRE_Y (-0.2f)
+#define OCTAHEDRON_CENTRE_Z 0.1f
+static inline int setup_octahedron(void **state)
+{
+    const float c[3] = {OCTAHEDRON_CENTRE_X, OCTAHEDRON_CENTRE_Y, OCTAHEDRON_CENTRE_Z};
+    float v[6][3];
+    for (int i = 0; i < 6; i++)
+        for (int a = 0; a < 3; a++) v[i][a] = c[a] + (a == i / 2 ? (i % 2 ? -1.0f : 1.0f) : 0.0f);
+    float tris[8 * 9];
+    for (int f = 0; f < 8; f++) {
+        const int corner[3] = {f & 1, 2 + (f >> 1 & 1), 4 + (f >> 2 & 1)};
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++) tris[9 * f + 3 * k + a] = v[corner[k]][a];
+    }
+    return setup_triangles(state, tris, 8);
+}
+
+/* Rays from inside the octahedron (within 0.3 of its centre per axis) aimed
+ * exactly at its faces' corners, at their edges' midpoints and at random
+ * points of their edges: a watertight test lets none of them out.  Each run
+ * of `group` consecutive rays shares one origin (1: every ray its own; 16:
+ * the BVH's multi-frusta find a common origin). */
+static inline rtt_ray *octahedron_corner_and_edge_rays(const rtt_scene *scene, uint32_t count, uint32_t group,
+                                                       uint64_t seed)
+{
+    rtt_ray *rays = malloc(count * sizeof *rays);
+    assert_non_null(rays);
+    rng r = {seed};
+    for (uint32_t i = 0; i < count; i++) {
+        rtt_vec3 p[3];
+        rtt_scene_triangle(scene, i % 8, p);
+        const int edge = (int)(i / 8 % 3); /* edge edge..edge+1 of the face */
+        const float w = i % 3 == 0 ? 0.0f : i % 3 == 1 ? 0.5f : rng_range(&r, 0.0f, 1.0f);
+        const rtt_vec3 target = rtt_v3_add(rtt_v3_scale(p[edge], 1.0f - w), rtt_v3_scale(p[(edge + 1) % 3], w));
+        const rtt_vec3 org = i % group ? rtt_v3(rays[i - 1].org[0], rays[i - 1].org[1], rays[i - 1].org[2])
+                                       : rtt_v3(OCTAHEDRON_CENTRE_X + rng_range(&r, -0.3f, 0.3f),
+                                                OCTAHEDRON_CENTRE_Y + rng_range(&r, -0.3f, 0.3f),
+                                                OCTAHEDRON_CENTRE_Z + rng_range(&r, -0.3f, 0.3f));
+        const rtt_vec3 dir = rtt_v3_sub(target, org);
+        rays[i] = (rtt_ray){{org.x, org.y, org.z}, {dir.x, dir.y, dir.z}, 0.0f, INFINITY};
+    }
+    return rays;
+}
+
 static inline int teardown(void **state)
 {
     fixture *f = *state;

@@ -1,16 +1,20 @@
 /* The BVH of the optimized engine (optimized/bvh/): the binned SAH
  * builder's invariants for a sweep of leaf sizes and depth bounds, the same
  * tree for one thread and two, and every BVH kernel at every instruction
- * set this CPU runs against two oracles: a brute force over every triangle
- * record with the same scalar projected test (the traversal must lose no
- * hit: equal t, u, v and prim, bit for bit), and the reference engine
- * within the conformance tolerance (a hit/miss at an edge of the hit
- * triangle counted apart, as the projected test is not watertight). */
+ * set this CPU runs under both triangle tests (the default, watertight, and
+ * --isect projected) against two oracles: a brute force over every triangle
+ * record with the scalar form of the same test (the traversal must lose no
+ * hit: equal t, u, v and prim, bit for bit), and the reference engine --
+ * under the watertight test bit for bit (the same arithmetic), under the
+ * projected test within the conformance tolerance (a hit/miss at an edge of
+ * the hit triangle counted apart, as that test is not watertight).  And
+ * watertightness: from inside a closed mesh, rays aimed at its corners and
+ * edges escape through no BVH kernel (closest hit, occlusion, hard-shadow
+ * apex frusta, soft-shadow frusta:N) under the watertight test. */
 #include <float.h>
 #include <stdio.h>
 
 #include "bvh_build.h"
-#include "isect_projected_bary.h"
 #include "test_fixtures_bvh.h"
 
 /* ---- the builder ------------------------------------------------------- */
@@ -166,20 +170,6 @@ static void test_degenerate_only_and_empty_scenes_build_and_miss(void **state)
 
 /* ---- the kernels ------------------------------------------------------- */
 
-/* The closest record hit by every record (the same scalar test as the
- * single-ray kernel, order-independent by the (t, prim) rule). */
-static rtt_hit records_brute_force(const bvh_tree *tree, const rtt_ray *r)
-{
-    kd_hit1 hit = {INFINITY, 0.0f, 0.0f, RTT_MISS};
-    int traceable = 1;
-    for (int a = 0; a < 3; a++) traceable &= isfinite(r->org[a]) && isfinite(r->dir[a]);
-    if (!traceable || isnan(r->tnear) || isnan(r->tfar) || !(r->tnear <= r->tfar))
-        return (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-    const kd_ray1 ray = {{r->org[0], r->org[1], r->org[2]}, {r->dir[0], r->dir[1], r->dir[2]}, r->tnear, r->tfar};
-    for (uint32_t i = 0; i < tree->triangle_count; i++) isect1_projected_bary(&tree->triangles[i], &ray, &hit);
-    return hit.prim == RTT_MISS ? (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS} : (rtt_hit){hit.t, hit.u, hit.v, hit.prim};
-}
-
 static int setup_bvh(void **state) { return setup_bvh_seeded(state, 0x9e3779b97f4a7c15ull); }
 
 /* Against the reference: both miss, or the same t within tolerance (a
@@ -219,18 +209,39 @@ static uint32_t reference_disagreements(const fixture *f, const rtt_ray *rays, c
     return bad;
 }
 
-static void check_every_kernel(const bvh_fixture *f, const rtt_ray *rays, uint32_t n)
+/* Rays the reference answers otherwise, to the bit (the watertight test). */
+static uint32_t reference_bit_differences(const fixture *f, const rtt_ray *rays, const rtt_hit *got,
+                                          const uint8_t *occ, uint32_t n)
+{
+    rtt_hit *want = malloc(n * sizeof *want);
+    uint8_t *want_occ = malloc(n);
+    assert_non_null(want), assert_non_null(want_occ);
+    rtt_engine_intersect(f->reference, rays, want, n);
+    rtt_engine_occluded(f->reference, rays, want_occ, n);
+    uint32_t bad = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (memcmp(&got[i], &want[i], sizeof got[i]) == 0 && occ[i] == want_occ[i]) continue;
+        if (bad++ < 5)
+            print_message("ray %u: prim %u t %a u %a v %a occ %d, reference prim %u t %a u %a v %a occ %d\n", i,
+                          got[i].prim, (double)got[i].t, (double)got[i].u, (double)got[i].v, occ[i], want[i].prim,
+                          (double)want[i].t, (double)want[i].u, (double)want[i].v, want_occ[i]);
+    }
+    free(want), free(want_occ);
+    return bad;
+}
+
+static void check_every_kernel_on(const bvh_fixture *f, const bvh_tree *tree, const rtt_ray *rays, uint32_t n)
 {
     rtt_hit *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
     uint8_t *occ = malloc(n);
     assert_non_null(want), assert_non_null(got), assert_non_null(occ);
-    for (uint32_t i = 0; i < n; i++) want[i] = records_brute_force(f->tree, &rays[i]);
+    for (uint32_t i = 0; i < n; i++) want[i] = bvh_records_closest(tree, &rays[i]);
     const bvh_kernel *row;
     for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
         if (!isa_runs(row->isa)) continue;
         bvh_counters counters = {0};
-        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .hits = got, .counters = &counters});
-        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .occluded = occ});
+        row->trace(tree, &(bvh_query){.rays = rays, .count = n, .hits = got, .counters = &counters});
+        row->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = occ});
         uint32_t lost = 0, occ_bad = 0, edge = 0;
         for (uint32_t i = 0; i < n; i++) {
             if (memcmp(&got[i], &want[i], sizeof got[i]) != 0) {
@@ -241,16 +252,24 @@ static void check_every_kernel(const bvh_fixture *f, const rtt_ray *rays, uint32
             occ_bad += occ[i] != (want[i].prim != RTT_MISS);
         }
         const uint32_t bad = reference_disagreements(&f->base, rays, got, n, &edge);
-        print_message("%-11s %-7s %u rays: %u lost against the records, %u occluded wrong, %u off the reference, "
-                      "%u edge escapes, %.1f AABB tests per packet\n",
-                      row->name, rtt_isa_name(row->isa), n, lost, occ_bad, bad, edge,
+        const uint32_t bits = tree->watertight ? reference_bit_differences(&f->base, rays, got, occ, n) : 0;
+        print_message("%-11s %-7s %-10s %u rays: %u lost against the records, %u occluded wrong, %u off the "
+                      "reference (%u not its bits), %u edge escapes, %.1f AABB tests per packet\n",
+                      row->name, rtt_isa_name(row->isa), bvh_tree_test_name(tree), n, lost, occ_bad, bad, bits, edge,
                       (double)counters.aabb_tests / (double)(counters.packets ? counters.packets : 1));
         assert_int_equal(lost, 0);
         assert_int_equal(occ_bad, 0);
         assert_int_equal(bad, 0);
-        assert_true(edge <= n / 1000 + 1);
+        assert_int_equal(bits, 0);
+        assert_true(edge <= (tree->watertight ? 0 : n / 1000 + 1));
     }
     free(want), free(got), free(occ);
+}
+
+/* Every kernel at every ISA under both triangle tests. */
+static void check_every_kernel(const bvh_fixture *f, const rtt_ray *rays, uint32_t n)
+{
+    for (uint32_t t = 0; t < BVH_FIXTURE_TESTS; t++) check_every_kernel_on(f, f->trees[t], rays, n);
 }
 
 static void test_kernels_on_primary_rays(void **state)
@@ -285,6 +304,122 @@ static void test_kernels_on_shadow_rays(void **state)
     free(rays);
 }
 
+/* ---- watertightness ---- */
+
+static int setup_bvh_octahedron(void **state)
+{
+    setup_octahedron(state);
+    bvh_fixture_from(state);
+    return 0;
+}
+
+/* Soft-shadow points inside the octahedron, each towards a tiny "light"
+ * beyond one of its corners or edge midpoints (seen from the point): every
+ * sample ray passes within a few ulps of that corner or edge, and every one
+ * must be occluded. */
+static uint32_t frusta_escapes(const bvh_tree *tree, const rtt_ray *aimed, uint32_t n,
+                               const bvh_shadow_kernel *row)
+{
+    bvh_shadow_sets *sets = calloc(1, sizeof *sets);
+    bvh_shadow_point *pts = malloc(n * sizeof *pts);
+    uint32_t *occ = malloc(n * sizeof *occ);
+    assert_non_null(sets), assert_non_null(pts), assert_non_null(occ);
+    sets->samples = 16;
+    rng r = {0x5eedull};
+    for (uint32_t s = 0; s < 16; s++) {
+        sets->lo[s][0] = sets->lo[s][1] = 1.0f, sets->hi[s][0] = sets->hi[s][1] = 0.0f;
+        for (uint32_t k = 0; k < 16; k++) {
+            const float x = rng_float(&r), y = rng_float(&r);
+            sets->x[s][k] = x, sets->y[s][k] = y;
+            sets->lo[s][0] = fminf(sets->lo[s][0], x), sets->hi[s][0] = fmaxf(sets->hi[s][0], x);
+            sets->lo[s][1] = fminf(sets->lo[s][1], y), sets->hi[s][1] = fmaxf(sets->hi[s][1], y);
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const rtt_ray *a = &aimed[i];
+        bvh_shadow_point *p = &pts[i];
+        for (int k = 0; k < 3; k++) {
+            p->org[k] = a->org[k];
+            p->base[k] = a->org[k] + 2.0f * a->dir[k]; /* twice as far as the corner or edge point */
+            p->du[k] = k == 0 ? 1e-6f : 0.0f, p->dv[k] = k == 1 ? 1e-6f : 0.0f;
+        }
+        p->set = i % 16;
+    }
+    row->trace(tree, &(bvh_shadow_query){.points = pts, .count = n, .sets = sets, .epsilon = 1e-5f, .occluded = occ});
+    uint32_t escapes = 0;
+    for (uint32_t i = 0; i < n; i++) escapes += (uint32_t)__builtin_popcount(~occ[i] & 0xffffu);
+    free(sets), free(pts), free(occ);
+    return escapes;
+}
+
+/* Hard shadows through bvh-mft's apex frusta: origins near the centre, every
+ * ray to one point beyond a corner, so the rays pass within about 1e-6 of
+ * it. */
+static uint32_t apex_escapes(const bvh_tree *tree, const bvh_kernel *row)
+{
+    enum { RAYS = 1024 };
+    rtt_ray *rays = malloc(RAYS * sizeof *rays);
+    uint8_t *occ = malloc(RAYS);
+    assert_non_null(rays), assert_non_null(occ);
+    rng r = {0xa9e7ull};
+    uint32_t escapes = 0;
+    for (uint32_t corner = 0; corner < 3 * tree->triangle_count; corner++) {
+        const bvh_corners *c = &tree->corners[corner / 3];
+        const float centre[3] = {OCTAHEDRON_CENTRE_X, OCTAHEDRON_CENTRE_Y, OCTAHEDRON_CENTRE_Z};
+        float toward[3];
+        for (int k = 0; k < 3; k++) toward[k] = centre[k] + 3.0f * (c->v[corner % 3][k] - centre[k]);
+        for (uint32_t i = 0; i < RAYS; i++) {
+            float org[3], d[3];
+            for (int k = 0; k < 3; k++) org[k] = centre[k] + rng_range(&r, -1e-6f, 1e-6f), d[k] = toward[k] - org[k];
+            const float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            rays[i] = (rtt_ray){{org[0], org[1], org[2]}, {d[0] / len, d[1] / len, d[2] / len}, 0.0f, len * 0.999f};
+        }
+        row->trace(tree, &(bvh_query){.rays = rays, .count = RAYS, .occluded = occ, .toward = toward});
+        for (uint32_t i = 0; i < RAYS; i++) escapes += !occ[i];
+    }
+    free(rays), free(occ);
+    return escapes;
+}
+
+static void test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh(void **state)
+{
+    const bvh_fixture *f = *state;
+    enum { RAYS = 4096 };
+    rtt_ray *own = octahedron_corner_and_edge_rays(f->base.scene, RAYS, 1, 0xC0FFEEull);
+    rtt_ray *shared = octahedron_corner_and_edge_rays(f->base.scene, RAYS, 16, 0xBEEFull); /* frusta of 16 */
+    rtt_hit *hits = malloc(RAYS * sizeof *hits);
+    uint8_t *occ = malloc(RAYS);
+    assert_non_null(hits), assert_non_null(occ);
+    for (uint32_t t = 0; t < BVH_FIXTURE_TESTS; t++) {
+        const bvh_tree *tree = f->trees[t];
+        const bvh_kernel *row;
+        for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
+            if (!isa_runs(row->isa)) continue;
+            uint32_t escapes = 0;
+            for (int set = 0; set < 2; set++) {
+                const rtt_ray *rays = set ? shared : own;
+                row->trace(tree, &(bvh_query){.rays = rays, .count = RAYS, .hits = hits});
+                row->trace(tree, &(bvh_query){.rays = rays, .count = RAYS, .occluded = occ});
+                for (uint32_t i = 0; i < RAYS; i++) escapes += (hits[i].prim == RTT_MISS) + !occ[i];
+            }
+            const uint32_t apex = strcmp(row->name, "bvh-mft") == 0 ? apex_escapes(tree, row) : 0;
+            print_message("%-10s %-11s %-7s %u closest-hit and occlusion rays at corners and edges: %u escaped; "
+                          "hard shadows past corners: %u escaped\n",
+                          bvh_tree_test_name(tree), row->name, rtt_isa_name(row->isa), 4 * RAYS, escapes, apex);
+            if (tree->watertight) assert_int_equal(escapes, 0), assert_int_equal(apex, 0);
+        }
+        const bvh_shadow_kernel *shadow;
+        for (uint32_t r = 0; (shadow = bvh_shadow_kernel_row_at(r)); r++) {
+            if (!isa_runs(shadow->isa)) continue;
+            const uint32_t escapes = frusta_escapes(tree, own, RAYS, shadow);
+            print_message("%-10s frusta:16   %-7s %u soft-shadow rays past corners and edges: %u escaped\n",
+                          bvh_tree_test_name(tree), rtt_isa_name(shadow->isa), 16 * RAYS, escapes);
+            if (tree->watertight) assert_int_equal(escapes, 0);
+        }
+    }
+    free(own), free(shared), free(hits), free(occ);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -294,6 +429,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_kernels_on_primary_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
+        cmocka_unit_test_setup_teardown(
+            test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh, setup_bvh_octahedron,
+            teardown_bvh),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

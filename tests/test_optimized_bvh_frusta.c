@@ -1,11 +1,13 @@
 /* The BVH's multi-frusta shadow kernels (optimized/bvh/): hard shadows
  * through bvh-mft with the light as the frusta's apex (bvh_query.toward),
  * and the soft-shadow frusta of --shadows frusta:N (bvh_shadow_kernel), at
- * every instruction set this CPU runs, against two oracles: a brute force
- * over every triangle record with the same scalar projected test (per ray,
- * bit for bit: the frusta may cull nothing a ray hits), and the reference
- * engine (a flip next to an occluder's edge counted apart, as the
- * projected test is not watertight).  Then the renderer: frusta:N draws
+ * every instruction set this CPU runs, under both triangle tests (the
+ * default, watertight, and --isect projected), against two oracles: a
+ * brute force over every triangle record with the scalar form of the same
+ * test (per ray, bit for bit: the frusta may cull nothing a ray hits), and
+ * the reference engine (under the watertight test every ray alike; under
+ * the projected test a flip next to an occluder's edge counted apart, as
+ * that test is not watertight).  Then the renderer: frusta:N draws
  * interleaved:N's image of the same BVH bit for bit, with and without the
  * filter, and hard shadows through bvh-mft draw bvh-packet's, at every ISA;
  * frusta is refused without --accel bvh and by the reference engine. */
@@ -13,7 +15,6 @@
 #include <stdio.h>
 
 #include "bvh_kernels.h"
-#include "isect_projected_bary.h"
 #include "rtt/image.h"
 #include "rtt/interleaved.h"
 #include "rtt/render.h"
@@ -21,21 +22,11 @@
 
 static int setup_bvh(void **state) { return setup_bvh_seeded(state, 0x2545f4914f6cdd1dull); }
 
-/* Occlusion of one ray by any record (the single-ray kernel's scalar test). */
-static int records_occlude(const bvh_tree *tree, const rtt_ray *r)
-{
-    if (!ray_is_traceable(r) || !(r->tnear <= r->tfar)) return 0;
-    const kd_ray1 ray = {{r->org[0], r->org[1], r->org[2]}, {r->dir[0], r->dir[1], r->dir[2]}, r->tnear, r->tfar};
-    for (uint32_t i = 0; i < tree->triangle_count; i++)
-        if (occluded1_projected_bary(&tree->triangles[i], &ray)) return 1;
-    return 0;
-}
-
 /* Against the reference engine: a disagreement whose ray passes within
  * 1e-4 (barycentric) of an edge of a triangle the other side hit is an edge
  * flip; returns the others. */
-static uint32_t reference_disagreements(const bvh_fixture *f, const rtt_ray *rays, const uint8_t *got, uint32_t n,
-                                        uint32_t *edge)
+static uint32_t reference_disagreements(const bvh_fixture *f, const bvh_tree *tree, const rtt_ray *rays,
+                                        const uint8_t *got, uint32_t n, uint32_t *edge)
 {
     uint8_t *want = malloc(n);
     rtt_hit *hits = malloc(n * sizeof *hits);
@@ -50,12 +41,11 @@ static uint32_t reference_disagreements(const bvh_fixture *f, const rtt_ray *ray
         if (want[i]) {
             h = hits[i];
         } else { /* ours hit: find what with the record brute force */
-            kd_hit1 k = {INFINITY, 0.0f, 0.0f, RTT_MISS};
-            const kd_ray1 ray = {{r->org[0], r->org[1], r->org[2]}, {r->dir[0], r->dir[1], r->dir[2]}, r->tnear, r->tfar};
-            for (uint32_t t = 0; t < f->tree->triangle_count; t++) isect1_projected_bary(&f->tree->triangles[t], &ray, &k);
-            h = (rtt_hit){k.t, k.u, k.v, k.prim};
+            h = bvh_records_closest(tree, r);
         }
-        if (h.prim != RTT_MISS && (near_interval_end(r, h.t) || h.u < 1e-4f || h.v < 1e-4f || h.u + h.v > 1.0f - 1e-4f)) {
+        /* a flip at an edge only for the projected test: the watertight one is the reference's */
+        if (!tree->watertight && h.prim != RTT_MISS &&
+            (near_interval_end(r, h.t) || h.u < 1e-4f || h.v < 1e-4f || h.u + h.v > 1.0f - 1e-4f)) {
             (*edge)++;
             continue;
         }
@@ -66,28 +56,29 @@ static uint32_t reference_disagreements(const bvh_fixture *f, const rtt_ray *ray
 }
 
 /* Rays of 16 neighbouring points each (a 4x4 block's hit points) to one light. */
-static void check_hard_shadows(const bvh_fixture *f, rtt_vec3 light, uint64_t seed)
+static void check_hard_shadows_on(const bvh_fixture *f, const bvh_tree *tree, rtt_vec3 light, uint64_t seed)
 {
     const uint32_t n = 4096;
     rtt_ray *rays = shadow_rays(n, light, seed);
     uint8_t *want = malloc(n), *got = malloc(n);
     assert_non_null(want), assert_non_null(got);
     uint32_t occluded = 0;
-    for (uint32_t i = 0; i < n; i++) occluded += want[i] = (uint8_t)records_occlude(f->tree, &rays[i]);
+    for (uint32_t i = 0; i < n; i++) occluded += want[i] = (uint8_t)bvh_records_occlude(tree, &rays[i]);
     const float toward[3] = {light.x, light.y, light.z};
     const bvh_kernel *row;
     for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
         if (strcmp(row->name, "bvh-mft") != 0 || !isa_runs(row->isa)) continue;
         bvh_counters with = {0}, without = {0};
-        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .occluded = got, .counters = &with, .toward = toward});
+        row->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = got, .counters = &with, .toward = toward});
         uint32_t lost = 0, edge = 0;
         for (uint32_t i = 0; i < n; i++)
             if (got[i] != want[i] && lost++ < 5) print_message("%s ray %u: %d, records %d\n", rtt_isa_name(row->isa), i, got[i], want[i]);
-        const uint32_t bad = reference_disagreements(f, rays, got, n, &edge);
-        row->trace(f->tree, &(bvh_query){.rays = rays, .count = n, .occluded = got, .counters = &without});
-        print_message("hard bvh-mft %-7s %u rays (%u occluded): %u wrong against the records, %u off the reference, "
+        const uint32_t bad = reference_disagreements(f, tree, rays, got, n, &edge);
+        row->trace(tree, &(bvh_query){.rays = rays, .count = n, .occluded = got, .counters = &without});
+        print_message("hard bvh-mft %-7s %-10s %u rays (%u occluded): %u wrong against the records, %u off the reference, "
                       "%u edge flips; AABB tests %llu with the apex, %llu without\n",
-                      rtt_isa_name(row->isa), n, occluded, lost, bad, edge, (unsigned long long)with.aabb_tests,
+                      rtt_isa_name(row->isa), bvh_tree_test_name(tree), n, occluded, lost, bad, edge,
+                      (unsigned long long)with.aabb_tests,
                       (unsigned long long)without.aabb_tests);
         assert_int_equal(lost, 0);
         assert_int_equal(bad, 0);
@@ -96,6 +87,12 @@ static void check_hard_shadows(const bvh_fixture *f, rtt_vec3 light, uint64_t se
     }
     assert_true(occluded > n / 20 && occluded < n - n / 20); /* both answers are exercised */
     free(rays), free(want), free(got);
+}
+
+/* Under both triangle tests. */
+static void check_hard_shadows(const bvh_fixture *f, rtt_vec3 light, uint64_t seed)
+{
+    for (uint32_t t = 0; t < BVH_FIXTURE_TESTS; t++) check_hard_shadows_on(f, f->trees[t], light, seed);
 }
 
 static void test_hard_shadows_through_the_apex_frusta(void **state)
@@ -143,7 +140,8 @@ static bool sample_ray(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, 
     return true;
 }
 
-static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uint32_t samples, uint64_t seed)
+static void check_soft_shadows_on(const bvh_fixture *f, const bvh_tree *tree, const rtt_light *light,
+                                  uint32_t samples, uint64_t seed)
 {
     const uint32_t n = 1024;
     const float eps = 1e-4f;
@@ -166,7 +164,7 @@ static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uin
         for (uint32_t k = 0; k < samples; k++) {
             rtt_ray ray;
             if (!sample_ray(&pts[i], sets, k, eps, &ray)) continue;
-            if (records_occlude(f->tree, &ray)) want[i] |= 1u << k, occluded++;
+            if (bvh_records_occlude(tree, &ray)) want[i] |= 1u << k, occluded++;
             rays[traced++] = ray;
         }
         partial += want[i] != 0 && want[i] != (samples == 32 ? ~0u : (1u << samples) - 1u);
@@ -175,7 +173,7 @@ static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uin
     for (uint32_t r = 0; (row = bvh_shadow_kernel_row_at(r)); r++) {
         if (!isa_runs(row->isa)) continue;
         bvh_counters counters = {0};
-        row->trace(f->tree, &(bvh_shadow_query){.points = pts, .count = n, .sets = sets, .epsilon = eps,
+        row->trace(tree, &(bvh_shadow_query){.points = pts, .count = n, .sets = sets, .epsilon = eps,
                                                 .occluded = got, .counters = &counters});
         uint32_t lost = 0;
         for (uint32_t i = 0; i < n; i++)
@@ -188,11 +186,12 @@ static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uin
                 if (sample_ray(&pts[i], sets, k, eps, &ray)) ours[at++] = got[i] >> k & 1u;
             }
         uint32_t edge = 0;
-        const uint32_t bad = reference_disagreements(f, rays, ours, traced, &edge);
-        print_message("frusta:%-2u %s light %-7s %u points, %u rays (%u occluded, %u points partly): %u wrong against "
+        const uint32_t bad = reference_disagreements(f, tree, rays, ours, traced, &edge);
+        print_message("frusta:%-2u %s light %-7s %-10s %u points, %u rays (%u occluded, %u points partly): %u wrong against "
                       "the records, %u off the reference, %u edge flips; %llu AABB tests, %llu frusta at triangles, "
                       "%llu ray-packet tests\n",
-                      samples, light->type == RTT_LIGHT_QUAD ? "quad" : "sphere", rtt_isa_name(row->isa), n, traced,
+                      samples, light->type == RTT_LIGHT_QUAD ? "quad" : "sphere", rtt_isa_name(row->isa),
+                      bvh_tree_test_name(tree), n, traced,
                       occluded, partial, lost, bad, edge, (unsigned long long)counters.aabb_tests,
                       (unsigned long long)counters.triangles, (unsigned long long)counters.isect_tests);
         assert_int_equal(lost, 0);
@@ -203,6 +202,12 @@ static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uin
     assert_true(occluded > traced / 20 && occluded < traced - traced / 20);
     assert_true(partial > 0); /* penumbrae: frusta partly occluded */
     free(sets), free(pts), free(want), free(got), free(rays), free(ours);
+}
+
+/* Under both triangle tests. */
+static void check_soft_shadows(const bvh_fixture *f, const rtt_light *light, uint32_t samples, uint64_t seed)
+{
+    for (uint32_t t = 0; t < BVH_FIXTURE_TESTS; t++) check_soft_shadows_on(f, f->trees[t], light, samples, seed);
 }
 
 static void test_soft_shadow_frusta_every_sample_count_and_light(void **state)
@@ -245,11 +250,13 @@ static void test_renders_equal_interleaved_and_packet_hard_shadows(void **state)
 {
     (void)state;
     const char *scenes[] = {"light_quad.json", "light_sphere.json", "shadow_on_shadow.json", "demo.json"};
-    for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
-        rtt_scene *scene = load(scenes[s]);
+    const rtt_isect tests[] = {RTT_ISECT_DEFAULT, RTT_ISECT_PROJECTED}; /* watertight, then projected */
+    for (size_t s = 0; s < 2 * sizeof scenes / sizeof scenes[0]; s++) {
+        rtt_scene *scene = load(scenes[s / 2]);
         rtt_engine_options eo;
         rtt_engine_options_default(&eo);
         eo.accel = RTT_ACCEL_BVH;
+        eo.isect = tests[s % 2];
         rtt_error err = {{0}};
         rtt_engine *engine = rtt_optimized_engine_create(scene, &eo, &err);
         if (!engine) fail_msg("%s", err.message);
@@ -269,8 +276,8 @@ static void test_renders_equal_interleaved_and_packet_hard_shadows(void **state)
                 rtt_image *want = render_scene(engine, &opt);
                 opt.shadows = RTT_SHADOWS_FRUSTA;
                 rtt_image *got = render_scene(engine, &opt);
-                print_message("%s %s frusta:%u%s against interleaved:%u\n", scenes[s], rtt_isa_name(isa), n,
-                              filter ? "" : ":nofilter", n);
+                print_message("%s %s %s frusta:%u%s against interleaved:%u\n", scenes[s / 2],
+                              rtt_engine_isect_name(engine), rtt_isa_name(isa), n, filter ? "" : ":nofilter", n);
                 assert_memory_equal(got->rgb, want->rgb, sizeof(float) * 3 * 96 * 96);
                 rtt_image_free(want), rtt_image_free(got);
             }
@@ -279,7 +286,8 @@ static void test_renders_equal_interleaved_and_packet_hard_shadows(void **state)
             rtt_image *want = render_scene(engine, &opt);
             snprintf(opt.engine.traversal, sizeof opt.engine.traversal, "%s", "bvh-mft");
             rtt_image *got = render_scene(engine, &opt);
-            print_message("%s %s hard: bvh-mft against bvh-packet\n", scenes[s], rtt_isa_name(isa));
+            print_message("%s %s %s hard: bvh-mft against bvh-packet\n", scenes[s / 2], rtt_engine_isect_name(engine),
+                          rtt_isa_name(isa));
             assert_memory_equal(got->rgb, want->rgb, sizeof(float) * 3 * 96 * 96);
             rtt_image_free(want), rtt_image_free(got);
         }

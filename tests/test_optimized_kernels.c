@@ -47,23 +47,7 @@ static int setup_degenerate_only(void **state)
     return setup_triangles(state, tris, 3);
 }
 
-/* A closed octahedron of radius 1 around (0.3, -0.2, 0.1), far enough from
- * the origin that its corners are not round numbers: 8 faces, every edge
- * shared by two. */
-static int setup_octahedron(void **state)
-{
-    const float c[3] = {0.3f, -0.2f, 0.1f};
-    float v[6][3];
-    for (int i = 0; i < 6; i++)
-        for (int a = 0; a < 3; a++) v[i][a] = c[a] + (a == i / 2 ? (i % 2 ? -1.0f : 1.0f) : 0.0f);
-    float tris[8 * 9];
-    for (int f = 0; f < 8; f++) {
-        const int corner[3] = {f & 1, 2 + (f >> 1 & 1), 4 + (f >> 2 & 1)};
-        for (int k = 0; k < 3; k++)
-            for (int a = 0; a < 3; a++) tris[9 * f + 3 * k + a] = v[corner[k]][a];
-    }
-    return setup_triangles(state, tris, 8);
-}
+/* setup_octahedron: test_fixtures_optimized.h (the BVH tests use it too). */
 
 /* ---- ray sets (camera, random, shadow: test_fixtures_optimized.h) ---- */
 
@@ -279,25 +263,14 @@ static void test_watertight_kernels_answer_every_ray_bit_for_bit_as_the_referenc
     free(camera), free(random), free(shadow), free(plane);
 }
 
-/* From inside a closed mesh, rays aimed exactly at its corners and at points
- * of its edges must hit it: none slips between two faces. */
+/* From inside a closed mesh, rays aimed exactly at its corners, at its
+ * edges' midpoints and at other points of its edges must hit it: none slips
+ * between two faces. */
 static void test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh(void **state)
 {
     const fixture *f = *state;
     enum { RAYS = 2048 };
-    rtt_ray *rays = malloc(RAYS * sizeof *rays);
-    assert_non_null(rays);
-    rng r = {0xC0FFEEull};
-    for (uint32_t i = 0; i < RAYS; i++) {
-        rtt_vec3 p[3], target;
-        rtt_scene_triangle(f->scene, i % 8, p);
-        const float w = i % 3 == 0 ? 0.0f : rng_range(&r, 0.0f, 1.0f); /* a corner, else a point of edge 0-1 */
-        target = rtt_v3_add(rtt_v3_scale(p[0], 1.0f - w), rtt_v3_scale(p[1], w));
-        const rtt_vec3 org = rtt_v3(0.3f + rng_range(&r, -0.3f, 0.3f), -0.2f + rng_range(&r, -0.3f, 0.3f),
-                                    0.1f + rng_range(&r, -0.3f, 0.3f));
-        const rtt_vec3 dir = rtt_v3_sub(target, org);
-        rays[i] = (rtt_ray){{org.x, org.y, org.z}, {dir.x, dir.y, dir.z}, 0.0f, INFINITY};
-    }
+    rtt_ray *rays = octahedron_corner_and_edge_rays(f->scene, RAYS, 1, 0xC0FFEEull);
     rtt_hit *hits = malloc(RAYS * sizeof *hits);
     uint8_t *occluded = malloc(RAYS);
     assert_true(hits && occluded);

@@ -21,8 +21,6 @@ typedef struct mft_bounds {
     vf grow;                           /* boxes are tested grown by this much: an origin known to a few ulps */
 } mft_bounds;
 
-static inline vf vf_abs(vf x) { return vf_max(x, vf_sub(vf_set1(0.0f), x)); }
-
 /* The frusta of `active` whose interval bounds enter the box; their entries. */
 static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm active, vf *entry)
 {

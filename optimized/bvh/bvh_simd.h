@@ -128,6 +128,9 @@ static inline vm vi_lt_u(vi a, vi b)
 }
 #endif
 
+/* |x|; NaN stays NaN (the second operand of the max) */
+static inline vf vf_abs(vf x) { return vf_max(x, vf_sub(vf_set1(0.0f), x)); }
+
 #define BVH_LANES_ALL ((uint32_t)((1ull << BVH_W) - 1u))
 
 #endif

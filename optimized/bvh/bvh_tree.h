@@ -11,14 +11,20 @@
  * triangle records from `index` in bvh_tree.triangles.
  *
  * The root is not a node's child, so the tree carries its box and reference
- * apart (a scene of one leaf has no node at all).  Leaf records are the
- * 48-byte projected-barycentric records of optimized/isect/ (kd_triangle:
- * the same test the kd kernels run, so both structures answer alike), kept
- * in leaf order so a leaf reads them in sequence; degenerate triangles get no
- * record and are never hit. */
+ * apart (a scene of one leaf has no node at all).  Each leaf record is two
+ * parallel entries in leaf order, so a leaf reads them in sequence: the
+ * 48-byte projected-barycentric record of optimized/isect/ (kd_triangle,
+ * with the prim) and the triangle's 36-byte corners as the scene stores
+ * them (bvh_corners).  `watertight` names the test every kernel runs on
+ * them, as `kd_tree.corners` does for the kd kernels: false, Wald's
+ * projected test on the records; true, Woop, Benthin & Wald's watertight
+ * test on the corners (optimized/isect/; both in bvh_isect_wide.h).  Either
+ * way a ray gets the bits the kd kernels give it under the same test.
+ * Degenerate triangles get no record and are never hit. */
 #ifndef RTT_BVH_TREE_H
 #define RTT_BVH_TREE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "kd_tree.h"
@@ -44,8 +50,9 @@ _Static_assert(sizeof(bvh_node) == 64, "a BVH node is one 64-byte cache line");
 #define BVH_DEPTH_LIMIT RTT_KD_DEPTH_LIMIT
 #define BVH_TRAVERSAL_STACK (BVH_DEPTH_LIMIT + 1u)
 
-/* 36 bytes: a record's corners, for the frusta kernel's common-origin
- * (Pluecker) culling, which needs the vertices rather than the projection. */
+/* 36 bytes: a record's corners (v[0], v[1], v[2]: the scene's vertex
+ * order), for the watertight test and the frusta kernels' common-origin
+ * (Pluecker) culling, which need the vertices rather than the projection. */
 typedef struct bvh_corners {
     float v[3][3];
 } bvh_corners;
@@ -56,6 +63,7 @@ typedef struct bvh_tree {
     bvh_corners *corners;     /* per record, the same order */
     uint32_t node_count, triangle_count;
     bvh_child root;           /* the root's box and reference (count 0 and node 0, or a leaf) */
+    bool watertight;          /* the triangle test: false projected (records), true watertight (corners) */
     rtt_tree_info info;
 } bvh_tree;
 

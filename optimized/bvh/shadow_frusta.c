@@ -22,7 +22,8 @@
  *    rounding; then, only for the survivors
  *    (bitscan), the frustum's rays are generated from the point, its light
  *    frame and the set's domain coordinates (never stored) and tested with
- *    the projected barycentric test (bvh_isect_wide.h) in packets of
+ *    the triangle test the tree names (bvh_isect_wide.h: projected or
+ *    watertight, whose shears are made with each packet) in packets of
  *    BVH_W, only the samples not yet occluded.
  *  - Occlusion bits are packed in a mask per point (N <= 32); a frustum is
  *    terminated as soon as all its rays are occluded.
@@ -94,7 +95,7 @@ static uint32_t sample_packet(const bvh_shadow_point *pt, const bvh_shadow_sets 
 
 /* Frustum f against record rec: its rays not yet occluded; true when all
  * its rays are occluded (the frustum terminates). */
-static bool frustum_rays(const kd_triangle *tri, sf_group *g, uint32_t f, const bvh_shadow_sets *sets, float eps)
+static bool frustum_rays(const bvh_tree *tree, uint32_t rec, sf_group *g, uint32_t f, const bvh_shadow_sets *sets, float eps)
 {
     const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W, lane_bits = BVH_LANES_ALL;
     const bool known = g->known >> f & 1u;
@@ -105,7 +106,10 @@ static bool frustum_rays(const kd_triangle *tri, sf_group *g, uint32_t f, const 
         const uint32_t live = sample_packet(g->point[f], sets, v, eps, &r);
         if (!known) g->live[f] |= live << shift;
         const uint32_t lanes = live & ~(g->occ[f] >> shift);
-        if (lanes) g->occ[f] |= bvh_occluded_projected(tri, &r, vm_of_bits(lanes)) << shift;
+        if (!lanes) continue;
+        bvh_wt_shears shears;
+        const bvh_wt_shears *s = bvh_record_setup(tree, &r, lanes, &shears);
+        g->occ[f] |= bvh_occluded_record(tree, rec, &r, s, lanes) << shift;
     }
     g->known |= 1u << f;
     return (g->live[f] & ~g->occ[f]) == 0;
@@ -131,7 +135,7 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
                 if (counters) counters->isect_tests++;
-                if (frustum_rays(&tree->triangles[rec], g, f, sets, eps))
+                if (frustum_rays(tree, rec, g, f, sets, eps))
                     alive &= ~(1u << f), lanes &= ~(1u << f); /* the frustum terminates */
             }
         }

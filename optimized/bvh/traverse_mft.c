@@ -19,8 +19,9 @@
  *    triangle's orientation as the origin sees it (the back-face test's
  *    determinant) says which sign they need; a frustum all of whose
  *    directions fall outside one edge is culled.  Then, only for the
- *    survivors (bitscan), the 16-ray projected barycentric test
- *    (bvh_isect_wide.h) on that frustum's rays;
+ *    survivors (bitscan), the 16-ray triangle test the tree names
+ *    (bvh_isect_wide.h: projected or watertight, the watertight shears made
+ *    once per packet when the group is loaded) on that frustum's rays;
  *  - frusta are terminated one by one: an occlusion frustum leaves when all
  *    its rays are occluded; a closest-hit frustum's bound shrinks to its
  *    rays' farthest closest hit after every leaf that lowered one.
@@ -52,6 +53,8 @@ typedef struct mft_group {
     uint32_t live[MFT_FRUSTA][MFT_VECS];
     bvh_hits hits[MFT_FRUSTA][MFT_VECS];
     uint32_t occ[MFT_FRUSTA][MFT_VECS];
+    bvh_wt_shears shears[MFT_FRUSTA][MFT_VECS]; /* the watertight test's, per packet */
+    const bvh_wt_shears *wt[MFT_FRUSTA][MFT_VECS]; /* NULL for the projected test */
     uint32_t apex;                   /* frusta whose origin is the rays' common end point (hard shadows) */
 } mft_group;
 
@@ -110,12 +113,10 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
                     const uint32_t ray_lanes = g->live[f][v] & ~g->occ[f][v];
                     if (!ray_lanes) continue;
                     if (closest) {
-                        if (bvh_isect_projected(&tree->triangles[rec], &g->rays[f][v], &g->hits[f][v],
-                                                vm_of_bits(ray_lanes)))
+                        if (bvh_isect_record(tree, rec, &g->rays[f][v], g->wt[f][v], &g->hits[f][v], ray_lanes))
                             lowered |= 1u << f;
                     } else {
-                        g->occ[f][v] |= bvh_occluded_projected(&tree->triangles[rec], &g->rays[f][v],
-                                                               vm_of_bits(ray_lanes));
+                        g->occ[f][v] |= bvh_occluded_record(tree, rec, &g->rays[f][v], g->wt[f][v], ray_lanes);
                     }
                 }
                 if (!closest) {
@@ -226,11 +227,15 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
             if (q->counters) q->counters->packets++;
             if (!live || tree->triangle_count == 0) continue;
             if (common) {
+                for (uint32_t v = 0; v < MFT_VECS; v++)
+                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
                 continue;
             }
             if (!closest && q->toward) { /* rays to one point: a frustum from that point back to their origins */
                 apex_frustum(&g, f, q->toward, org, dlo, dhi, &tnear[f], grow);
+                for (uint32_t v = 0; v < MFT_VECS; v++)
+                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
                 continue;
             }

@@ -2,9 +2,10 @@
  * (Kay & Kajiya's slab test on both children's boxes of a node, the nearer
  * child first, the other on a stack with its entry distance), for arbitrary
  * rays: the reference point of the packet and frusta kernels and what the
- * engine's single rays could use.  The leaf test is the scalar twin of the
- * projected barycentric test (isect_projected_bary.h), so a ray gets the
- * same bits as through the packet kernel's lanes.
+ * engine's single rays could use.  The leaf test is the scalar form of the
+ * test the tree names (bvh_isect_wide.h, bvh_isect1_record: the projected
+ * or the watertight test of optimized/isect/), so a ray gets the same bits
+ * as through the packet kernel's lanes.
  *
  * What it trades: no SIMD across rays; the two boxes are tested one after
  * the other in scalar code. */
@@ -12,8 +13,8 @@
 
 #include "bvh_isa.h"
 #include "bvh_kernels.h"
+#include "bvh_isect_wide.h"
 #include "bvh_packet.h"
-#include "isect_projected_bary.h"
 
 /* The entry distance of the ray's interval [t0, t1] into the box, or NaN
  * when it misses.  A NaN slab (0 * inf: a ray in a face's plane) leaves the
@@ -39,6 +40,8 @@ static bool trace1(const bvh_tree *tree, const kd_ray1 *ray, kd_hit1 *hit, bvh_c
 {
     float inv[3];
     for (int k = 0; k < 3; k++) inv[k] = 1.0f / ray->dir[k];
+    wt_ray1 shear = {0};
+    if (tree->watertight) wt_ray1_setup(&shear, ray);
     mono_entry stack[BVH_TRAVERSAL_STACK];
     uint32_t top = 0;
     float tfar = ray->tfar;
@@ -66,15 +69,14 @@ static bool trace1(const bvh_tree *tree, const kd_ray1 *ray, kd_hit1 *hit, bvh_c
             }
         }
         for (uint32_t i = 0; i < c->count; i++) {
-            const kd_triangle *tri = &tree->triangles[c->index + i];
             if (counters) counters->triangles++, counters->isect_tests++;
             if (!hit) {
-                if (occluded1_projected_bary(tri, ray)) return true;
+                if (bvh_isect1_record(tree, c->index + i, ray, &shear, NULL)) return true;
                 continue;
             }
             const uint32_t before = hit->prim;
             const float t_before = hit->t;
-            isect1_projected_bary(tri, ray, hit);
+            bvh_isect1_record(tree, c->index + i, ray, &shear, hit);
             if (hit->prim != before || hit->t != t_before) any = true, tfar = hit->t < tfar ? hit->t : tfar;
         }
     pop:

@@ -3,8 +3,9 @@
  * "P-Packet" and "S-Packet", after Wald, Boulos & Shirley 2007): per node
  * one slab test of both children's boxes for every active ray, the child
  * more lanes enter first first, the other with its lane mask on the stack;
- * at a leaf the packet-wide projected barycentric test (bvh_isect_wide.h)
- * on the active lanes.  Any rays: no common origin or direction signs are
+ * at a leaf the packet-wide triangle test the tree names (bvh_isect_wide.h:
+ * projected or watertight, the watertight shears made once per packet) on
+ * the active lanes.  Any rays: no common origin or direction signs are
  * assumed, and an occlusion lane leaves the packet as soon as it is hit.
  *
  * What it trades: a popped subtree's box is tested again against the
@@ -44,6 +45,8 @@ void bvh_trace_packet(const bvh_tree *tree, const bvh_packet *p, uint32_t live, 
     packet_entry stack[BVH_TRAVERSAL_STACK];
     uint32_t top = 0, occ = 0;
     vf tfar = p->tfar;
+    bvh_wt_shears shears;
+    const bvh_wt_shears *s = bvh_record_setup(tree, p, live, &shears);
     stack[top++] = (packet_entry){&tree->root, live};
     while (top > 0) {
         const packet_entry e = stack[--top];
@@ -72,12 +75,11 @@ void bvh_trace_packet(const bvh_tree *tree, const bvh_packet *p, uint32_t live, 
         }
         if (!lanes) continue;
         for (uint32_t i = 0; i < c->count; i++) {
-            const kd_triangle *tri = &tree->triangles[c->index + i];
             if (counters) counters->triangles++, counters->isect_tests++;
             if (hits) {
-                if (bvh_isect_projected(tri, p, hits, vm_of_bits(lanes))) tfar = vf_min(hits->t, tfar);
+                if (bvh_isect_record(tree, c->index + i, p, s, hits, lanes)) tfar = vf_min(hits->t, tfar);
             } else {
-                occ |= bvh_occluded_projected(tri, p, vm_of_bits(lanes));
+                occ |= bvh_occluded_record(tree, c->index + i, p, s, lanes);
                 lanes &= ~occ;
                 if (!lanes) break;
             }

@@ -221,17 +221,25 @@ static inline void wt_ray1_setup(wt_ray1 *s, const kd_ray1 *ray)
     s->sz = 1.0f / ray->dir[s->kz];
 }
 
+/* One ray against the corners a, b, c (any record layout that holds them:
+ * kd_corners, the BVH's bvh_corners). */
+static inline bool isect1_watertight_corners(const float a[3], const float b[3], const float c[3], const kd_ray1 *ray,
+                                             const wt_ray1 *s, float *t, float *u, float *v)
+{
+    const uint32_t kx = s->kx, ky = s->ky, kz = s->kz;
+    const float akz = a[kz] - ray->org[kz], bkz = b[kz] - ray->org[kz], ckz = c[kz] - ray->org[kz];
+    const wt_lane l = {
+        (a[kx] - ray->org[kx]) - s->sx * akz, (a[ky] - ray->org[ky]) - s->sy * akz, s->sz * akz,
+        (b[kx] - ray->org[kx]) - s->sx * bkz, (b[ky] - ray->org[ky]) - s->sy * bkz, s->sz * bkz,
+        (c[kx] - ray->org[kx]) - s->sx * ckz, (c[ky] - ray->org[ky]) - s->sy * ckz, s->sz * ckz,
+    };
+    return wt_decide1(&l, ray->tnear, ray->tfar, t, u, v);
+}
+
 static inline bool isect1_watertight_test(const kd_corners *tri, const kd_ray1 *ray, const wt_ray1 *s, float *t,
                                           float *u, float *v)
 {
-    const uint32_t kx = s->kx, ky = s->ky, kz = s->kz;
-    const float akz = tri->a[kz] - ray->org[kz], bkz = tri->b[kz] - ray->org[kz], ckz = tri->c[kz] - ray->org[kz];
-    const wt_lane l = {
-        (tri->a[kx] - ray->org[kx]) - s->sx * akz, (tri->a[ky] - ray->org[ky]) - s->sy * akz, s->sz * akz,
-        (tri->b[kx] - ray->org[kx]) - s->sx * bkz, (tri->b[ky] - ray->org[ky]) - s->sy * bkz, s->sz * bkz,
-        (tri->c[kx] - ray->org[kx]) - s->sx * ckz, (tri->c[ky] - ray->org[ky]) - s->sy * ckz, s->sz * ckz,
-    };
-    return wt_decide1(&l, ray->tnear, ray->tfar, t, u, v);
+    return isect1_watertight_corners(tri->a, tri->b, tri->c, ray, s, t, u, v);
 }
 
 #endif
