@@ -45,7 +45,7 @@ trap 'rm -rf "$work"' EXIT
 if [ "$timing" -eq 1 ]; then
     [ -f "$bunny" ] || { echo "accuracy.sh: $bunny is missing (bash bench/fetch-scenes.sh)" >&2; exit 1; }
     load=$(cut -d' ' -f1-3 /proc/loadavg)
-    # one run: the kd kernels with both tests, the BVH kernels (projected only) and Embree
+    # one run: the kd kernels with both tests, the BVH kernels (the default test: watertight) and Embree
     "$rtt" bench "$bunny" --views bench/views.json --only primary --threads 1 --frames "$frames" \
         --compare-isects --json >"$work/timing-kd.json"
     python3 - "$work" "$load" "$(cut -d' ' -f1-3 /proc/loadavg)" "$frames" <<'PY'

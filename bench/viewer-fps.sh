@@ -56,25 +56,29 @@ for k in $kernels; do
     done
 done
 tsv="$src/bench/results/viewer-fps.tsv"
-printf 'scene\tthreads\tkernel\tshadows\tfps\tmrays\n' >"$tsv.tmp"
+load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
+printf 'scene\tthreads\tkernel\tshadows\tfps\tmrays\trender_ms\tpresent_ms\n' >"$tsv.tmp"
 for scene in $scenes; do
     path="$(scene_path "$scene")"
     for t in $threads; do
         # the view's own light, as rtt bench uses it
         xvfb-run -a -s "-screen 0 1280x1024x24" "$rtt" view "$path" --view "$src/bench/views.json:$scene" --lights view \
             --width "$size" --height "$size" --threads "$t" --tile 16 --spp 1 --script "$script" >"$work/out.txt"
-        sed -n 's/^bench: [0-9]* frames, \([0-9.]*\) fps, \([0-9.]*\) Mrays\/s, \([a-z0-9]*\) \([a-z0-9-]*\)\/[a-z0-9]*, shadows \([a-z:0-9.]*\), .*/\3:\4\t\5\t\1\t\2/p' \
+        sed -n 's/^bench: [0-9]* frames, \([0-9.]*\) fps, \([0-9.]*\) Mrays\/s, \([a-z0-9]*\) \([a-z0-9-]*\)\/[a-z0-9]*, shadows \([a-z:0-9.]*\), .*, render \([0-9.]*\) ms, present \([0-9.]*\) ms$/\3:\4\t\5\t\1\t\2\t\6\t\7/p' \
             "$work/out.txt" | sed "s/^/$scene\t$t\t/" >>"$tsv.tmp"
     done
 done
 mv "$tsv.tmp" "$tsv"
+load_after="$(cut -d' ' -f1-3 /proc/loadavg)"
 md="$src/bench/results/viewer-fps.md"
 {
     echo "# rtt view: interactive frame rates (${size}x${size})"
     echo
     echo "Made by \`$command_line\` on $(date -u +%Y-%m-%d), $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -n 1),"
     echo "$(nproc) cores; rtt view under Xvfb, each figure the mean of $frames frames rendered and presented"
-    echo "(\`bench $frames\` in a view script) after 2 unmeasured ones; tile 16, the view of bench/views.json."
+    echo "(\`bench $frames\` in a view script) after 2 unmeasured ones; tile 16, the view of bench/views.json and its light (\`--lights view\`)."
+    echo "Load average (1, 5, 15 min) before the run: $load_before; after: $load_after. \"render\" is rtt_render's"
+    echo "share of a frame, \"present\" the streaming texture's update and SDL's present (a frame's mean, ms)."
     echo
     echo "The thesis' Table 6.2 (its garage scene: 89,754 polygons, MFT 16x16 primary rays, mono"
     echo "reflections, packet glass, edge-width shadows, 512x512): Pentium D 2.7 fps on 1 core and"
@@ -83,14 +87,14 @@ md="$src/bench/results/viewer-fps.md"
     for scene in $scenes; do
         echo "## $scene"
         echo
-        echo "| kernel | shadows | $(for t in $threads; do printf 'fps, %s thread(s) | Mrays/s | ' "$t"; done)"
-        echo "|---|---|$(for t in $threads; do printf -- '---:|---:|'; done)"
+        echo "| kernel | shadows | $(for t in $threads; do printf 'fps, %s thread(s) | Mrays/s | render, present (ms) | ' "$t"; done)"
+        echo "|---|---|$(for t in $threads; do printf -- '---:|---:|---:|'; done)"
         for k in $kernels; do
             for s in $(shadows_of "$k"); do
                 printf '| %s | %s |' "$k" "$s"
                 for t in $threads; do
                     awk -F'\t' -v sc="$scene" -v t="$t" -v k="$k" -v s="$s" \
-                        '$1==sc && $2==t && $3==k && $4==s {printf " %s | %s |", $5, $6; found=1} END {if (!found) printf " - | - |"}' "$tsv"
+                        '$1==sc && $2==t && $3==k && $4==s {printf " %s | %s | %s, %s |", $5, $6, $7, $8; found=1} END {if (!found) printf " - | - | - |"}' "$tsv"
                 done
                 echo
             done

@@ -109,7 +109,7 @@ def read_oracle(path, n):
 
 def engines():
     out = [("optimized", "kd", k, isect) for isect in ("watertight", "projected") for k in KD_KERNELS]
-    out += [("optimized", "bvh", k, "projected") for k in BVH_KERNELS]  # the BVH kernels have the projected test only
+    out += [("optimized", "bvh", k, isect) for isect in ("watertight", "projected") for k in BVH_KERNELS]
     out += [("embree", "", "embree", "robust"), ("reference", "", "reference", "watertight")]
     return out
 
