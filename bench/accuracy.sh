@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The triangle tests' trade (issue 13): for each triangle test (watertight,
-# projected) x kernel (every kd kernel; the BVH kernels, which have the
-# projected test only; Embree as the peer; the reference), time per primary
-# frame (one run, both tests) and, against a double-precision brute force
+# projected) x kernel (every kd and BVH kernel; Embree as the peer; the
+# reference), time per primary frame (one run, both tests for the kd
+# kernels, the BVH's default test) and, against a double-precision brute force
 # (bench/accuracy/oracle.c), the escape rate from inside closed meshes (random
 # and vertex-aimed rays), t error (max and mean relative) and hit/miss at
 # shared edges, at scales 1e-20, 1e-10, 1, 1e10, 1e20 and offsets 1, 1e3,
