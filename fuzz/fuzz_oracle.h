@@ -39,7 +39,9 @@
  * rays) or on a
  * triangle seen nearly edge-on or nearly degenerate (|det| below 1e-5 of
  * |e1||e2||dir|) or with a coordinate beyond 1e30.  Edge ties between prims are accepted because the
- * reported prim only has to be hit at the reported t. */
+ * reported prim only has to be hit at the reported t.  Rays with a
+ * subnormal direction component are checked by the lenient rules for every
+ * engine (fuzz_oracle.c: the optimized engine traces them scaled). */
 #ifndef RTT_FUZZ_ORACLE_H
 #define RTT_FUZZ_ORACLE_H
 
