@@ -26,7 +26,9 @@
  * Strict engines (the reference) must match the watertight test: any other
  * hit is wrong, and no hit may be dropped unless it lies exactly on an edge
  * or vertex (barycentric within 1e-6 of 0: there the float test and the
- * exact answer can differ, e.g. a ray leaving a split plane by 1e-56).  The
+ * exact answer can differ, e.g. a ray leaving a split plane by 1e-56) or on
+ * a triangle seen edge-on or degenerate (the lenient rule's |det| bound
+ * below: such a triangle is all edge).  The
  * reference's watertightness at shared edges is checked by the conformance
  * suite's closed-mesh rays, where some neighbour must be hit.  Lenient engines (the
  * optimized kernels, which use a different, non-watertight triangle test —
