@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The triangle tests' trade (issue 13): for each triangle test (watertight,
+# The triangle tests' trade (watertight against projected): for each triangle test (watertight,
 # projected) x kernel (every kd and BVH kernel; Embree as the peer; the
 # reference), time per primary frame (one run, both tests for the kd
 # kernels, the BVH's default test) and, against a double-precision brute force

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Escapes from closed meshes, 100,000 rays per kind (issue 13's target):
+# Escapes from closed meshes, 100,000 rays per kind (the target: none escapes through a watertight path):
 # for every closed mesh in DIR (default ${RTT_DATA_DIR:-~/.cache/rtt-data}/meshes,
 # bench/fetch-scenes.sh fetches them), rays of two kinds written by
 # `rtt rays` (inside: from a point inside, aimed exactly at every vertex and
