@@ -97,18 +97,12 @@ bool rtt_schema_read_uint(rtt_schema_parser *p, const cJSON *v, const rtt_json_p
     return true;
 }
 
+/* rtt_schema_read_point's checks, rounded to float */
 bool rtt_schema_read_vec3(rtt_schema_parser *p, const cJSON *v, const rtt_json_place *at, rtt_vec3 *out)
 {
-    float xyz[3];
-    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3)
-        return rtt_schema_fail(p, at, " must be an array of 3 finite numbers");
-    int i = 0;
-    for (const cJSON *c = v->child; c; c = c->next, i++) {
-        if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble) || !isfinite((float)c->valuedouble))
-            return rtt_schema_fail(p, at, " must be an array of 3 finite numbers");
-        xyz[i] = (float)c->valuedouble;
-    }
-    *out = rtt_v3(xyz[0], xyz[1], xyz[2]);
+    double xyz[3];
+    if (!rtt_schema_read_point(p, v, at, xyz)) return false;
+    *out = rtt_v3((float)xyz[0], (float)xyz[1], (float)xyz[2]);
     return true;
 }
 
