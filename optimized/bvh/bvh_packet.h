@@ -23,31 +23,44 @@ typedef struct bvh_hits {
     vi prim;
 } bvh_hits;
 
-/* Loads rays[0 .. count-1] (count <= BVH_W); returns the live lanes. */
+/* Loads rays[0 .. count-1] (count <= BVH_W); returns the live lanes.  The
+ * rays are copied into lanes as they are, then checked and completed a
+ * packet at a time: a lane whose origin or direction is not finite or whose
+ * interval is NaN (ray_is_traceable's rule) is inactive, as is a lane past
+ * count; the reciprocals are one IEEE division per lane, as 1.0f / d. */
 static inline uint32_t bvh_packet_load(bvh_packet *p, const rtt_ray *rays, size_t count)
 {
-    float org[3][BVH_W], dir[3][BVH_W], inv[3][BVH_W], tnear[BVH_W], tfar[BVH_W];
-    uint32_t live = 0;
-    for (uint32_t l = 0; l < BVH_W; l++) {
-        const rtt_ray *r = l < count ? &rays[l] : NULL;
-        const int ok = r && ray_is_traceable(r);
-        for (int a = 0; a < 3; a++) {
-            org[a][l] = ok ? r->org[a] : 0.0f;
-            dir[a][l] = ok ? r->dir[a] : 1.0f;
-            inv[a][l] = 1.0f / dir[a][l];
+    _Static_assert(sizeof(rtt_ray) == 8 * sizeof(float), "a ray is eight floats: org, dir, tnear, tfar");
+    vf field[8];
+    if (count >= BVH_W) {
+        vf_load_records8(&rays[0].org[0], field);
+    } else {
+        float v[8][BVH_W];
+        for (uint32_t l = 0; l < BVH_W; l++) {
+            const float *r = l < count ? &rays[l].org[0] : NULL;
+            for (int a = 0; a < 8; a++) v[a][l] = r ? r[a] : 0.0f;
         }
-        tnear[l] = ok ? r->tnear : INFINITY;
-        tfar[l] = ok ? r->tfar : -INFINITY;
-        if (ok && r->tnear <= r->tfar) live |= 1u << l;
+        for (int a = 0; a < 8; a++) field[a] = vf_load(v[a]);
     }
+    const vf zero = vf_set1(0.0f);
+    vm ok = vm_of_bits(count >= BVH_W ? BVH_LANES_ALL : (uint32_t)((1u << count) - 1u));
     for (int a = 0; a < 3; a++) {
-        p->org[a] = vf_load(org[a]);
-        p->dir[a] = vf_load(dir[a]);
-        p->inv_dir[a] = vf_load(inv[a]);
+        p->org[a] = field[a];
+        p->dir[a] = field[3 + a];
+        /* finite: x - x is 0 (inf - inf and NaN are NaN) */
+        ok = vm_and(ok, vm_and(vf_eq(vf_sub(p->org[a], p->org[a]), zero), vf_eq(vf_sub(p->dir[a], p->dir[a]), zero)));
     }
-    p->tnear = vf_load(tnear);
-    p->tfar = vf_load(tfar);
-    return live;
+    const vf tnear = field[6], tfar = field[7];
+    ok = vm_and(ok, vm_and(vf_eq(tnear, tnear), vf_eq(tfar, tfar)));
+    const vf one = vf_set1(1.0f);
+    for (int a = 0; a < 3; a++) {
+        p->org[a] = vf_blend(ok, zero, p->org[a]);
+        p->dir[a] = vf_blend(ok, one, p->dir[a]);
+        p->inv_dir[a] = vf_div(one, p->dir[a]);
+    }
+    p->tnear = vf_blend(ok, vf_set1(INFINITY), tnear);
+    p->tfar = vf_blend(ok, vf_set1(-INFINITY), tfar);
+    return vm_bits(vm_and(ok, vf_le(tnear, tfar)));
 }
 
 static inline void bvh_hits_clear(bvh_hits *h)

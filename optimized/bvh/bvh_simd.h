@@ -5,7 +5,10 @@
  * is off, so a lane computes the same bits whatever the width.
  *
  * min/max follow the x86 rule: when either operand is NaN the SECOND is
- * returned, so an accumulator passed second is never replaced by a NaN. */
+ * returned, so an accumulator passed second is never replaced by a NaN.
+ * vf_load_records8: BVH_W records of eight floats, one word per field.
+ * vf_hmin/vf_hmax: the smallest/largest lane (for NaN-free words; the
+ * callers put +-inf in the lanes that must not count). */
 #ifndef RTT_BVH_SIMD_H
 #define RTT_BVH_SIMD_H
 
@@ -43,6 +46,27 @@ static inline vi vi_load(const uint32_t *p) { return _mm512_loadu_si512(p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm512_storeu_si512(p, a); }
 static inline vi vi_blend(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, a, b); }
 static inline vm vi_lt_u(vi a, vi b) { return _mm512_cmplt_epu32_mask(a, b); }
+static inline float vf_hmin(vf a) { return _mm512_reduce_min_ps(a); }
+/* out[a] lane l = p[8 l + a]: BVH_W consecutive records of eight floats, a
+ * field per word.  Rays l and l + 8 share a zmm, an 8x8 transpose per half. */
+static inline void vf_load_records8(const float *p, vf out[8])
+{
+    __m512 r[8], t[8], u[8];
+    for (int i = 0; i < 8; i++)
+        r[i] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(p + 8 * i)), _mm256_loadu_ps(p + 64 + 8 * i), 1);
+    for (int i = 0; i < 8; i += 2) t[i] = _mm512_unpacklo_ps(r[i], r[i + 1]), t[i + 1] = _mm512_unpackhi_ps(r[i], r[i + 1]);
+    for (int i = 0; i < 8; i += 4) {
+        u[i] = _mm512_shuffle_ps(t[i], t[i + 2], 0x44), u[i + 1] = _mm512_shuffle_ps(t[i], t[i + 2], 0xEE);
+        u[i + 2] = _mm512_shuffle_ps(t[i + 1], t[i + 3], 0x44), u[i + 3] = _mm512_shuffle_ps(t[i + 1], t[i + 3], 0xEE);
+    }
+    const __m512i lo = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+    const __m512i hi = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+    for (int i = 0; i < 4; i++) {
+        out[i] = _mm512_permutex2var_ps(u[i], lo, u[i + 4]);
+        out[i + 4] = _mm512_permutex2var_ps(u[i], hi, u[i + 4]);
+    }
+}
+static inline float vf_hmax(vf a) { return _mm512_reduce_max_ps(a); }
 #elif defined(__AVX2__)
 #define BVH_W 8u
 typedef __m256 vf;
@@ -85,6 +109,32 @@ static inline vm vi_lt_u(vi a, vi b)
     const __m256i lt = _mm256_andnot_si256(_mm256_cmpeq_epi32(a, b), _mm256_cmpeq_epi32(_mm256_min_epu32(a, b), a));
     return _mm256_castsi256_ps(lt);
 }
+static inline void vf_load_records8(const float *p, vf out[8])
+{
+    __m256 r[8], t[8], u[8];
+    for (int i = 0; i < 8; i++) r[i] = _mm256_loadu_ps(p + 8 * i);
+    for (int i = 0; i < 8; i += 2) t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]), t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+    for (int i = 0; i < 8; i += 4) {
+        u[i] = _mm256_shuffle_ps(t[i], t[i + 2], 0x44), u[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], 0xEE);
+        u[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0x44), u[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], 0xEE);
+    }
+    for (int i = 0; i < 4; i++) {
+        out[i] = _mm256_permute2f128_ps(u[i], u[i + 4], 0x20);
+        out[i + 4] = _mm256_permute2f128_ps(u[i], u[i + 4], 0x31);
+    }
+}
+static inline float vf_hmin(vf a)
+{
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+static inline float vf_hmax(vf a)
+{
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
 #else
 #define BVH_W 4u
 typedef __m128 vf;
@@ -125,6 +175,25 @@ static inline vi vi_blend(vm m, vi a, vi b)
 static inline vm vi_lt_u(vi a, vi b)
 {
     return _mm_castsi128_ps(_mm_andnot_si128(_mm_cmpeq_epi32(a, b), _mm_cmpeq_epi32(_mm_min_epu32(a, b), a)));
+}
+static inline void vf_load_records8(const float *p, vf out[8])
+{
+    for (int h = 0; h < 2; h++) {
+        __m128 r0 = _mm_loadu_ps(p + 4 * h), r1 = _mm_loadu_ps(p + 8 + 4 * h);
+        __m128 r2 = _mm_loadu_ps(p + 16 + 4 * h), r3 = _mm_loadu_ps(p + 24 + 4 * h);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        out[4 * h] = r0, out[4 * h + 1] = r1, out[4 * h + 2] = r2, out[4 * h + 3] = r3;
+    }
+}
+static inline float vf_hmin(vf a)
+{
+    const __m128 m = _mm_min_ps(a, _mm_movehl_ps(a, a));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+static inline float vf_hmax(vf a)
+{
+    const __m128 m = _mm_max_ps(a, _mm_movehl_ps(a, a));
+    return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
 #endif
 

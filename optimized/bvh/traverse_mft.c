@@ -75,18 +75,13 @@ static inline uint32_t frusta_triangle_box(const bvh_corners *tri, const mft_bou
 
 static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
 {
-    float far = -INFINITY;
+    const vf minus_inf = vf_set1(-INFINITY);
+    vf far = minus_inf;
     for (uint32_t v = 0; v < MFT_VECS; v++) {
-        float tfar[BVH_W], t[BVH_W];
-        vf_store(tfar, g->rays[f][v].tfar);
-        vf_store(t, closest ? g->hits[f][v].t : vf_set1(INFINITY));
-        for (uint32_t l = 0; l < BVH_W; l++)
-            if (g->live[f][v] >> l & 1u) {
-                const float d = t[l] < tfar[l] ? t[l] : tfar[l];
-                far = d > far ? d : far;
-            }
+        const vf d = closest ? vf_min(g->hits[f][v].t, g->rays[f][v].tfar) : g->rays[f][v].tfar;
+        far = vf_max(vf_blend(vm_of_bits(g->live[f][v]), minus_inf, d), far);
     }
-    return far;
+    return vf_hmax(far);
 }
 
 static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bool closest, bvh_counters *counters)
@@ -139,31 +134,36 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
 }
 
 /* Loads frustum f of the group from rays[0 .. count-1]; true when its live
- * rays share one origin (a frustum), false when they need the packet walk. */
+ * rays share one origin (a frustum), false when they need the packet walk.
+ * Per packet: the first live ray's origin against every live lane's, and
+ * the live lanes' smallest and largest direction components and tnear. */
 static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t count, float org[3][MFT_FRUSTA],
                          float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear)
 {
     bool common = true, any = false;
+    const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     for (uint32_t v = 0; v < MFT_VECS; v++) {
         const size_t first = (size_t)v * BVH_W, n = count > first ? (count - first < BVH_W ? count - first : BVH_W) : 0;
-        g->live[f][v] = n ? bvh_packet_load(&g->rays[f][v], rays + first, n) : 0;
+        const uint32_t live = g->live[f][v] = n ? bvh_packet_load(&g->rays[f][v], rays + first, n) : 0;
         g->occ[f][v] = 0;
         bvh_hits_clear(&g->hits[f][v]);
-        for (uint32_t l = 0; l < BVH_W; l++) {
-            if (!(g->live[f][v] >> l & 1u)) continue;
-            const rtt_ray *r = &rays[first + l];
-            if (!any) {
-                for (int k = 0; k < 3; k++) org[k][f] = r->org[k], dlo[k][f] = dhi[k][f] = r->dir[k];
-                *tnear = r->tnear;
-                any = true;
-            }
-            for (int k = 0; k < 3; k++) {
-                common &= r->org[k] == org[k][f];
-                dlo[k][f] = r->dir[k] < dlo[k][f] ? r->dir[k] : dlo[k][f];
-                dhi[k][f] = r->dir[k] > dhi[k][f] ? r->dir[k] : dhi[k][f];
-            }
-            *tnear = r->tnear < *tnear ? r->tnear : *tnear;
+        if (!live) continue;
+        const bvh_packet *p = &g->rays[f][v];
+        const vm m = vm_of_bits(live);
+        if (!any) {
+            const rtt_ray *r = &rays[first + (uint32_t)__builtin_ctz(live)];
+            for (int k = 0; k < 3; k++) org[k][f] = r->org[k], dlo[k][f] = dhi[k][f] = r->dir[k];
+            *tnear = r->tnear;
+            any = true;
         }
+        for (int k = 0; k < 3; k++) {
+            common &= (vm_bits(vf_eq(p->org[k], vf_set1(org[k][f]))) & live) == live;
+            const float lo = vf_hmin(vf_blend(m, inf, p->dir[k])), hi = vf_hmax(vf_blend(m, minus_inf, p->dir[k]));
+            dlo[k][f] = lo < dlo[k][f] ? lo : dlo[k][f];
+            dhi[k][f] = hi > dhi[k][f] ? hi : dhi[k][f];
+        }
+        const float t = vf_hmin(vf_blend(m, inf, p->tnear));
+        *tnear = t < *tnear ? t : *tnear;
     }
     if (!any)
         for (int k = 0; k < 3; k++) org[k][f] = 0.0f, dlo[k][f] = dhi[k][f] = 1.0f;
