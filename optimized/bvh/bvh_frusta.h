@@ -131,6 +131,18 @@ typedef struct mft_entry {
     uint32_t frusta;
 } mft_entry;
 
+/* What child c refers to, asked for while its box is tested: its node, or
+ * its leaf's corners (the frusta's first read there). */
+static inline void mft_prefetch(const bvh_tree *tree, const bvh_child *c)
+{
+    if (c->count == 0) {
+        __builtin_prefetch(&tree->nodes[c->index]);
+    } else {
+        __builtin_prefetch(&tree->corners[c->index]);
+        __builtin_prefetch(&tree->corners[c->index + c->count - 1u]);
+    }
+}
+
 /* From child c with the frusta *lanes that enter it, down to a leaf: per
  * node both children against every frustum in one pass, the child more
  * frusta enter first first, the other pushed with its frusta.  Returns the
@@ -142,6 +154,7 @@ static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child
     uint32_t live = *lanes;
     while (live && c->count == 0) {
         const bvh_node *node = &tree->nodes[c->index];
+        for (int k = 0; k < 2; k++) mft_prefetch(tree, &node->child[k]);
         vf e0, e1;
         const vm active = vm_of_bits(live);
         const uint32_t l0 = vm_bits(frusta_box(&node->child[0], b, dist, active, &e0));
