@@ -27,12 +27,16 @@
  *    BVH_W, only the samples not yet occluded.
  *  - Occlusion bits are packed in a mask per point (N <= 32); a frustum is
  *    terminated as soon as all its rays are occluded.
+ *  - Frustum shrinking (the paper's 5.3, "CR"): after a leaf in which some
+ *    of a frustum's samples were newly occluded, its corner rays are
+ *    recomputed through the corners of the 2D bounds of its samples still
+ *    unoccluded, so later triangles are culled against the rays it has
+ *    left (the direction box that steers the traversal is kept).
  *
  * A sample ray is computed with the scalar renderers' operations in their
  * order (shader_proxy.c's shadow_segment: target, difference, length with
  * rtt_v3_length's double fallback, direction by one reciprocal), so its
- * visibility is bit for bit the one bvh-packet gives that ray.  No
- * frustum shrinking (the paper's 5.3: at most 10%). */
+ * visibility is bit for bit the one bvh-packet gives that ray. */
 #include <math.h>
 #include <string.h>
 
@@ -46,6 +50,7 @@
 typedef struct sf_group {
     mft_bounds b;
     vf corner[4][3];                /* per frustum: the vectors to the 2D bounds' corners */
+    float corner_at[4][3][SF_FRUSTA]; /* the same, lane by lane (shrinking rewrites a lane) */
     vf corner_grow;                 /* how far off they may be per axis (rounding) */
     const bvh_shadow_point *point[SF_FRUSTA];
     uint32_t occ[SF_FRUSTA];        /* occluded samples */
@@ -115,6 +120,50 @@ static bool frustum_rays(const bvh_tree *tree, uint32_t rec, sf_group *g, uint32
     return (g->live[f] & ~g->occ[f]) == 0;
 }
 
+/* The vectors from the point to the light's points at the corners of the
+ * 2D rectangle [lo, hi] of its domain (corner c: x from hi when c & 1, y
+ * when c & 2), in the arithmetic of the sample targets. */
+static void corner_vectors(const bvh_shadow_point *pt, const float lo[2], const float hi[2], float corner[4][3])
+{
+    for (int c = 0; c < 4; c++) {
+        const float x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
+        for (int k = 0; k < 3; k++) corner[c][k] = ((pt->base[k] + pt->du[k] * x) + pt->dv[k] * y) - pt->org[k];
+    }
+}
+
+/* Frustum shrinking by recomputing the corner rays (Benthin & Wald 2009,
+ * 5.3, "CR"): for each frustum of `frusta`, the 2D bounds of its samples
+ * still unoccluded and the vectors to that rectangle's corners.  Every
+ * such sample's target lies in the rectangle, so the new cone still holds
+ * every ray the frustum has left to test, and the culling stays exact; the
+ * rounding margin (corner_grow) is the full set's, which bounds the
+ * smaller rectangle's too.  The direction box the traversal uses is kept
+ * (the paper's FS, shrinking it as well, did not pay). */
+static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets)
+{
+    const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
+    const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W;
+    for (uint32_t bits = frusta; bits; bits &= bits - 1u) {
+        const uint32_t f = (uint32_t)__builtin_ctz(bits);
+        const bvh_shadow_point *pt = g->point[f];
+        const uint32_t active = g->live[f] & ~g->occ[f];
+        vf xlo = inf, xhi = minus_inf, ylo = inf, yhi = minus_inf;
+        for (uint32_t v = 0; v < vecs; v++) {
+            const vm m = vm_of_bits(active >> (v * BVH_W) & BVH_LANES_ALL);
+            const vf x = vf_load(&sets->x[pt->set][v * BVH_W]), y = vf_load(&sets->y[pt->set][v * BVH_W]);
+            xlo = vf_min(vf_blend(m, inf, x), xlo), xhi = vf_max(vf_blend(m, minus_inf, x), xhi);
+            ylo = vf_min(vf_blend(m, inf, y), ylo), yhi = vf_max(vf_blend(m, minus_inf, y), yhi);
+        }
+        const float lo[2] = {vf_hmin(xlo), vf_hmin(ylo)}, hi[2] = {vf_hmax(xhi), vf_hmax(yhi)};
+        float corner[4][3];
+        corner_vectors(pt, lo, hi, corner);
+        for (int c = 0; c < 4; c++)
+            for (int k = 0; k < 3; k++) g->corner_at[c][k][f] = corner[c][k];
+    }
+    for (int c = 0; c < 4; c++)
+        for (int k = 0; k < 3; k++) g->corner[c][k] = vf_load(g->corner_at[c][k]);
+}
+
 static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets, float eps,
                         bvh_counters *counters)
 {
@@ -126,6 +175,7 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
     const bvh_child *c;
     uint32_t lanes;
     while (alive && (c = mft_next_leaf(tree, &g->b, dist, alive, stack, &top, &aabb, &lanes))) {
+        uint32_t newly = 0; /* frusta with a sample newly occluded in this leaf */
         for (uint32_t i = 0; lanes && i < c->count; i++) {
             const uint32_t rec = c->index + i;
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
@@ -135,10 +185,14 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
                 if (counters) counters->isect_tests++;
+                const uint32_t before = g->occ[f];
                 if (frustum_rays(tree, rec, g, f, sets, eps))
                     alive &= ~(1u << f), lanes &= ~(1u << f); /* the frustum terminates */
+                else if (g->occ[f] != before)
+                    newly |= 1u << f;
             }
         }
+        if ((newly &= alive)) shrink_corners(g, newly, sets);
     }
     if (counters) counters->aabb_tests += aabb;
 }
@@ -156,11 +210,10 @@ static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *se
         const float m = fabsf(pt->base[k]) + fabsf(pt->du[k]) + fabsf(pt->dv[k]) + fabsf(pt->org[k]);
         size = m > size ? m : size;
     }
+    corner_vectors(pt, lo, hi, corner);
     for (int c = 0; c < 4; c++) {
-        const float x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
         for (int k = 0; k < 3; k++) {
-            const float d = ((pt->base[k] + pt->du[k] * x) + pt->dv[k] * y) - pt->org[k];
-            corner[c][k] = d;
+            const float d = corner[c][k];
             dlo[k] = d < dlo[k] ? d : dlo[k];
             dhi[k] = d > dhi[k] ? d : dhi[k];
             size = fabsf(d) > size ? fabsf(d) : size;
@@ -177,7 +230,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
     for (size_t first = 0; first < q->count; first += SF_FRUSTA) {
         const uint32_t n = q->count - first < SF_FRUSTA ? (uint32_t)(q->count - first) : SF_FRUSTA;
         float org[3][SF_FRUSTA], dlo[3][SF_FRUSTA], dhi[3][SF_FRUSTA], rlo[3][SF_FRUSTA], rhi[3][SF_FRUSTA];
-        float corner[4][3][SF_FRUSTA], grow[SF_FRUSTA];
+        float grow[SF_FRUSTA];
         sf_group g;
         g.known = 0;
         for (uint32_t f = 0; f < SF_FRUSTA; f++) {
@@ -188,7 +241,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
             grow[f] = 0.0f;
             if (f < n) frustum_bounds(g.point[f], sets, o, lo, hi, c4, &grow[f]);
             for (int c = 0; c < 4; c++)
-                for (int k = 0; k < 3; k++) corner[c][k][f] = c4[c][k];
+                for (int k = 0; k < 3; k++) g.corner_at[c][k][f] = c4[c][k];
             for (int k = 0; k < 3; k++) {
                 org[k][f] = o[k], dlo[k][f] = lo[k], dhi[k][f] = hi[k];
                 rlo[k][f] = 1.0f / lo[k], rhi[k][f] = 1.0f / hi[k];
@@ -200,7 +253,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
             g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
         }
         for (int c = 0; c < 4; c++)
-            for (int k = 0; k < 3; k++) g.corner[c][k] = vf_load(corner[c][k]);
+            for (int k = 0; k < 3; k++) g.corner[c][k] = vf_load(g.corner_at[c][k]);
         g.corner_grow = vf_load(grow);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
