@@ -133,6 +133,114 @@ static void range_bounds(const builder *b, uint32_t begin, uint32_t end, node_bo
     }
 }
 
+/* A node's bins: per axis and bin the box of the triangles whose centroid
+ * falls there; per bin the three axes' counts in lanes 0..2 (so the sweep
+ * reads them as one vector). */
+typedef struct bin_set {
+    box4 box[3][BVH_BINS];
+    _Alignas(16) uint32_t count[BVH_BINS][4];
+} bin_set;
+
+static void bin_set_empty(bin_set *s, uint32_t bins_used)
+{
+    for (uint32_t j = 0; j < bins_used; j++) {
+        for (int k = 0; k < 3; k++) box4_empty(&s->box[k][j]);
+        _mm_store_si128((__m128i *)s->count[j], _mm_setzero_si128());
+    }
+}
+
+static inline void bin_set_add(bin_set *s, const prim_ref *r, __m128 lo4, __m128 scale4, __m128 bin_max)
+{
+    _Alignas(16) int32_t j[4];
+    _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
+    for (int k = 0; k < 3; k++) {
+        s->count[j[k]][k]++;
+        box4_grow(&s->box[k][j[k]], r->lo, r->hi);
+    }
+}
+
+/* Bins [begin, end) on all three axes in one pass.  A large node's
+ * triangles alternate between two bin sets, merged at the end: neighbours
+ * in a mesh tend to share a bin, and one set would chain each update on the
+ * store before it. */
+static void bins_bin(const builder *b, uint32_t begin, uint32_t end, uint32_t bins_used, __m128 lo4, __m128 scale4,
+                     __m128 bin_max, bin_set *out)
+{
+    bin_set_empty(out, bins_used);
+    if (end - begin < 4u * bins_used) {
+        for (uint32_t i = begin; i < end; i++) bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+        return;
+    }
+    bin_set other;
+    bin_set_empty(&other, bins_used);
+    uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+        bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+        bin_set_add(&other, &b->refs[i + 1], lo4, scale4, bin_max);
+    }
+    if (i < end) bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+    for (uint32_t j = 0; j < bins_used; j++) {
+        for (int k = 0; k < 3; k++) box4_grow(&out->box[k][j], other.box[k][j].lo, other.box[k][j].hi);
+        const __m128i c = _mm_add_epi32(_mm_load_si128((const __m128i *)out->count[j]),
+                                        _mm_load_si128((const __m128i *)other.count[j]));
+        _mm_store_si128((__m128i *)out->count[j], c);
+    }
+}
+
+/* Half the areas (scaled by `unit`) of three boxes, in lanes 0..2: the
+ * extents transposed so that each lane computes box4_half_area's sum in its
+ * order (xy + yz + zx), bit for bit. */
+static inline __m128 half_areas3(const __m128 lo[3], const __m128 hi[3], __m128 unit)
+{
+    const __m128 zero = _mm_setzero_ps();
+    __m128 d0 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[0], lo[0]), zero), unit);
+    __m128 d1 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[1], lo[1]), zero), unit);
+    __m128 d2 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[2], lo[2]), zero), unit);
+    __m128 d3 = zero;
+    _MM_TRANSPOSE4_PS(d0, d1, d2, d3); /* d0: the x extents of the three boxes, d1 y, d2 z */
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, d1), _mm_mul_ps(d1, d2)), _mm_mul_ps(d2, d0));
+}
+
+/* The sweep over the bins, all three axes in SSE lanes: right to left the
+ * area-weighted counts, then left to right each plane's cost; the cheapest
+ * plane of the axes with a scale (ties: the lower axis, then the lower bin). */
+static void bins_sweep(const bin_set *s, uint32_t bins_used, uint32_t n, const float scale[4], __m128 unit,
+                       float *best_cost, int *best_axis, uint32_t *best_bin)
+{
+    _Alignas(16) float right_cost[BVH_BINS][4];
+    __m128 lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = _mm_set1_ps(INFINITY), hi[k] = _mm_set1_ps(-INFINITY);
+    __m128i count = _mm_setzero_si128();
+    for (uint32_t j = bins_used - 1; j > 0; j--) {
+        for (int k = 0; k < 3; k++) lo[k] = _mm_min_ps(lo[k], s->box[k][j].lo), hi[k] = _mm_max_ps(hi[k], s->box[k][j].hi);
+        count = _mm_add_epi32(count, _mm_load_si128((const __m128i *)s->count[j]));
+        _mm_store_ps(right_cost[j], _mm_mul_ps(_mm_cvtepi32_ps(count), half_areas3(lo, hi, unit)));
+    }
+    for (int k = 0; k < 3; k++) lo[k] = _mm_set1_ps(INFINITY), hi[k] = _mm_set1_ps(-INFINITY);
+    count = _mm_setzero_si128();
+    const __m128i all = _mm_set1_epi32((int)n), none = _mm_setzero_si128();
+    /* lanes of axes without a scale, and lane 3, never offer a plane */
+    const __m128i usable = _mm_castps_si128(_mm_cmpgt_ps(_mm_load_ps(scale), _mm_setzero_ps()));
+    __m128 best = _mm_set1_ps(INFINITY);
+    __m128i best_j = _mm_setzero_si128();
+    for (uint32_t j = 0; j + 1 < bins_used; j++) {
+        for (int k = 0; k < 3; k++) lo[k] = _mm_min_ps(lo[k], s->box[k][j].lo), hi[k] = _mm_max_ps(hi[k], s->box[k][j].hi);
+        count = _mm_add_epi32(count, _mm_load_si128((const __m128i *)s->count[j]));
+        const __m128 cost = _mm_add_ps(_mm_mul_ps(_mm_cvtepi32_ps(count), half_areas3(lo, hi, unit)),
+                                       _mm_load_ps(right_cost[j + 1]));
+        const __m128i split = _mm_andnot_si128(_mm_or_si128(_mm_cmpeq_epi32(count, none), _mm_cmpeq_epi32(count, all)),
+                                               usable);
+        const __m128 better = _mm_and_ps(_mm_cmplt_ps(cost, best), _mm_castsi128_ps(split));
+        best = _mm_blendv_ps(best, cost, better);
+        best_j = _mm_blendv_epi8(best_j, _mm_set1_epi32((int)j), _mm_castps_si128(better));
+    }
+    _Alignas(16) float costs[4];
+    _Alignas(16) int32_t js[4];
+    _mm_store_ps(costs, best), _mm_store_si128((__m128i *)js, best_j);
+    for (int k = 0; k < 3; k++)
+        if (costs[k] < *best_cost) *best_cost = costs[k], *best_axis = k, *best_bin = (uint32_t)js[k];
+}
+
 /* Partitions [begin, end) (bounds `nb`) by the node's choice and says where
  * it split; the children's bounds into `child`, gathered by the partition. */
 static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth,
@@ -166,41 +274,9 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     int best_axis = -1;
     uint32_t best_bin = 0;
     if (any_axis) {
-        uint32_t counts[3][BVH_BINS] = {{0}};
-        box4 bins[3][BVH_BINS];
-        for (int k = 0; k < 3; k++)
-            for (uint32_t j = 0; j < bins_used; j++) box4_empty(&bins[k][j]);
-        for (uint32_t i = begin; i < end; i++) {
-            const prim_ref *r = &b->refs[i];
-            _Alignas(16) int32_t j[4];
-            _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
-            for (int k = 0; k < 3; k++) {
-                counts[k][j[k]]++;
-                box4_grow(&bins[k][j[k]], r->lo, r->hi);
-            }
-        }
-        for (int k = 0; k < 3; k++) {
-            if (scale[k] == 0.0f) continue;
-            /* right-to-left sweep of the area-weighted counts, then left to right */
-            float right_cost[BVH_BINS];
-            box4 acc;
-            box4_empty(&acc);
-            uint32_t count = 0;
-            for (uint32_t j = bins_used - 1; j > 0; j--) {
-                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
-                count += counts[k][j];
-                right_cost[j] = (float)count * box4_half_area(&acc, unit);
-            }
-            box4_empty(&acc);
-            count = 0;
-            for (uint32_t j = 0; j + 1 < bins_used; j++) {
-                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
-                count += counts[k][j];
-                if (count == 0 || count == n) continue;
-                const float cost = (float)count * box4_half_area(&acc, unit) + right_cost[j + 1];
-                if (cost < best_cost) best_cost = cost, best_axis = k, best_bin = j;
-            }
-        }
+        bin_set bins;
+        bins_bin(b, begin, end, bins_used, lo4, scale4, bin_max, &bins);
+        bins_sweep(&bins, bins_used, n, scale, unit, &best_cost, &best_axis, &best_bin);
     }
     const float area = box4_half_area(&box, unit);
     /* C_trav + (N_L SA_L + N_R SA_R) / SA against the leaf's N (in units of C_isect) */
