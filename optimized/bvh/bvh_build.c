@@ -44,6 +44,10 @@
 /* Nodes smaller than this are not worth a task of their own. */
 #define BVH_TASK_MIN_TRIANGLES 4096u
 
+/* The larger of two floats that are not NaN (boxes of finite triangles),
+ * without fmaxf's call. */
+static inline float max_f(float a, float b) { return a > b ? a : b; }
+
 typedef struct box3 {
     float lo[3], hi[3];
 } box3;
@@ -115,6 +119,20 @@ static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
     __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo), scale);
     f = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), bin_max);
     return _mm_cvttps_epi32(f);
+}
+
+/* Bins for a node of n triangles: as many as BVH_BINS_BASE + n / BVH_BINS_PER,
+ * at most BVH_BINS (the sweep's fixed cost would dominate small nodes). */
+#ifndef BVH_BINS_BASE
+#define BVH_BINS_BASE 4u
+#endif
+#ifndef BVH_BINS_PER
+#define BVH_BINS_PER 20u
+#endif
+static inline uint32_t bins_for(uint32_t n)
+{
+    const uint32_t bins = BVH_BINS_BASE + n / BVH_BINS_PER;
+    return bins < BVH_BINS ? bins : BVH_BINS;
 }
 
 /* A range's box and the box of its centroids. */
@@ -241,6 +259,34 @@ static void bins_sweep(const bin_set *s, uint32_t bins_used, uint32_t n, const f
         if (costs[k] < *best_cost) *best_cost = costs[k], *best_axis = k, *best_bin = (uint32_t)js[k];
 }
 
+/* Grows a child's bounds by one reference. */
+static inline void grow_child(node_bounds *child, const prim_ref *r)
+{
+    const __m128 c = ref_centroid(r);
+    box4_grow(&child->box, r->lo, r->hi);
+    box4_grow(&child->cbox, c, c);
+}
+
+/* The chosen plane: references whose bin on `axis` is above `bin` go right. */
+typedef struct axis_split {
+    int axis;
+    float lo, scale, bin_max;
+    uint32_t bin;
+} axis_split;
+
+/* bins_of's arithmetic (ref_centroid's too) in one lane, so that a
+ * reference goes to the side its bin was counted on. */
+static inline bool goes_right(const axis_split *s, const prim_ref *r)
+{
+    float lo, hi;
+    memcpy(&lo, (const char *)&r->lo + sizeof(float) * (size_t)s->axis, sizeof lo);
+    memcpy(&hi, (const char *)&r->hi + sizeof(float) * (size_t)s->axis, sizeof hi);
+    const __m128 c = _mm_add_ss(_mm_mul_ss(_mm_set_ss(lo), _mm_set_ss(0.5f)), _mm_mul_ss(_mm_set_ss(hi), _mm_set_ss(0.5f)));
+    __m128 f = _mm_mul_ss(_mm_sub_ss(c, _mm_set_ss(s->lo)), _mm_set_ss(s->scale));
+    f = _mm_min_ss(_mm_max_ss(f, _mm_setzero_ps()), _mm_set_ss(s->bin_max));
+    return (uint32_t)_mm_cvttss_si32(f) > s->bin;
+}
+
 /* Partitions [begin, end) (bounds `nb`) by the node's choice and says where
  * it split; the children's bounds into `child`, gathered by the partition. */
 static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth,
@@ -254,7 +300,7 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     /* one pass bins all three axes; an axis whose centroids coincide (or
      * whose extent is not finite) gets scale 0 and offers no plane.  Small
      * nodes get fewer bins (the sweep's fixed cost would dominate them). */
-    const uint32_t bins_used = n <= 16 ? 8u : n <= 64 ? 16u : BVH_BINS;
+    const uint32_t bins_used = bins_for(n);
     _Alignas(16) float clo[4], chi[4], scale[4];
     _mm_store_ps(clo, cbox.lo), _mm_store_ps(chi, cbox.hi);
     bool any_axis = false;
@@ -268,7 +314,7 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     const __m128 lo4 = cbox.lo, scale4 = _mm_load_ps(scale), bin_max = _mm_set1_ps((float)(bins_used - 1));
     /* areas relative to the node's largest extent: the SAH compares ratios,
      * and relative extents (<= 1) neither overflow nor underflow in float */
-    float largest = fmaxf(bounds->hi[0] - bounds->lo[0], fmaxf(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
+    const float largest = max_f(bounds->hi[0] - bounds->lo[0], max_f(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
     const __m128 unit = _mm_set1_ps(largest > 0.0f && isfinite(largest) && isfinite(1.0f / largest) ? 1.0f / largest : 1.0f);
     float best_cost = INFINITY;
     int best_axis = -1;
@@ -289,22 +335,20 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
         range_bounds(b, begin, mid, &child[0]);
         range_bounds(b, mid, end, &child[1]);
     } else {
+        /* Hoare's partition on the bin of the chosen axis; each scan grows
+         * the bounds of the side it keeps */
         for (int c = 0; c < 2; c++) box4_empty(&child[c].box), box4_empty(&child[c].cbox);
+        const axis_split split = {best_axis, clo[best_axis], scale[best_axis], (float)(bins_used - 1), best_bin};
+        prim_ref *refs = b->refs;
         uint32_t i = begin, j = end;
-        while (i < j) {
-            const prim_ref r = b->refs[i];
-            const __m128 centre = ref_centroid(&r);
-            _Alignas(16) int32_t bin[4];
-            _mm_store_si128((__m128i *)bin, bins_of(centre, lo4, scale4, bin_max));
-            const int right = (uint32_t)bin[best_axis] > best_bin;
-            box4_grow(&child[right].box, r.lo, r.hi);
-            box4_grow(&child[right].cbox, centre, centre);
-            if (!right) {
-                i++;
-            } else {
-                b->refs[i] = b->refs[--j];
-                b->refs[j] = r;
-            }
+        for (;;) {
+            for (; i < j && !goes_right(&split, &refs[i]); i++) grow_child(&child[0], &refs[i]);
+            for (; i < j && goes_right(&split, &refs[j - 1]); j--) grow_child(&child[1], &refs[j - 1]);
+            if (i >= j) break;
+            const prim_ref right = refs[i];
+            refs[i] = refs[j - 1], refs[j - 1] = right;
+            grow_child(&child[0], &refs[i++]);
+            grow_child(&child[1], &refs[--j]);
         }
         mid = i;
     }
@@ -378,8 +422,8 @@ static void widen(bvh_child *c)
 {
     float scale = 0.0f, extent = 0.0f;
     for (int k = 0; k < 3; k++) {
-        scale = fmaxf(scale, fmaxf(fabsf(c->lo[k]), fabsf(c->hi[k])));
-        extent = fmaxf(extent, c->hi[k] - c->lo[k]);
+        scale = max_f(scale, max_f(fabsf(c->lo[k]), fabsf(c->hi[k])));
+        extent = max_f(extent, c->hi[k] - c->lo[k]);
     }
     const float margin = extent * 1e-4f + scale * 0x1p-21f + FLT_MIN;
     for (int k = 0; k < 3; k++) c->lo[k] -= margin, c->hi[k] += margin;
