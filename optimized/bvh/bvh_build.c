@@ -361,9 +361,17 @@ static void set_box(bvh_child *c, const box3 *bounds)
     memcpy(c->hi, bounds->hi, sizeof c->hi);
 }
 
-/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot *next on. */
+/* What a subtree's build counts: its next free slot, its leaves, its
+ * deepest leaf. */
+typedef struct subtree_count {
+    uint32_t next, leaves, depth;
+} subtree_count;
+
+/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot
+ * count->next on, in depth-first order (a node before its left subtree,
+ * that before its right one). */
 static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, const node_bounds *nb,
-                          bvh_child *out, uint32_t *next)
+                          bvh_child *out, subtree_count *count)
 {
     node_bounds child[2];
     split_choice s = choose_split(b, begin, end, depth, nb, child);
@@ -372,47 +380,76 @@ static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32
     if (s.leaf) {
         out->index = begin;
         out->count = end - begin;
+        count->leaves++;
+        if (depth > count->depth) count->depth = depth;
         return;
     }
-    const uint32_t slot = (*next)++;
+    const uint32_t slot = count->next++;
     out->index = slot;
     out->count = 0;
-    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], next);
-    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], next);
+    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], count);
+    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], count);
 }
 
-/* A subtree left for a task: its range and where its reference goes. */
+/* A subtree left for a task: its range, where its reference goes, and
+ * (after the build) its slots first .. counted.next. */
 typedef struct subtree_task {
     uint32_t begin, end, depth;
     bvh_child *out;
     node_bounds bounds;
+    uint32_t first;
+    subtree_count counted;
 } subtree_task;
 
 typedef struct task_context {
     const builder *b;
-    const subtree_task *tasks;
-    uint32_t slot_base;
+    subtree_task *tasks;
 } task_context;
 
 static void run_subtree_task(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
     const task_context *c = context;
-    const subtree_task *t = &c->tasks[task];
-    uint32_t next = c->slot_base + t->begin;
-    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &next);
+    subtree_task *t = &c->tasks[task];
+    t->counted = (subtree_count){.next = t->first, .depth = t->depth};
+    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &t->counted);
 }
 
-/* The final layout: depth first, children after their parent. */
-typedef struct compactor {
+/* The final layout: depth first, children after their parent.  A task's
+ * slots are in that order already, so its block moves as a whole. */
+typedef struct layout {
     const builder *b;
-    const kd_triangle *records;
-    const rtt_scene *scene;
-    bvh_tree *tree;
-    uint32_t next_node, next_record;
-    uint32_t depth, leaves, empty;
-    double sah;
-} compactor;
+    const subtree_task *tasks;
+    uint32_t task_count, top_slots;
+    bvh_node *nodes;
+    uint32_t next;
+} layout;
+
+/* Places what `ref` (already in its final place) references at nodes[next]
+ * on and points it there; leaves reference their records where they are. */
+static void place(layout *l, bvh_child *ref)
+{
+    if (ref->count > 0) return;
+    const uint32_t slot = ref->index, at = l->next;
+    if (slot < l->top_slots) { /* a node of the top: copied, its children placed after it */
+        l->nodes[l->next++] = l->b->slots[slot];
+        ref->index = at;
+        place(l, &l->nodes[at].child[0]);
+        place(l, &l->nodes[at].child[1]);
+        return;
+    }
+    const subtree_task *t = l->tasks;
+    while (t->first != slot) t++; /* the task whose root this is (a subtree's root takes its first slot) */
+    const uint32_t count = t->counted.next - t->first;
+    for (uint32_t i = 0; i < count; i++) {
+        bvh_node node = l->b->slots[t->first + i];
+        for (int c = 0; c < 2; c++)
+            if (node.child[c].count == 0) node.child[c].index = node.child[c].index - t->first + at;
+        l->nodes[at + i] = node;
+    }
+    ref->index = at;
+    l->next += count;
+}
 
 /* A stored box is the exact box grown by 1e-4 of its extent and four
  * ulps of its largest coordinate (and FLT_MIN): a flat box gets a thickness,
@@ -429,36 +466,41 @@ static void widen(bvh_child *c)
     for (int k = 0; k < 3; k++) c->lo[k] -= margin, c->hi[k] += margin;
 }
 
-static void compact(compactor *c, const bvh_child *src, bvh_child *dst, uint32_t depth, double root_area)
+/* The child's term of the tree's SAH cost (its area relative to the root's,
+ * times its records for a leaf), before widen grows its box. */
+static double sah_term(const bvh_child *c, double root_area)
 {
-    *dst = *src;
-    widen(dst);
     box3 box;
-    memcpy(box.lo, src->lo, sizeof box.lo);
-    memcpy(box.hi, src->hi, sizeof box.hi);
+    memcpy(box.lo, c->lo, sizeof box.lo);
+    memcpy(box.hi, c->hi, sizeof box.hi);
     const double weight = root_area > 0.0 ? box_half_area(&box) / root_area : 1.0;
-    if (src->count > 0) {
-        dst->index = c->next_record;
-        for (uint32_t i = 0; i < src->count; i++) {
-            const kd_triangle *rec = &c->records[ref_record(&c->b->refs[src->index + i])];
-            rtt_vec3 p[3];
-            rtt_scene_triangle(c->scene, rec->prim, p);
-            bvh_corners *corners = &c->tree->corners[c->next_record];
-            for (int v = 0; v < 3; v++)
-                corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
-            c->tree->triangles[c->next_record++] = *rec;
-        }
-        c->depth = depth > c->depth ? depth : c->depth;
-        c->leaves++;
-        c->sah += weight * (double)src->count;
-        return;
+    return c->count > 0 ? weight * (double)c->count : weight;
+}
+
+/* The leaf records in leaf order (the references' order after the build),
+ * a block of them per task. */
+typedef struct record_copy {
+    const rtt_scene *scene;
+    const kd_triangle *records;
+    const prim_ref *refs;
+    bvh_tree *tree;
+    uint32_t per_task;
+} record_copy;
+
+static void copy_records(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    const record_copy *c = context;
+    const uint32_t first = task * c->per_task, n = c->tree->triangle_count;
+    const uint32_t end = n - first < c->per_task ? n : first + c->per_task;
+    for (uint32_t i = first; i < end; i++) {
+        const kd_triangle *rec = &c->records[ref_record(&c->refs[i])];
+        rtt_vec3 p[3];
+        rtt_scene_triangle(c->scene, rec->prim, p);
+        bvh_corners *corners = &c->tree->corners[i];
+        for (int v = 0; v < 3; v++) corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
+        c->tree->triangles[i] = *rec;
     }
-    const uint32_t slot = c->next_node++;
-    dst->index = slot;
-    c->sah += weight;
-    const bvh_node *node = &c->b->slots[src->index];
-    compact(c, &node->child[0], &c->tree->nodes[slot].child[0], depth + 1, root_area);
-    compact(c, &node->child[1], &c->tree->nodes[slot].child[1], depth + 1, root_area);
 }
 
 void bvh_tree_free(bvh_tree *tree)
@@ -522,45 +564,55 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
         const uint32_t slot = next_top++;
         t.out->index = slot;
         t.out->count = 0;
-        tasks[largest] = (subtree_task){t.begin, s.mid, t.depth + 1, &slots[slot].child[0], child[0]};
-        tasks[task_count++] = (subtree_task){s.mid, t.end, t.depth + 1, &slots[slot].child[1], child[1]};
+        tasks[largest] = (subtree_task){.begin = t.begin, .end = s.mid, .depth = t.depth + 1, .out = &slots[slot].child[0], .bounds = child[0]};
+        tasks[task_count++] = (subtree_task){.begin = s.mid, .end = t.end, .depth = t.depth + 1, .out = &slots[slot].child[1], .bounds = child[1]};
     }
-    task_context context = {&b, tasks, top_slots};
+    for (uint32_t i = 0; i < task_count; i++) tasks[i].first = top_slots + tasks[i].begin;
+    task_context context = {&b, tasks};
     rtt_parallel_run(task_count, threads, run_subtree_task, &context);
 
-    /* count the inner nodes reached from the root, then lay them out */
+    /* the inner nodes reached from the root, laid out depth first */
+    uint32_t node_count = next_top, leaves = 0, depth = 0;
+    for (uint32_t i = 0; i < task_count; i++) {
+        node_count += tasks[i].counted.next - tasks[i].first;
+        leaves += tasks[i].counted.leaves;
+        depth = tasks[i].counted.depth > depth ? tasks[i].counted.depth : depth;
+    }
     tree->triangles = malloc((size_t)(n ? n : 1) * sizeof *tree->triangles);
     tree->corners = malloc((size_t)(n ? n : 1) * sizeof *tree->corners);
-    tree->nodes = aligned_alloc(64, (size_t)(n ? n : 1) * sizeof *tree->nodes); /* bvh_node is a cache line */
+    tree->nodes = aligned_alloc(64, (size_t)(node_count ? node_count : 1) * sizeof *tree->nodes); /* a cache line each */
     if (!tree->triangles || !tree->corners || !tree->nodes) goto out_of_memory;
-    compactor c = {.b = &b, .records = records, .tree = tree, .scene = scene};
+    tree->node_count = node_count;
+    tree->triangle_count = n;
+    double sah = 0.0;
     if (n > 0) {
+        layout l = {.b = &b, .tasks = tasks, .task_count = task_count, .top_slots = top_slots, .nodes = tree->nodes};
+        place(&l, &tree->root);
         box3 root_box;
         memcpy(root_box.lo, tree->root.lo, sizeof root_box.lo);
         memcpy(root_box.hi, tree->root.hi, sizeof root_box.hi);
-        bvh_child root = tree->root;
-        compact(&c, &root, &tree->root, 0, box_half_area(&root_box));
-    }
-    tree->node_count = c.next_node;
-    tree->triangle_count = c.next_record;
-    if (tree->node_count > 0) {
-        bvh_node *shrunk = aligned_alloc(64, (size_t)tree->node_count * sizeof *tree->nodes);
-        if (shrunk) {
-            memcpy(shrunk, tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
-            free(tree->nodes);
-            tree->nodes = shrunk;
-        }
+        const double root_area = box_half_area(&root_box);
+        sah = sah_term(&tree->root, root_area);
+        widen(&tree->root);
+        for (uint32_t i = 0; i < node_count; i++)
+            for (int c = 0; c < 2; c++) {
+                sah += sah_term(&tree->nodes[i].child[c], root_area);
+                widen(&tree->nodes[i].child[c]);
+            }
+        const uint32_t blocks = 4u * threads, per_task = (n + blocks - 1) / blocks;
+        record_copy copy = {scene, records, refs, tree, per_task};
+        rtt_parallel_run((n + per_task - 1) / per_task, threads, copy_records, &copy);
     }
     free(records), free(refs), free(slots), free(tasks);
 
     rtt_tree_info *info = &tree->info;
-    info->depth = c.depth;
+    info->depth = depth;
     info->max_depth = b.max_depth;
-    info->node_count = tree->node_count + c.leaves; /* inner nodes and leaves, as the kd-tree counts them */
-    info->leaf_count = c.leaves;
+    info->node_count = tree->node_count + leaves; /* inner nodes and leaves, as the kd-tree counts them */
+    info->leaf_count = leaves;
     info->references = tree->triangle_count;
     info->reference_cap = tree->triangle_count;
-    info->sah_cost = c.sah;
+    info->sah_cost = sah;
     info->memory_bytes = (uint64_t)tree->node_count * sizeof(bvh_node) +
                          (uint64_t)tree->triangle_count * (sizeof(kd_triangle) + sizeof(bvh_corners));
     info->build_seconds = rtt_clock_seconds() - start;
