@@ -3,8 +3,10 @@
  * the bins per axis), the structure Benthin & Wald 2009 trace with multiple
  * frusta.
  *
- * Per node: the triangles' box centroids are put into BVH_BINS bins along
- * each axis of the centroid bounds; a sweep over the bins' counts and boxes
+ * Per node: the triangles' box centroids are put into bins along each axis
+ * of the centroid bounds (min(BVH_BINS, 4 + n / 20) for n triangles, the
+ * count Embree's binner uses: the sweep's fixed cost would dominate small
+ * nodes); a sweep over the bins' counts and boxes
  * gives every plane's cost
  *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA   (C_trav = C_isect = 1),
  * and the cheapest plane splits the node unless a leaf, C_isect * N, is no
@@ -12,17 +14,22 @@
  * leaf_size triangles is always split (at the median of its order when
  * every centroid coincides); at options.max_depth a node is a leaf whatever
  * it holds.  Binning runs in SSE lanes, all three axes in one pass over the
- * node's boxes; surface areas are summed in double, so scenes at 1e20 do
- * not overflow them.
+ * node's boxes, and the sweep runs the three axes in SSE lanes; surface
+ * areas are in float relative to the node's largest extent, so scenes at
+ * 1e20 do not overflow them (the tree's reported SAH cost is in double).
  *
  * Threads (engine/threads.h): the top of the tree is split breadth-first on
  * the calling thread until there are BVH_TASKS_PER_THREAD subtrees per
  * thread; the subtrees are then built as independent tasks of
  * rtt_parallel_run.  Subtree i owns the node slots of its triangle range
  * (a subtree of n triangles has at most n - 1 inner nodes), so no slot is
- * shared and the build is the same for any thread count.  A last
- * depth-first pass copies the nodes into their final array (children after
- * their parent, the left subtree first) and the records into leaf order.
+ * shared and the build is the same for any thread count.  A subtree's
+ * slots are in depth-first order (a node, its left subtree, its right
+ * one), so the layout walks only the top nodes and moves each subtree's
+ * block whole into the final array, its node references shifted; one
+ * linear pass then widens the boxes and sums the SAH cost, and the records
+ * and corners are copied in leaf order (the references' final order) on
+ * the thread pool.
  *
  * What it trades: binning rather than a full sweep over sorted centroids
  * (Wald 2007: within a few percent of the full SAH at a fraction of the
@@ -103,7 +110,7 @@ static inline box3 box4_unpack(const box4 *b)
 
 typedef struct builder {
     prim_ref *refs;            /* partitioned node by node */
-    bvh_node *slots;           /* inner nodes before the compaction */
+    bvh_node *slots;           /* inner nodes before the layout */
     uint32_t leaf_size, max_depth;
 } builder;
 
@@ -123,12 +130,8 @@ static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
 
 /* Bins for a node of n triangles: as many as BVH_BINS_BASE + n / BVH_BINS_PER,
  * at most BVH_BINS (the sweep's fixed cost would dominate small nodes). */
-#ifndef BVH_BINS_BASE
 #define BVH_BINS_BASE 4u
-#endif
-#ifndef BVH_BINS_PER
 #define BVH_BINS_PER 20u
-#endif
 static inline uint32_t bins_for(uint32_t n)
 {
     const uint32_t bins = BVH_BINS_BASE + n / BVH_BINS_PER;
