@@ -4,9 +4,9 @@
  * frusta.
  *
  * Per node: the triangles' box centroids are put into bins along each axis
- * of the centroid bounds (min(BVH_BINS, 4 + n / 20) for n triangles, the
- * count Embree's binner uses: the sweep's fixed cost would dominate small
- * nodes); a sweep over the bins' counts and boxes
+ * of the centroid bounds (min(BVH_BINS, 8 + n / 8) for n triangles: the
+ * sweep's fixed cost would dominate small nodes; Embree's 4 + n / 20 is
+ * faster still but costs 0.7-0.9% SAH, bench/results/bvh-build.md); a sweep over the bins' counts and boxes
  * gives every plane's cost
  *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA   (C_trav = C_isect = 1),
  * and the cheapest plane splits the node unless a leaf, C_isect * N, is no
@@ -130,8 +130,8 @@ static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
 
 /* Bins for a node of n triangles: as many as BVH_BINS_BASE + n / BVH_BINS_PER,
  * at most BVH_BINS (the sweep's fixed cost would dominate small nodes). */
-#define BVH_BINS_BASE 4u
-#define BVH_BINS_PER 20u
+#define BVH_BINS_BASE 8u
+#define BVH_BINS_PER 8u
 static inline uint32_t bins_for(uint32_t n)
 {
     const uint32_t bins = BVH_BINS_BASE + n / BVH_BINS_PER;
