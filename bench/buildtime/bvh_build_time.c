@@ -58,6 +58,10 @@ static rtt_scene *wavy_sphere(uint32_t u, uint32_t v, rtt_error *err)
 {
     const double pi = 3.14159265358979323846;
     const size_t tris = 2u * (size_t)u * v;
+    if (tris > 100000000u) {
+        rtt_error_set(err, "--sphere %u %u: more than 1e8 triangles", u, v);
+        return NULL;
+    }
     float *xyz = malloc(tris * 9u * sizeof *xyz);
     if (!xyz) {
         rtt_error_set(err, "out of memory generating a %ux%u sphere", u, v);
