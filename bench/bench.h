@@ -17,8 +17,9 @@
  *            our occlusion kernels and rtcOccluded1/rtcOccluded16.
  *   render   full frames of the optimized renderer (rtt_optimized_render):
  *            every traversal, and every shadow method the renderer has.
- *   build    kd-tree and BVH build time and memory (one thread) against
- *            Embree's BVH build (high quality, one thread) per Embree variant.
+ *   build    kd-tree build (one thread) and BVH build (the frames' median
+ *            at each thread count) time and memory against Embree's BVH
+ *            build (high quality, one thread) per Embree variant.
  *   soft     soft shadows: each primary hit's 16 interleaved samples of the
  *            first light (which must have area): our frusta:16 kernel
  *            (rays made on demand), our bvh-packet and Embree's

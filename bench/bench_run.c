@@ -14,6 +14,7 @@
 #include "rtt/optimized.h"
 #include "rtt/render.h"
 
+#include "bvh_build.h"
 #include "engine_optimized.h"
 
 #define EMBREE_VARIANTS 4
@@ -580,6 +581,22 @@ static bool run_renders(bench_state *s)
 
 /* ---- builds ---- */
 
+/* One timed BVH build (bench_time_frames' frame), freed at once. */
+typedef struct bvh_build_frame {
+    const rtt_scene *scene;
+    bvh_build_options options;
+    bool ok;
+} bvh_build_frame;
+
+static void bvh_build_run(void *context)
+{
+    bvh_build_frame *f = context;
+    bvh_tree tree;
+    rtt_error err = {{0}};
+    if (bvh_build_sah(f->scene, &f->options, &tree, &err)) bvh_tree_free(&tree);
+    else f->ok = false;
+}
+
 static bool run_builds(bench_state *s)
 {
     rtt_bench_row row = row_start(s, RTT_BENCH_BUILD, "rtt", 1);
@@ -590,17 +607,21 @@ static bool run_builds(bench_state *s)
     row.frames = 1;
     row.rays = s->scene->triangle_count;
     if (!bench_report_push(s->report, &row)) return false;
-    rtt_bench_row bvh_row = row_start(s, RTT_BENCH_BUILD, "rtt", 1);
-    snprintf(bvh_row.method, sizeof bvh_row.method, "BVH binned SAH");
-    snprintf(bvh_row.family, sizeof bvh_row.family, "build");
     rtt_tree_info bvh_info;
-    if (rtt_engine_tree_info(s->bvh_engine, &bvh_info)) {
-        bvh_row.seconds = bvh_row.seconds_min = bvh_info.build_seconds;
-        bvh_row.memory_bytes = bvh_info.memory_bytes;
+    const bool have_bvh_info = rtt_engine_tree_info(s->bvh_engine, &bvh_info);
+    for (uint32_t t = 0; t < s->config->thread_count; t++) { /* one BVH build row per thread count */
+        rtt_bench_row bvh_row = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
+        snprintf(bvh_row.method, sizeof bvh_row.method, "BVH binned SAH");
+        snprintf(bvh_row.family, sizeof bvh_row.family, "build");
+        bvh_row.rays = s->scene->triangle_count;
+        progress(s, &bvh_row);
+        bvh_build_frame frame = {s->scene, {.threads = s->config->threads[t]}, true};
+        bench_time_frames(bvh_build_run, &frame, s->warmup, s->frames, &bvh_row);
+        bvh_row.fps = bvh_row.rays_per_second = 0.0; /* a build row reports seconds */
+        if (!frame.ok) row_error(&bvh_row, "", "out of memory building the BVH");
+        if (have_bvh_info) bvh_row.memory_bytes = bvh_info.memory_bytes;
+        if (!bench_report_push(s->report, &bvh_row)) return false;
     }
-    bvh_row.frames = 1;
-    bvh_row.rays = s->scene->triangle_count;
-    if (!bench_report_push(s->report, &bvh_row)) return false;
     static const bool natives[EMBREE_VARIANTS] = {true, true, false, false};
     static const bool robusts[EMBREE_VARIANTS] = {true, false, true, false};
     if (!s->config->embree) {

@@ -234,8 +234,9 @@ const cli_command bench_command = {
         "  render   full frames per traversal, and per shadow method (none, hard,\n"
         "           multi:4/16/32, cone:16, pyramid:16, edgewidth; methods the renderer\n"
         "           refuses are listed as skipped) (Tables 4.6, 5.1, 6.2)\n"
-        "  build    kd-tree and BVH build time and memory (one thread) against Embree's\n"
-        "           BVH\n"
+        "  build    kd-tree build (one thread) and BVH build (median of the frames'\n"
+        "           builds at each --threads count) time and memory against Embree's\n"
+        "           BVH (high quality, one thread)\n"
         "Each row: frames/s (median of the timed frames after warm-up), rays/s, N and\n"
         "I per 2x2 packet, the ratio to Embree's best coherent variant at the same\n"
         "thread count, and the share of rays whose hit agrees with Embree's.\n",

@@ -3,8 +3,10 @@
  * the bins per axis), the structure Benthin & Wald 2009 trace with multiple
  * frusta.
  *
- * Per node: the triangles' box centroids are put into BVH_BINS bins along
- * each axis of the centroid bounds; a sweep over the bins' counts and boxes
+ * Per node: the triangles' box centroids are put into bins along each axis
+ * of the centroid bounds (min(BVH_BINS, 8 + n / 8) for n triangles: the
+ * sweep's fixed cost would dominate small nodes; Embree's 4 + n / 20 is
+ * faster still but costs 0.7-0.9% SAH, bench/results/bvh-build.md); a sweep over the bins' counts and boxes
  * gives every plane's cost
  *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA   (C_trav = C_isect = 1),
  * and the cheapest plane splits the node unless a leaf, C_isect * N, is no
@@ -12,17 +14,22 @@
  * leaf_size triangles is always split (at the median of its order when
  * every centroid coincides); at options.max_depth a node is a leaf whatever
  * it holds.  Binning runs in SSE lanes, all three axes in one pass over the
- * node's boxes; surface areas are summed in double, so scenes at 1e20 do
- * not overflow them.
+ * node's boxes, and the sweep runs the three axes in SSE lanes; surface
+ * areas are in float relative to the node's largest extent, so scenes at
+ * 1e20 do not overflow them (the tree's reported SAH cost is in double).
  *
  * Threads (engine/threads.h): the top of the tree is split breadth-first on
  * the calling thread until there are BVH_TASKS_PER_THREAD subtrees per
  * thread; the subtrees are then built as independent tasks of
  * rtt_parallel_run.  Subtree i owns the node slots of its triangle range
  * (a subtree of n triangles has at most n - 1 inner nodes), so no slot is
- * shared and the build is the same for any thread count.  A last
- * depth-first pass copies the nodes into their final array (children after
- * their parent, the left subtree first) and the records into leaf order.
+ * shared and the build is the same for any thread count.  A subtree's
+ * slots are in depth-first order (a node, its left subtree, its right
+ * one), so the layout walks only the top nodes and moves each subtree's
+ * block whole into the final array, its node references shifted; one
+ * linear pass then widens the boxes and sums the SAH cost, and the records
+ * and corners are copied in leaf order (the references' final order) on
+ * the thread pool.
  *
  * What it trades: binning rather than a full sweep over sorted centroids
  * (Wald 2007: within a few percent of the full SAH at a fraction of the
@@ -43,6 +50,10 @@
 #define BVH_TASKS_PER_THREAD 8u
 /* Nodes smaller than this are not worth a task of their own. */
 #define BVH_TASK_MIN_TRIANGLES 4096u
+
+/* The larger of two floats that are not NaN (boxes of finite triangles),
+ * without fmaxf's call. */
+static inline float max_f(float a, float b) { return a > b ? a : b; }
 
 typedef struct box3 {
     float lo[3], hi[3];
@@ -99,7 +110,7 @@ static inline box3 box4_unpack(const box4 *b)
 
 typedef struct builder {
     prim_ref *refs;            /* partitioned node by node */
-    bvh_node *slots;           /* inner nodes before the compaction */
+    bvh_node *slots;           /* inner nodes before the layout */
     uint32_t leaf_size, max_depth;
 } builder;
 
@@ -115,6 +126,16 @@ static inline __m128i bins_of(__m128 c, __m128 lo, __m128 scale, __m128 bin_max)
     __m128 f = _mm_mul_ps(_mm_sub_ps(c, lo), scale);
     f = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), bin_max);
     return _mm_cvttps_epi32(f);
+}
+
+/* Bins for a node of n triangles: as many as BVH_BINS_BASE + n / BVH_BINS_PER,
+ * at most BVH_BINS (the sweep's fixed cost would dominate small nodes). */
+#define BVH_BINS_BASE 8u
+#define BVH_BINS_PER 8u
+static inline uint32_t bins_for(uint32_t n)
+{
+    const uint32_t bins = BVH_BINS_BASE + n / BVH_BINS_PER;
+    return bins < BVH_BINS ? bins : BVH_BINS;
 }
 
 /* A range's box and the box of its centroids. */
@@ -133,6 +154,142 @@ static void range_bounds(const builder *b, uint32_t begin, uint32_t end, node_bo
     }
 }
 
+/* A node's bins: per axis and bin the box of the triangles whose centroid
+ * falls there; per bin the three axes' counts in lanes 0..2 (so the sweep
+ * reads them as one vector). */
+typedef struct bin_set {
+    box4 box[3][BVH_BINS];
+    _Alignas(16) uint32_t count[BVH_BINS][4];
+} bin_set;
+
+static void bin_set_empty(bin_set *s, uint32_t bins_used)
+{
+    for (uint32_t j = 0; j < bins_used; j++) {
+        for (int k = 0; k < 3; k++) box4_empty(&s->box[k][j]);
+        _mm_store_si128((__m128i *)s->count[j], _mm_setzero_si128());
+    }
+}
+
+static inline void bin_set_add(bin_set *s, const prim_ref *r, __m128 lo4, __m128 scale4, __m128 bin_max)
+{
+    _Alignas(16) int32_t j[4];
+    _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
+    for (int k = 0; k < 3; k++) {
+        s->count[j[k]][k]++;
+        box4_grow(&s->box[k][j[k]], r->lo, r->hi);
+    }
+}
+
+/* Bins [begin, end) on all three axes in one pass.  A large node's
+ * triangles alternate between two bin sets, merged at the end: neighbours
+ * in a mesh tend to share a bin, and one set would chain each update on the
+ * store before it. */
+static void bins_bin(const builder *b, uint32_t begin, uint32_t end, uint32_t bins_used, __m128 lo4, __m128 scale4,
+                     __m128 bin_max, bin_set *out)
+{
+    bin_set_empty(out, bins_used);
+    if (end - begin < 4u * bins_used) {
+        for (uint32_t i = begin; i < end; i++) bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+        return;
+    }
+    bin_set other;
+    bin_set_empty(&other, bins_used);
+    uint32_t i = begin;
+    for (; i + 1 < end; i += 2) {
+        bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+        bin_set_add(&other, &b->refs[i + 1], lo4, scale4, bin_max);
+    }
+    if (i < end) bin_set_add(out, &b->refs[i], lo4, scale4, bin_max);
+    for (uint32_t j = 0; j < bins_used; j++) {
+        for (int k = 0; k < 3; k++) box4_grow(&out->box[k][j], other.box[k][j].lo, other.box[k][j].hi);
+        const __m128i c = _mm_add_epi32(_mm_load_si128((const __m128i *)out->count[j]),
+                                        _mm_load_si128((const __m128i *)other.count[j]));
+        _mm_store_si128((__m128i *)out->count[j], c);
+    }
+}
+
+/* Half the areas (scaled by `unit`) of three boxes, in lanes 0..2: the
+ * extents transposed so that each lane computes box4_half_area's sum in its
+ * order (xy + yz + zx), bit for bit. */
+static inline __m128 half_areas3(const __m128 lo[3], const __m128 hi[3], __m128 unit)
+{
+    const __m128 zero = _mm_setzero_ps();
+    __m128 d0 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[0], lo[0]), zero), unit);
+    __m128 d1 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[1], lo[1]), zero), unit);
+    __m128 d2 = _mm_mul_ps(_mm_max_ps(_mm_sub_ps(hi[2], lo[2]), zero), unit);
+    __m128 d3 = zero;
+    _MM_TRANSPOSE4_PS(d0, d1, d2, d3); /* d0: the x extents of the three boxes, d1 y, d2 z */
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(d0, d1), _mm_mul_ps(d1, d2)), _mm_mul_ps(d2, d0));
+}
+
+/* The sweep over the bins, all three axes in SSE lanes: right to left the
+ * area-weighted counts, then left to right each plane's cost; the cheapest
+ * plane of the axes with a scale (ties: the lower axis, then the lower bin). */
+static void bins_sweep(const bin_set *s, uint32_t bins_used, uint32_t n, const float scale[4], __m128 unit,
+                       float *best_cost, int *best_axis, uint32_t *best_bin)
+{
+    _Alignas(16) float right_cost[BVH_BINS][4];
+    __m128 lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = _mm_set1_ps(INFINITY), hi[k] = _mm_set1_ps(-INFINITY);
+    __m128i count = _mm_setzero_si128();
+    for (uint32_t j = bins_used - 1; j > 0; j--) {
+        for (int k = 0; k < 3; k++) lo[k] = _mm_min_ps(lo[k], s->box[k][j].lo), hi[k] = _mm_max_ps(hi[k], s->box[k][j].hi);
+        count = _mm_add_epi32(count, _mm_load_si128((const __m128i *)s->count[j]));
+        _mm_store_ps(right_cost[j], _mm_mul_ps(_mm_cvtepi32_ps(count), half_areas3(lo, hi, unit)));
+    }
+    for (int k = 0; k < 3; k++) lo[k] = _mm_set1_ps(INFINITY), hi[k] = _mm_set1_ps(-INFINITY);
+    count = _mm_setzero_si128();
+    const __m128i all = _mm_set1_epi32((int)n), none = _mm_setzero_si128();
+    /* lanes of axes without a scale, and lane 3, never offer a plane */
+    const __m128i usable = _mm_castps_si128(_mm_cmpgt_ps(_mm_load_ps(scale), _mm_setzero_ps()));
+    __m128 best = _mm_set1_ps(INFINITY);
+    __m128i best_j = _mm_setzero_si128();
+    for (uint32_t j = 0; j + 1 < bins_used; j++) {
+        for (int k = 0; k < 3; k++) lo[k] = _mm_min_ps(lo[k], s->box[k][j].lo), hi[k] = _mm_max_ps(hi[k], s->box[k][j].hi);
+        count = _mm_add_epi32(count, _mm_load_si128((const __m128i *)s->count[j]));
+        const __m128 cost = _mm_add_ps(_mm_mul_ps(_mm_cvtepi32_ps(count), half_areas3(lo, hi, unit)),
+                                       _mm_load_ps(right_cost[j + 1]));
+        const __m128i split = _mm_andnot_si128(_mm_or_si128(_mm_cmpeq_epi32(count, none), _mm_cmpeq_epi32(count, all)),
+                                               usable);
+        const __m128 better = _mm_and_ps(_mm_cmplt_ps(cost, best), _mm_castsi128_ps(split));
+        best = _mm_blendv_ps(best, cost, better);
+        best_j = _mm_blendv_epi8(best_j, _mm_set1_epi32((int)j), _mm_castps_si128(better));
+    }
+    _Alignas(16) float costs[4];
+    _Alignas(16) int32_t js[4];
+    _mm_store_ps(costs, best), _mm_store_si128((__m128i *)js, best_j);
+    for (int k = 0; k < 3; k++)
+        if (costs[k] < *best_cost) *best_cost = costs[k], *best_axis = k, *best_bin = (uint32_t)js[k];
+}
+
+/* Grows a child's bounds by one reference. */
+static inline void grow_child(node_bounds *child, const prim_ref *r)
+{
+    const __m128 c = ref_centroid(r);
+    box4_grow(&child->box, r->lo, r->hi);
+    box4_grow(&child->cbox, c, c);
+}
+
+/* The chosen plane: references whose bin on `axis` is above `bin` go right. */
+typedef struct axis_split {
+    int axis;
+    float lo, scale, bin_max;
+    uint32_t bin;
+} axis_split;
+
+/* bins_of's arithmetic (ref_centroid's too) in one lane, so that a
+ * reference goes to the side its bin was counted on. */
+static inline bool goes_right(const axis_split *s, const prim_ref *r)
+{
+    float lo, hi;
+    memcpy(&lo, (const char *)&r->lo + sizeof(float) * (size_t)s->axis, sizeof lo);
+    memcpy(&hi, (const char *)&r->hi + sizeof(float) * (size_t)s->axis, sizeof hi);
+    const __m128 c = _mm_add_ss(_mm_mul_ss(_mm_set_ss(lo), _mm_set_ss(0.5f)), _mm_mul_ss(_mm_set_ss(hi), _mm_set_ss(0.5f)));
+    __m128 f = _mm_mul_ss(_mm_sub_ss(c, _mm_set_ss(s->lo)), _mm_set_ss(s->scale));
+    f = _mm_min_ss(_mm_max_ss(f, _mm_setzero_ps()), _mm_set_ss(s->bin_max));
+    return (uint32_t)_mm_cvttss_si32(f) > s->bin;
+}
+
 /* Partitions [begin, end) (bounds `nb`) by the node's choice and says where
  * it split; the children's bounds into `child`, gathered by the partition. */
 static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end, uint32_t depth,
@@ -146,7 +303,7 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     /* one pass bins all three axes; an axis whose centroids coincide (or
      * whose extent is not finite) gets scale 0 and offers no plane.  Small
      * nodes get fewer bins (the sweep's fixed cost would dominate them). */
-    const uint32_t bins_used = n <= 16 ? 8u : n <= 64 ? 16u : BVH_BINS;
+    const uint32_t bins_used = bins_for(n);
     _Alignas(16) float clo[4], chi[4], scale[4];
     _mm_store_ps(clo, cbox.lo), _mm_store_ps(chi, cbox.hi);
     bool any_axis = false;
@@ -160,47 +317,15 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     const __m128 lo4 = cbox.lo, scale4 = _mm_load_ps(scale), bin_max = _mm_set1_ps((float)(bins_used - 1));
     /* areas relative to the node's largest extent: the SAH compares ratios,
      * and relative extents (<= 1) neither overflow nor underflow in float */
-    float largest = fmaxf(bounds->hi[0] - bounds->lo[0], fmaxf(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
+    const float largest = max_f(bounds->hi[0] - bounds->lo[0], max_f(bounds->hi[1] - bounds->lo[1], bounds->hi[2] - bounds->lo[2]));
     const __m128 unit = _mm_set1_ps(largest > 0.0f && isfinite(largest) && isfinite(1.0f / largest) ? 1.0f / largest : 1.0f);
     float best_cost = INFINITY;
     int best_axis = -1;
     uint32_t best_bin = 0;
     if (any_axis) {
-        uint32_t counts[3][BVH_BINS] = {{0}};
-        box4 bins[3][BVH_BINS];
-        for (int k = 0; k < 3; k++)
-            for (uint32_t j = 0; j < bins_used; j++) box4_empty(&bins[k][j]);
-        for (uint32_t i = begin; i < end; i++) {
-            const prim_ref *r = &b->refs[i];
-            _Alignas(16) int32_t j[4];
-            _mm_store_si128((__m128i *)j, bins_of(ref_centroid(r), lo4, scale4, bin_max));
-            for (int k = 0; k < 3; k++) {
-                counts[k][j[k]]++;
-                box4_grow(&bins[k][j[k]], r->lo, r->hi);
-            }
-        }
-        for (int k = 0; k < 3; k++) {
-            if (scale[k] == 0.0f) continue;
-            /* right-to-left sweep of the area-weighted counts, then left to right */
-            float right_cost[BVH_BINS];
-            box4 acc;
-            box4_empty(&acc);
-            uint32_t count = 0;
-            for (uint32_t j = bins_used - 1; j > 0; j--) {
-                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
-                count += counts[k][j];
-                right_cost[j] = (float)count * box4_half_area(&acc, unit);
-            }
-            box4_empty(&acc);
-            count = 0;
-            for (uint32_t j = 0; j + 1 < bins_used; j++) {
-                box4_grow(&acc, bins[k][j].lo, bins[k][j].hi);
-                count += counts[k][j];
-                if (count == 0 || count == n) continue;
-                const float cost = (float)count * box4_half_area(&acc, unit) + right_cost[j + 1];
-                if (cost < best_cost) best_cost = cost, best_axis = k, best_bin = j;
-            }
-        }
+        bin_set bins;
+        bins_bin(b, begin, end, bins_used, lo4, scale4, bin_max, &bins);
+        bins_sweep(&bins, bins_used, n, scale, unit, &best_cost, &best_axis, &best_bin);
     }
     const float area = box4_half_area(&box, unit);
     /* C_trav + (N_L SA_L + N_R SA_R) / SA against the leaf's N (in units of C_isect) */
@@ -213,22 +338,20 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
         range_bounds(b, begin, mid, &child[0]);
         range_bounds(b, mid, end, &child[1]);
     } else {
+        /* Hoare's partition on the bin of the chosen axis; each scan grows
+         * the bounds of the side it keeps */
         for (int c = 0; c < 2; c++) box4_empty(&child[c].box), box4_empty(&child[c].cbox);
+        const axis_split split = {best_axis, clo[best_axis], scale[best_axis], (float)(bins_used - 1), best_bin};
+        prim_ref *refs = b->refs;
         uint32_t i = begin, j = end;
-        while (i < j) {
-            const prim_ref r = b->refs[i];
-            const __m128 centre = ref_centroid(&r);
-            _Alignas(16) int32_t bin[4];
-            _mm_store_si128((__m128i *)bin, bins_of(centre, lo4, scale4, bin_max));
-            const int right = (uint32_t)bin[best_axis] > best_bin;
-            box4_grow(&child[right].box, r.lo, r.hi);
-            box4_grow(&child[right].cbox, centre, centre);
-            if (!right) {
-                i++;
-            } else {
-                b->refs[i] = b->refs[--j];
-                b->refs[j] = r;
-            }
+        for (;;) {
+            for (; i < j && !goes_right(&split, &refs[i]); i++) grow_child(&child[0], &refs[i]);
+            for (; i < j && goes_right(&split, &refs[j - 1]); j--) grow_child(&child[1], &refs[j - 1]);
+            if (i >= j) break;
+            const prim_ref right = refs[i];
+            refs[i] = refs[j - 1], refs[j - 1] = right;
+            grow_child(&child[0], &refs[i++]);
+            grow_child(&child[1], &refs[--j]);
         }
         mid = i;
     }
@@ -241,9 +364,17 @@ static void set_box(bvh_child *c, const box3 *bounds)
     memcpy(c->hi, bounds->hi, sizeof c->hi);
 }
 
-/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot *next on. */
+/* What a subtree's build counts: its next free slot, its leaves, its
+ * deepest leaf. */
+typedef struct subtree_count {
+    uint32_t next, leaves, depth;
+} subtree_count;
+
+/* Builds [begin, end) (bounds `nb`) into `out`, inner nodes from slot
+ * count->next on, in depth-first order (a node before its left subtree,
+ * that before its right one). */
 static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32_t depth, const node_bounds *nb,
-                          bvh_child *out, uint32_t *next)
+                          bvh_child *out, subtree_count *count)
 {
     node_bounds child[2];
     split_choice s = choose_split(b, begin, end, depth, nb, child);
@@ -252,47 +383,76 @@ static void build_subtree(const builder *b, uint32_t begin, uint32_t end, uint32
     if (s.leaf) {
         out->index = begin;
         out->count = end - begin;
+        count->leaves++;
+        if (depth > count->depth) count->depth = depth;
         return;
     }
-    const uint32_t slot = (*next)++;
+    const uint32_t slot = count->next++;
     out->index = slot;
     out->count = 0;
-    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], next);
-    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], next);
+    build_subtree(b, begin, s.mid, depth + 1, &child[0], &b->slots[slot].child[0], count);
+    build_subtree(b, s.mid, end, depth + 1, &child[1], &b->slots[slot].child[1], count);
 }
 
-/* A subtree left for a task: its range and where its reference goes. */
+/* A subtree left for a task: its range, where its reference goes, and
+ * (after the build) its slots first .. counted.next. */
 typedef struct subtree_task {
     uint32_t begin, end, depth;
     bvh_child *out;
     node_bounds bounds;
+    uint32_t first;
+    subtree_count counted;
 } subtree_task;
 
 typedef struct task_context {
     const builder *b;
-    const subtree_task *tasks;
-    uint32_t slot_base;
+    subtree_task *tasks;
 } task_context;
 
 static void run_subtree_task(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
     const task_context *c = context;
-    const subtree_task *t = &c->tasks[task];
-    uint32_t next = c->slot_base + t->begin;
-    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &next);
+    subtree_task *t = &c->tasks[task];
+    t->counted = (subtree_count){.next = t->first, .depth = t->depth};
+    build_subtree(c->b, t->begin, t->end, t->depth, &t->bounds, t->out, &t->counted);
 }
 
-/* The final layout: depth first, children after their parent. */
-typedef struct compactor {
+/* The final layout: depth first, children after their parent.  A task's
+ * slots are in that order already, so its block moves as a whole. */
+typedef struct layout {
     const builder *b;
-    const kd_triangle *records;
-    const rtt_scene *scene;
-    bvh_tree *tree;
-    uint32_t next_node, next_record;
-    uint32_t depth, leaves, empty;
-    double sah;
-} compactor;
+    const subtree_task *tasks;
+    uint32_t task_count, top_slots;
+    bvh_node *nodes;
+    uint32_t next;
+} layout;
+
+/* Places what `ref` (already in its final place) references at nodes[next]
+ * on and points it there; leaves reference their records where they are. */
+static void place(layout *l, bvh_child *ref)
+{
+    if (ref->count > 0) return;
+    const uint32_t slot = ref->index, at = l->next;
+    if (slot < l->top_slots) { /* a node of the top: copied, its children placed after it */
+        l->nodes[l->next++] = l->b->slots[slot];
+        ref->index = at;
+        place(l, &l->nodes[at].child[0]);
+        place(l, &l->nodes[at].child[1]);
+        return;
+    }
+    const subtree_task *t = l->tasks;
+    while (t->first != slot) t++; /* the task whose root this is (a subtree's root takes its first slot) */
+    const uint32_t count = t->counted.next - t->first;
+    for (uint32_t i = 0; i < count; i++) {
+        bvh_node node = l->b->slots[t->first + i];
+        for (int c = 0; c < 2; c++)
+            if (node.child[c].count == 0) node.child[c].index = node.child[c].index - t->first + at;
+        l->nodes[at + i] = node;
+    }
+    ref->index = at;
+    l->next += count;
+}
 
 /* A stored box is the exact box grown by 1e-4 of its extent and four
  * ulps of its largest coordinate (and FLT_MIN): a flat box gets a thickness,
@@ -302,43 +462,48 @@ static void widen(bvh_child *c)
 {
     float scale = 0.0f, extent = 0.0f;
     for (int k = 0; k < 3; k++) {
-        scale = fmaxf(scale, fmaxf(fabsf(c->lo[k]), fabsf(c->hi[k])));
-        extent = fmaxf(extent, c->hi[k] - c->lo[k]);
+        scale = max_f(scale, max_f(fabsf(c->lo[k]), fabsf(c->hi[k])));
+        extent = max_f(extent, c->hi[k] - c->lo[k]);
     }
     const float margin = extent * 1e-4f + scale * 0x1p-21f + FLT_MIN;
     for (int k = 0; k < 3; k++) c->lo[k] -= margin, c->hi[k] += margin;
 }
 
-static void compact(compactor *c, const bvh_child *src, bvh_child *dst, uint32_t depth, double root_area)
+/* The child's term of the tree's SAH cost (its area relative to the root's,
+ * times its records for a leaf), before widen grows its box. */
+static double sah_term(const bvh_child *c, double root_area)
 {
-    *dst = *src;
-    widen(dst);
     box3 box;
-    memcpy(box.lo, src->lo, sizeof box.lo);
-    memcpy(box.hi, src->hi, sizeof box.hi);
+    memcpy(box.lo, c->lo, sizeof box.lo);
+    memcpy(box.hi, c->hi, sizeof box.hi);
     const double weight = root_area > 0.0 ? box_half_area(&box) / root_area : 1.0;
-    if (src->count > 0) {
-        dst->index = c->next_record;
-        for (uint32_t i = 0; i < src->count; i++) {
-            const kd_triangle *rec = &c->records[ref_record(&c->b->refs[src->index + i])];
-            rtt_vec3 p[3];
-            rtt_scene_triangle(c->scene, rec->prim, p);
-            bvh_corners *corners = &c->tree->corners[c->next_record];
-            for (int v = 0; v < 3; v++)
-                corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
-            c->tree->triangles[c->next_record++] = *rec;
-        }
-        c->depth = depth > c->depth ? depth : c->depth;
-        c->leaves++;
-        c->sah += weight * (double)src->count;
-        return;
+    return c->count > 0 ? weight * (double)c->count : weight;
+}
+
+/* The leaf records in leaf order (the references' order after the build),
+ * a block of them per task. */
+typedef struct record_copy {
+    const rtt_scene *scene;
+    const kd_triangle *records;
+    const prim_ref *refs;
+    bvh_tree *tree;
+    uint32_t per_task;
+} record_copy;
+
+static void copy_records(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    const record_copy *c = context;
+    const uint32_t first = task * c->per_task, n = c->tree->triangle_count;
+    const uint32_t end = n - first < c->per_task ? n : first + c->per_task;
+    for (uint32_t i = first; i < end; i++) {
+        const kd_triangle *rec = &c->records[ref_record(&c->refs[i])];
+        rtt_vec3 p[3];
+        rtt_scene_triangle(c->scene, rec->prim, p);
+        bvh_corners *corners = &c->tree->corners[i];
+        for (int v = 0; v < 3; v++) corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
+        c->tree->triangles[i] = *rec;
     }
-    const uint32_t slot = c->next_node++;
-    dst->index = slot;
-    c->sah += weight;
-    const bvh_node *node = &c->b->slots[src->index];
-    compact(c, &node->child[0], &c->tree->nodes[slot].child[0], depth + 1, root_area);
-    compact(c, &node->child[1], &c->tree->nodes[slot].child[1], depth + 1, root_area);
 }
 
 void bvh_tree_free(bvh_tree *tree)
@@ -402,45 +567,55 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
         const uint32_t slot = next_top++;
         t.out->index = slot;
         t.out->count = 0;
-        tasks[largest] = (subtree_task){t.begin, s.mid, t.depth + 1, &slots[slot].child[0], child[0]};
-        tasks[task_count++] = (subtree_task){s.mid, t.end, t.depth + 1, &slots[slot].child[1], child[1]};
+        tasks[largest] = (subtree_task){.begin = t.begin, .end = s.mid, .depth = t.depth + 1, .out = &slots[slot].child[0], .bounds = child[0]};
+        tasks[task_count++] = (subtree_task){.begin = s.mid, .end = t.end, .depth = t.depth + 1, .out = &slots[slot].child[1], .bounds = child[1]};
     }
-    task_context context = {&b, tasks, top_slots};
+    for (uint32_t i = 0; i < task_count; i++) tasks[i].first = top_slots + tasks[i].begin;
+    task_context context = {&b, tasks};
     rtt_parallel_run(task_count, threads, run_subtree_task, &context);
 
-    /* count the inner nodes reached from the root, then lay them out */
+    /* the inner nodes reached from the root, laid out depth first */
+    uint32_t node_count = next_top, leaves = 0, depth = 0;
+    for (uint32_t i = 0; i < task_count; i++) {
+        node_count += tasks[i].counted.next - tasks[i].first;
+        leaves += tasks[i].counted.leaves;
+        depth = tasks[i].counted.depth > depth ? tasks[i].counted.depth : depth;
+    }
     tree->triangles = malloc((size_t)(n ? n : 1) * sizeof *tree->triangles);
     tree->corners = malloc((size_t)(n ? n : 1) * sizeof *tree->corners);
-    tree->nodes = aligned_alloc(64, (size_t)(n ? n : 1) * sizeof *tree->nodes); /* bvh_node is a cache line */
+    tree->nodes = aligned_alloc(64, (size_t)(node_count ? node_count : 1) * sizeof *tree->nodes); /* a cache line each */
     if (!tree->triangles || !tree->corners || !tree->nodes) goto out_of_memory;
-    compactor c = {.b = &b, .records = records, .tree = tree, .scene = scene};
+    tree->node_count = node_count;
+    tree->triangle_count = n;
+    double sah = 0.0;
     if (n > 0) {
+        layout l = {.b = &b, .tasks = tasks, .task_count = task_count, .top_slots = top_slots, .nodes = tree->nodes};
+        place(&l, &tree->root);
         box3 root_box;
         memcpy(root_box.lo, tree->root.lo, sizeof root_box.lo);
         memcpy(root_box.hi, tree->root.hi, sizeof root_box.hi);
-        bvh_child root = tree->root;
-        compact(&c, &root, &tree->root, 0, box_half_area(&root_box));
-    }
-    tree->node_count = c.next_node;
-    tree->triangle_count = c.next_record;
-    if (tree->node_count > 0) {
-        bvh_node *shrunk = aligned_alloc(64, (size_t)tree->node_count * sizeof *tree->nodes);
-        if (shrunk) {
-            memcpy(shrunk, tree->nodes, (size_t)tree->node_count * sizeof *tree->nodes);
-            free(tree->nodes);
-            tree->nodes = shrunk;
-        }
+        const double root_area = box_half_area(&root_box);
+        sah = sah_term(&tree->root, root_area);
+        widen(&tree->root);
+        for (uint32_t i = 0; i < node_count; i++)
+            for (int c = 0; c < 2; c++) {
+                sah += sah_term(&tree->nodes[i].child[c], root_area);
+                widen(&tree->nodes[i].child[c]);
+            }
+        const uint32_t blocks = 4u * threads, per_task = (n + blocks - 1) / blocks;
+        record_copy copy = {scene, records, refs, tree, per_task};
+        rtt_parallel_run((n + per_task - 1) / per_task, threads, copy_records, &copy);
     }
     free(records), free(refs), free(slots), free(tasks);
 
     rtt_tree_info *info = &tree->info;
-    info->depth = c.depth;
+    info->depth = depth;
     info->max_depth = b.max_depth;
-    info->node_count = tree->node_count + c.leaves; /* inner nodes and leaves, as the kd-tree counts them */
-    info->leaf_count = c.leaves;
+    info->node_count = tree->node_count + leaves; /* inner nodes and leaves, as the kd-tree counts them */
+    info->leaf_count = leaves;
     info->references = tree->triangle_count;
     info->reference_cap = tree->triangle_count;
-    info->sah_cost = c.sah;
+    info->sah_cost = sah;
     info->memory_bytes = (uint64_t)tree->node_count * sizeof(bvh_node) +
                          (uint64_t)tree->triangle_count * (sizeof(kd_triangle) + sizeof(bvh_corners));
     info->build_seconds = rtt_clock_seconds() - start;
