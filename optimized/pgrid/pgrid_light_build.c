@@ -514,11 +514,12 @@ bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uin
 
 /* Measured (bench/results/pgrid.md, "Light grid resolution"): on the
  * maps (4k to 35k triangles, large floor and wall triangles) 100 cells a
- * face beat 200 by 1.2 to 1.3x and 400 by 1.3 to 2.2x (a finer grid splits
- * a batch's rays over more cells, so packets run emptier, and the large
- * triangles are referenced by more cells); on the meshes (52k to 89k small
- * triangles) 200 and 400 were within the noise, 100 and 50 slower (the
- * per-cell distance bound is coarser), 800 slower everywhere (its build). */
+ * face beat 200 in five rows of six by 1.2 to 1.4x and 400 by 1.3 to 2.2x
+ * (a finer grid splits a batch's rays over more cells, so packets run
+ * emptier, and references each large triangle from more cells); on the
+ * meshes (52k to 89k small triangles) 200 and 400 were within the noise,
+ * 100 and 50 slower (the per-cell distance bound is coarser), 800 slower
+ * everywhere (its build). */
 uint32_t pgrid_light_res_rule(uint32_t triangles)
 {
     return triangles < 40000u ? 100u : PGRID_LIGHT_RES_DEFAULT;
