@@ -13,7 +13,7 @@
 #include "pgrid_light.h"
 
 #define NEAR_FACTOR 256.0
-#define MU_MAX 1e-2
+#define MU_MAX 4e-2
 
 /* Keeps the part of polygon p (n corners) with dot(plane, q) >= 0. */
 static int clip_plane(const double (*p)[3], int n, const double plane[3], double (*out)[3])
