@@ -42,6 +42,8 @@
 #include "rtt/scene.h"
 
 #define RTT_BENCH_MAX_THREADS 4u
+#define RTT_BENCH_MAX_LIGHT_RES 8u     /* --pgrid-light-res entries */
+#define RTT_BENCH_LIGHT_RES_MOST 2048u /* the light grids' most cells per face side (PGRID_LIGHT_RES_MAX) */
 
 typedef enum rtt_bench_kind {
     RTT_BENCH_PRIMARY = 0,
@@ -65,6 +67,8 @@ typedef struct rtt_bench_config {
     rtt_accel accel;                        /* our rows: RTT_ACCEL_DEFAULT (default) every structure's,
                                                else only that one's (kd, pgrid) */
     uint32_t pgrid_cell;                    /* the eye grid's cell side in pixels, 0 → its default */
+    uint32_t pgrid_light_res[RTT_BENCH_MAX_LIGHT_RES]; /* the light grids' cells per face side, a row per entry */
+    uint32_t pgrid_light_res_count;         /* 0: one row, the scene's rule (pgrid_light_res_rule) */
     rtt_isa isa;                            /* the kernels' instruction set; RTT_ISA_AUTO (default):
                                                $RTT_ISA when set, else the widest the CPU has */
     rtt_isect isect;                        /* the kernels' triangle test; RTT_ISECT_DEFAULT: the engine's */

@@ -109,11 +109,12 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
 
 /* Times hard shadows through the light grid (bench_pgrid.c): each frame
  * the grid of light 0 and every pixel's shadow ray, batched per eye-ray
- * cell; origin_prim: per pixel the triangle its ray starts on.  Fills row
+ * cell; origin_prim: per pixel the triangle its ray starts on; light_res
+ * the cells per face side (0: pgrid_light_res_rule).  Fills row
  * and build_row as bench_pgrid_row; result gets the
  * occlusion bit per pixel. */
 bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,
-                            const uint32_t *origin_prim, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row,
+                            const uint32_t *origin_prim, uint32_t light_res, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row,
                             uint32_t *result);
 
 /* The software Z-buffer anchor (bench_llvmpipe.c): Mesa's llvmpipe through

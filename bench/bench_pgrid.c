@@ -97,7 +97,7 @@ typedef struct pgrid_shadow_frame {
     uint32_t **pixel;           /* per thread: their pixels */
     uint8_t *occluded;          /* per pixel */
     double *build_seconds;
-    uint32_t runs;
+    uint32_t runs, light_res;   /* light_res 0: pgrid_light_res_rule */
     _Atomic bool failed;
 } pgrid_shadow_frame;
 
@@ -127,10 +127,10 @@ static void run_shadow_frame(void *context)
 {
     pgrid_shadow_frame *f = context;
     const uint64_t t0 = rtt_clock_ns();
-    pgrid_shadows_free_lights(&f->grids);
     const rtt_vec3 at = f->scene->lights[0].position;
     const float position[3] = {at.x, at.y, at.z};
-    if (!pgrid_light_build(&f->grids.lights[0], &f->grids, f->scene, position, 0)) {
+    /* rebuilt into the last frame's arrays, on the frame's threads */
+    if (!pgrid_light_rebuild(&f->grids.lights[0], &f->grids, f->scene, position, f->light_res, f->threads)) {
         f->failed = true;
         return;
     }
@@ -140,12 +140,12 @@ static void run_shadow_frame(void *context)
 }
 
 bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,
-                            const uint32_t *origin_prim, const bench_trace_spec *spec, rtt_bench_row *row,
-                            rtt_bench_row *build_row, uint32_t *result)
+                            const uint32_t *origin_prim, uint32_t light_res, const bench_trace_spec *spec,
+                            rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result)
 {
     const uint32_t side = PGRID_EYE_CELL_DEFAULT, threads = rtt_thread_count(spec->threads);
     pgrid_shadow_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
-                            .degenerate = degenerate, .rays = rays, .origin_prim = origin_prim, .threads = threads,
+                            .degenerate = degenerate, .rays = rays, .origin_prim = origin_prim, .threads = threads, .light_res = light_res,
                             .cells_x = (rays->width + side - 1) / side, .cells_y = (rays->height + side - 1) / side};
     f.batch = calloc(threads, sizeof *f.batch);
     f.pixel = calloc(threads, sizeof *f.pixel);
@@ -159,9 +159,9 @@ bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, c
         ok = f.batch[t] && f.pixel[t];
     }
     if (ok) {
-        snprintf(row->variant, sizeof row->variant, "%s/%s light %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
-                 PGRID_LIGHT_RES_DEFAULT);
         bench_time_frames(run_shadow_frame, &f, spec->warmup, spec->frames, row);
+        snprintf(row->variant, sizeof row->variant, "%s/%s light %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
+                 f.grids.lights[0].res);
         if (f.failed) snprintf(row->error, sizeof row->error, "out of memory in the light grid");
         double *timed = f.build_seconds + spec->warmup;
         qsort(timed, spec->frames, sizeof *timed, compare_double);

@@ -417,7 +417,11 @@ static bool run_primary(bench_state *s, const bench_rays *rays)
 /* --shadows pgrid's light grid on the shadow rays (bench_pgrid_shadow_row). */
 static bool run_pgrid_shadow_rows(bench_state *s, const bench_rays *rays, const uint32_t *origin_prim)
 {
-    for (uint32_t t = 0; t < s->config->thread_count; t++) {
+    const uint32_t sizes = s->config->pgrid_light_res_count ? s->config->pgrid_light_res_count : 1;
+    for (uint32_t k = 0; k < sizes * s->config->thread_count; k++) {
+        const uint32_t t = k % s->config->thread_count, res = s->config->pgrid_light_res_count
+                                                                 ? s->config->pgrid_light_res[k / s->config->thread_count]
+                                                                 : 0;
         rtt_bench_row row = row_start(s, RTT_BENCH_SHADOW, "rtt", s->config->threads[t]);
         rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
         snprintf(row.method, sizeof row.method, "pgrid");
@@ -428,8 +432,8 @@ static bool run_pgrid_shadow_rows(bench_state *s, const bench_rays *rays, const 
         build.rays = s->scene->triangle_count;
         progress(s, &row);
         bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, false, s->config->isa};
-        bool check = t == 0 && s->have_oracle;
-        if (!bench_pgrid_shadow_row(s->scene, optimized_engine_degenerate(s->engine), rays, origin_prim, &spec, &row,
+        bool check = k == 0 && s->have_oracle;
+        if (!bench_pgrid_shadow_row(s->scene, optimized_engine_degenerate(s->engine), rays, origin_prim, res, &spec, &row,
                                     &build,
                                     check ? s->result : NULL))
             return false;

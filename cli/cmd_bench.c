@@ -23,23 +23,35 @@ typedef struct bench_args {
     cli_camera_args camera;
 } bench_args;
 
-static bool parse_threads(const char *text, void *field, rtt_error *why)
+/* A comma-separated list of up to `most` whole numbers in [lo, hi] into out[0 .. *count). */
+static bool parse_u32_list(const char *text, uint32_t *out, uint32_t *count, uint32_t most, uint32_t lo, uint32_t hi,
+                           rtt_error *why)
 {
-    rtt_bench_config *config = field;
     char buffer[64];
     bool valid = strlen(text) < sizeof buffer;
     if (valid) strcpy(buffer, text);
-    config->thread_count = 0;
+    *count = 0;
     for (char *save = NULL, *item = valid ? strtok_r(buffer, ",", &save) : NULL; item && valid;
          item = strtok_r(NULL, ",", &save)) {
-        valid = config->thread_count < RTT_BENCH_MAX_THREADS &&
-                cli_parse_u32(item, 1, 1024, &config->threads[config->thread_count]);
-        config->thread_count++;
+        valid = *count < most && cli_parse_u32(item, lo, hi, &out[*count]);
+        (*count)++;
     }
-    return valid && config->thread_count > 0
+    return valid && *count > 0
                ? true
-               : rtt_error_set(why, "expected up to %u whole numbers from 1 to 1024, comma-separated",
-                               RTT_BENCH_MAX_THREADS);
+               : rtt_error_set(why, "expected up to %u whole numbers from %u to %u, comma-separated", most, lo, hi);
+}
+
+static bool parse_threads(const char *text, void *field, rtt_error *why)
+{
+    rtt_bench_config *config = field;
+    return parse_u32_list(text, config->threads, &config->thread_count, RTT_BENCH_MAX_THREADS, 1, 1024, why);
+}
+
+static bool parse_light_res(const char *text, void *field, rtt_error *why)
+{
+    rtt_bench_config *config = field;
+    return parse_u32_list(text, config->pgrid_light_res, &config->pgrid_light_res_count, RTT_BENCH_MAX_LIGHT_RES, 1,
+                          RTT_BENCH_LIGHT_RES_MOST, why);
 }
 
 /* --only's names, in rtt_bench_kind order */
@@ -60,6 +72,9 @@ static const cli_option bench_options[] = {
     {.name = "--pgrid-cell", .value_name = "N",
      .help = "the perspective grid's cell side in pixels, a multiple of 4 from 4 to 512 (default 128)",
      .kind = CLI_U32, CLI_FIELD(bench_args, config.pgrid_cell), .lo = 4, .hi = 512},
+    {.name = "--pgrid-light-res", .value_name = "LIST",
+     .help = "the pgrid shadow rows' light grid: N x N cells per face, 1 to 2048, a row pair per N (default: by the scene's triangle count)",
+     .kind = CLI_CUSTOM, CLI_FIELD(bench_args, config), .parse = parse_light_res},
     {.name = "--frames", .value_name = "N", .help = "timed frames per row, 1 to 64, median reported (default 5)",
      .kind = CLI_U32, CLI_FIELD(bench_args, config.frames), .lo = 1, .hi = 64},
     {.name = "--warmup", .value_name = "N", .help = "untimed frames before them, 0 to 64 (default 1)",

@@ -182,6 +182,39 @@ static void test_pgrid_isa_bit_identical(void **state)
     rtt_scene_free(s);
 }
 
+/* The build on 1 and 3 threads (the set-up by chunks of 4096 triangles):
+ * the same grid, byte for byte, on the bunny (75k triangles, when cached). */
+static void test_pgrid_build_same_at_any_thread_count(void **state)
+{
+    (void)state;
+    char path[600];
+    const char *home = getenv("HOME");
+    snprintf(path, sizeof path, "%s/.cache/rtt-data/meshes/bunny00.off", home ? home : "");
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) {
+        print_message("%s not cached (bench/fetch-scenes.sh): skipped\n", path);
+        skip();
+    }
+    const uint32_t w = 300, h = 200;
+    rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    pgrid_eye one = {0}, three = {0};
+    one.threads = 1, three.threads = 3;
+    assert_true(pgrid_eye_build(&one, s, NULL, &frame, w, h, 32, &err));
+    assert_true(pgrid_eye_build(&three, s, NULL, &frame, w, h, 32, &err));
+    assert_true(one.triangle_count > 8192); /* more than two chunks */
+    assert_int_equal(one.triangle_count, three.triangle_count);
+    assert_int_equal(one.near_count, three.near_count);
+    assert_int_equal(one.ref_count, three.ref_count);
+    assert_memory_equal(one.triangles, three.triangles, one.triangle_count * sizeof *one.triangles);
+    assert_memory_equal(one.surfaces, three.surfaces, one.triangle_count * sizeof *one.surfaces);
+    assert_memory_equal(one.cell_first, three.cell_first, ((size_t)pgrid_eye_cell_count(&one) + 1) * sizeof(uint32_t));
+    assert_memory_equal(one.refs, three.refs, one.ref_count * sizeof *one.refs);
+    pgrid_eye_free(&one);
+    pgrid_eye_free(&three);
+    rtt_scene_free(s);
+}
+
 /* A degenerate triangle never hits, even where it would cover the view. */
 static void test_pgrid_skips_degenerate(void **state)
 {
@@ -276,6 +309,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pgrid_hits_match_reference),
         cmocka_unit_test(test_pgrid_isa_bit_identical),
+        cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),
         cmocka_unit_test(test_pgrid_skips_degenerate),
         cmocka_unit_test(test_pgrid_refuses_bad_cells),
         cmocka_unit_test(test_pgrid_render_matches_reference),

@@ -103,6 +103,40 @@ static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w,
     return points;
 }
 
+/* The grids a and b hold the same cells, lists, bounds and flags. */
+static void assert_same_grid(const pgrid_light *a, const pgrid_light *b, const rtt_scene *s, uint32_t records)
+{
+    assert_int_equal(a->res, b->res);
+    assert_int_equal(a->ref_count, b->ref_count);
+    assert_int_equal(a->near_count, b->near_count);
+    const size_t cells = (size_t)PGRID_LIGHT_FACES * a->res * a->res;
+    assert_memory_equal(a->cell_first, b->cell_first, (cells + 1) * sizeof *a->cell_first);
+    assert_memory_equal(a->cell_front, b->cell_front, cells * sizeof *a->cell_front);
+    assert_memory_equal(a->cell_min, b->cell_min, cells * sizeof *a->cell_min);
+    if (a->ref_count) assert_memory_equal(a->refs, b->refs, a->ref_count * sizeof *a->refs);
+    if (a->near_count) assert_memory_equal(a->near, b->near, a->near_count * sizeof *a->near);
+    if (records) assert_memory_equal(a->bound, b->bound, records * sizeof *a->bound);
+    assert_memory_equal(a->front, b->front, s->triangle_count);
+}
+
+/* pgrid_light_rebuild on 2 and 3 threads, into a light built before at
+ * another place and resolution (its arrays kept), gives the one-thread
+ * build's grid. */
+static void check_rebuild(const rtt_scene *s, const pgrid_shadows *grids, const pgrid_light *built,
+                          const float position[3], uint32_t res)
+{
+    const float elsewhere[3] = {position[0] + 1.0f, position[1] - 2.0f, position[2] + 0.5f};
+    const uint32_t other[2] = {res > 8 ? res / 4 : 2 * res, res + 3};
+    pgrid_light again;
+    memset(&again, 0, sizeof again);
+    for (uint32_t threads = 2; threads <= 3; threads++) {
+        assert_true(pgrid_light_rebuild(&again, grids, s, elsewhere, other[threads - 2], threads));
+        assert_true(pgrid_light_rebuild(&again, grids, s, position, res, threads));
+        assert_same_grid(built, &again, s, grids->corner_count);
+    }
+    pgrid_light_free(&again);
+}
+
 /* Every ray from `points` to `light` through the grid at every instruction
  * set, against the reference engine and the brute force. */
 static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids, const rtt_vec3 *points,
@@ -114,6 +148,7 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
     const float position[3] = {light.x, light.y, light.z};
     assert_true(pgrid_light_build(&grid, grids, s, position, res));
     one.lights = &grid, one.light_count = 1;
+    check_rebuild(s, grids, &grid, position, res);
     rtt_ray *rays = malloc((size_t)point_count * sizeof *rays);
     uint32_t *prims = malloc(((size_t)point_count + 1) * sizeof *prims);
     uint8_t *expected = malloc(point_count + 1), *engine = malloc(point_count + 1), *ours = malloc(point_count + 1);
@@ -330,6 +365,10 @@ static void test_light_grid_culling_on_the_bunny(void **state)
     const float position[3] = {light.x, light.y, light.z};
     pgrid_light_free(&grids.lights[0]);
     assert_true(pgrid_light_build(&grids.lights[0], &grids, s, position, 0));
+    /* res 0: the rule's (the bunny's 75k triangles: 200; a map's 4k: 100) */
+    assert_int_equal(grids.lights[0].res, pgrid_light_res_rule(grids.corner_count));
+    assert_int_equal(pgrid_light_res_rule(grids.corner_count), 200);
+    assert_int_equal(pgrid_light_res_rule(4093), 100);
     uint32_t n = 0, blocked = 0;
     for (uint32_t i = 0; i < SIDE * SIDE; i++) {
         if (hits[i].prim == RTT_MISS) continue;

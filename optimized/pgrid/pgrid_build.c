@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine/threads.h"
 #include "pgrid_eye.h"
 
 static bool grow(void **array, size_t *capacity, size_t need, size_t element)
@@ -47,6 +48,7 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->surfaces);
     free(grid->cell_first);
     free(grid->refs);
+    free(grid->chunk_kept);
     memset(grid, 0, sizeof *grid);
 }
 
@@ -201,6 +203,46 @@ static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t w
     return pixel_range(box[0], box[1], width, &t->x0, &t->x1) && pixel_range(box[2], box[3], height, &t->y0, &t->y1);
 }
 
+enum { SETUP_CHUNK = 4096 };
+
+/* What the set-up's tasks share. */
+typedef struct setup_job {
+    pgrid_eye *g;
+    const rtt_scene *scene;
+    const uint8_t *degenerate;
+    const rtt_camera_frame *frame;
+    projection p;
+} setup_job;
+
+/* Task: the triangles of chunk `task` transformed, clipped and set up, the
+ * kept ones packed from the chunk's first slot in global order; the
+ * chunk's kept and near counts in chunk_kept[2 task], [2 task + 1]. */
+static void setup_chunk(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    const setup_job *job = context;
+    pgrid_eye *g = job->g;
+    const rtt_scene *scene = job->scene;
+    const uint32_t first = task * SETUP_CHUNK,
+                   end = first + SETUP_CHUNK < scene->triangle_count ? first + SETUP_CHUNK : scene->triangle_count;
+    uint32_t kept = first, near_count = 0;
+    for (uint32_t i = first; i < end; i++) {
+        if (job->degenerate && job->degenerate[i]) continue;
+        rtt_vec3 corners[3], rel[3];
+        rtt_scene_triangle(scene, i, corners);
+        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_scale(rtt_v3_sub(corners[k], job->frame->eye), job->p.scale);
+        pgrid_triangle *t = &g->triangles[kept];
+        bool near;
+        if (!triangle_rect(&job->p, rel, g->width, g->height, t, &near)) continue;
+        triangle_setup(t, &g->surfaces[kept], job->frame, rel);
+        t->prim = i;
+        near_count += near;
+        kept++;
+    }
+    g->chunk_kept[2 * task] = kept - first;
+    g->chunk_kept[2 * task + 1] = near_count;
+}
+
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
                      const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
 {
@@ -227,26 +269,36 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     g->cell_capacity = (uint32_t)cap;
     g->triangle_capacity = (uint32_t)tcap;
 
-    /* transform, clip against the near plane, set up; count references per cell */
-    const projection p = projection_make(frame, scene);
+    /* transform, clip against the near plane, set up (by chunks on the
+     * thread pool, each chunk's kept triangles packed at its own start),
+     * then the chunks moved together in order and each cell's references counted */
+    const uint32_t chunks = (scene->triangle_count + SETUP_CHUNK - 1) / SETUP_CHUNK;
+    if (2 * chunks + 1 > g->chunk_capacity) {
+        uint32_t *bigger = realloc(g->chunk_kept, (2 * (size_t)chunks + 1) * sizeof *bigger);
+        if (!bigger) return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+        g->chunk_kept = bigger;
+        g->chunk_capacity = 2 * chunks + 1;
+    }
+    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene)};
+    rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
+    const projection p = job.p;
     memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
     uint32_t kept = 0, near_count = 0;
     size_t refs = 0;
-    for (uint32_t i = 0; i < scene->triangle_count; i++) {
-        if (degenerate && degenerate[i]) continue;
-        rtt_vec3 corners[3], rel[3];
-        rtt_scene_triangle(scene, i, corners);
-        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_scale(rtt_v3_sub(corners[k], frame->eye), p.scale);
-        pgrid_triangle *t = &g->triangles[kept];
-        bool near;
-        if (!triangle_rect(&p, rel, width, height, t, &near)) continue;
-        triangle_setup(t, &g->surfaces[kept], frame, rel);
-        t->prim = i;
-        near_count += near;
-        kept++;
-        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
-            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
-        refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
+    for (uint32_t c = 0; c < chunks; c++) {
+        const uint32_t n = g->chunk_kept[2 * c], from = c * SETUP_CHUNK;
+        if (from != kept) {
+            memmove(&g->triangles[kept], &g->triangles[from], n * sizeof *g->triangles);
+            memmove(&g->surfaces[kept], &g->surfaces[from], n * sizeof *g->surfaces);
+        }
+        near_count += g->chunk_kept[2 * c + 1];
+        for (uint32_t k = kept; k < kept + n; k++) {
+            const pgrid_triangle *t = &g->triangles[k];
+            for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
+                for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
+            refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
+        }
+        kept += n;
     }
     g->triangle_count = kept;
     g->inv_scale = 1.0f / p.scale;

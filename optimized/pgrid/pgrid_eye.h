@@ -82,12 +82,16 @@ typedef struct pgrid_eye {
     size_t ref_count, ref_capacity;
     uint32_t near_count;       /* triangles reaching in front of the near plane: every cell holds them */
     float inv_scale;           /* the build works on corners scaled by 1 / inv_scale (a power of two) */
+    uint32_t threads;          /* the build's threads, set by the caller (0 or 1: the caller's alone) */
+    uint32_t *chunk_kept;      /* the build's: per chunk of triangles, how many it kept and how many are near */
+    uint32_t chunk_capacity;
 } pgrid_eye;
 
 /* Builds the grid of `frame` at width x height in cells of `cell` pixels
  * (a multiple of 4, 4 .. PGRID_EYE_CELL_MAX; 0 → the default) over the
  * triangles not flagged in `degenerate` (one byte per triangle, 1 = never
- * hits; NULL: none).  False (err filled) when out of memory. */
+ * hits; NULL: none), the set-up on grid->threads (the same grid at any
+ * count).  False (err filled) when out of memory. */
 bool pgrid_eye_build(pgrid_eye *grid, const rtt_scene *scene, const uint8_t *degenerate,
                      const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err);
 void pgrid_eye_free(pgrid_eye *grid);

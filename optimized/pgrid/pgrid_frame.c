@@ -33,6 +33,7 @@ bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rt
                            rtt_error *err)
 {
     const uint64_t t0 = rtt_clock_ns();
+    grid->threads = threads;
     if (!pgrid_eye_build(grid, scene, degenerate, frame, width, height, cell, err)) return false;
     if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     threads = rtt_thread_count(threads);

@@ -18,85 +18,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bvh_simd.h"
 #include "isect_woop_watertight.h"
 #include "pgrid_isa.h"
 #include "pgrid_light.h"
 
-#if defined(__AVX512F__)
-#define LANES 16
-typedef __m512 vf;
-typedef __mmask16 vm;
-static inline vf vf_set1(float x) { return _mm512_set1_ps(x); }
-static inline vf vf_load(const float *p) { return _mm512_load_ps(p); }
-static inline void vf_store(float *p, vf a) { _mm512_store_ps(p, a); }
-static inline vf vf_add(vf a, vf b) { return _mm512_add_ps(a, b); }
-static inline vf vf_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
-static inline vf vf_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
-static inline vf vf_div(vf a, vf b) { return _mm512_div_ps(a, b); }
-static inline vm vm_gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
-static inline vm vm_lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
-static inline vm vm_ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
-static inline vm vm_and(vm a, vm b) { return a & b; }
-static inline vm vm_or(vm a, vm b) { return a | b; }
-static inline vm vm_andnot(vm a, vm b) { return (vm)(~a & b); }
-static inline uint32_t vm_bits(vm a) { return a; }
-static inline vm vm_from_bits(uint32_t b) { return (vm)b; }
-static inline vf vf_abs(vf a) { return _mm512_abs_ps(a); }
-#elif defined(__AVX2__)
-#define LANES 8
-typedef __m256 vf;
-typedef __m256 vm;
-static inline vf vf_set1(float x) { return _mm256_set1_ps(x); }
-static inline vf vf_load(const float *p) { return _mm256_load_ps(p); }
-static inline void vf_store(float *p, vf a) { _mm256_store_ps(p, a); }
-static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
-static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
-static inline vf vf_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
-static inline vf vf_div(vf a, vf b) { return _mm256_div_ps(a, b); }
-static inline vm vm_gt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-static inline vm vm_lt(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
-static inline vm vm_ge(vf a, vf b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
-static inline vm vm_and(vm a, vm b) { return _mm256_and_ps(a, b); }
-static inline vm vm_or(vm a, vm b) { return _mm256_or_ps(a, b); }
-static inline vm vm_andnot(vm a, vm b) { return _mm256_andnot_ps(a, b); }
-static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm256_movemask_ps(a); }
-static inline vm vm_from_bits(uint32_t b)
-{
-    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)b), bit), bit));
-}
-static inline vf vf_abs(vf a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
-#else
-#define LANES 4
-typedef __m128 vf;
-typedef __m128 vm;
-static inline vf vf_set1(float x) { return _mm_set1_ps(x); }
-static inline vf vf_load(const float *p) { return _mm_load_ps(p); }
-static inline void vf_store(float *p, vf a) { _mm_store_ps(p, a); }
-static inline vf vf_add(vf a, vf b) { return _mm_add_ps(a, b); }
-static inline vf vf_sub(vf a, vf b) { return _mm_sub_ps(a, b); }
-static inline vf vf_mul(vf a, vf b) { return _mm_mul_ps(a, b); }
-static inline vf vf_div(vf a, vf b) { return _mm_div_ps(a, b); }
-static inline vm vm_gt(vf a, vf b) { return _mm_cmpgt_ps(a, b); }
-static inline vm vm_lt(vf a, vf b) { return _mm_cmplt_ps(a, b); }
-static inline vm vm_ge(vf a, vf b) { return _mm_cmpge_ps(a, b); }
-static inline vm vm_and(vm a, vm b) { return _mm_and_ps(a, b); }
-static inline vm vm_or(vm a, vm b) { return _mm_or_ps(a, b); }
-static inline vm vm_andnot(vm a, vm b) { return _mm_andnot_ps(a, b); }
-static inline uint32_t vm_bits(vm a) { return (uint32_t)_mm_movemask_ps(a); }
-static inline vm vm_from_bits(uint32_t b)
-{
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32((int)b), bit), bit));
-}
-static inline vf vf_abs(vf a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
-#endif
+/* the vector vocabulary at this copy's width, shared with the BVH kernels */
+#define LANES BVH_W
 
 /* Normal floats: neither zero, subnormal, infinite nor NaN. */
 static inline vm vm_normal(vf x)
 {
     const vf a = vf_abs(x);
-    return vm_and(vm_ge(a, vf_set1(FLT_MIN)), vm_lt(a, vf_set1(INFINITY)));
+    return vm_and(vf_ge(a, vf_set1(FLT_MIN)), vf_lt(a, vf_set1(INFINITY)));
 }
 
 /* One packet: LANES rays of one kz, structure of arrays. */
@@ -126,12 +60,12 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
     const vf v = vf_sub(vf_mul(ax, cy), vf_mul(ay, cx));
     const vf w = vf_sub(vf_mul(bx, ay), vf_mul(by, ax));
     const vf zero = vf_set1(0.0f);
-    const vm positive = vm_and(vm_and(vm_gt(u, zero), vm_gt(v, zero)), vm_gt(w, zero));
-    const vm negative = vm_and(vm_and(vm_lt(u, zero), vm_lt(v, zero)), vm_lt(w, zero));
+    const vm positive = vm_and(vm_and(vf_gt(u, zero), vf_gt(v, zero)), vf_gt(w, zero));
+    const vm negative = vm_and(vm_and(vf_lt(u, zero), vf_lt(v, zero)), vf_lt(w, zero));
     const vm edges_normal = vm_and(vm_and(vm_normal(u), vm_normal(v)), vm_normal(w));
-    const vm act = vm_from_bits(active);
+    const vm act = vm_of_bits(active);
     const uint32_t inside = vm_bits(vm_and(act, vm_or(positive, negative)));
-    const uint32_t odd = vm_bits(vm_andnot(edges_normal, act));
+    const uint32_t odd = active & ~vm_bits(edges_normal);
     if (!(inside | odd)) return 0;
     const vf sz = vf_load(p->sz);
     const vf az = vf_mul(sz, akz), bz = vf_mul(sz, bkz), cz = vf_mul(sz, ckz);
@@ -140,10 +74,10 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
     const vm normal = vm_and(edges_normal, vm_and(vm_normal(det), vm_normal(t_scaled)));
     const vf t = vf_div(t_scaled, det);
     const vf tnear = vf_load(p->tnear);
-    const vm in_range = vm_and(vm_gt(t, tnear), vm_lt(t, vf_load(p->tfar)));
+    const vm in_range = vm_and(vf_gt(t, tnear), vf_lt(t, vf_load(p->tfar)));
     uint32_t hit = inside & vm_bits(vm_and(normal, in_range));
     if (entering) {
-        const vm window = vm_and(vm_gt(t, vf_sub(vf_set1(0.0f), tnear)), vm_lt(vf_sub(t, tnear), vf_set1(FLT_MIN)));
+        const vm window = vm_and(vf_gt(t, vf_sub(vf_set1(0.0f), tnear)), vf_lt(vf_sub(t, tnear), vf_set1(FLT_MIN)));
         *entering |= inside & vm_bits(vm_and(normal, window));
     }
     const uint32_t slow = active & ~vm_bits(normal);

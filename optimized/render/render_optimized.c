@@ -280,7 +280,14 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     pgrid_shadows light_grids = {0};
     if (opt->shadows == RTT_SHADOWS_PGRID) {
         const pgrid_kernel *grid_kernel = pgrid_kernel_find("", isa);
-        if (!pgrid_shadows_build(&light_grids, scene, optimized_engine_degenerate(engine), 0, err)) {
+        /* the scene's half, then the lights' grids on the frame's threads */
+        bool built = pgrid_shadows_prepare(&light_grids, scene, optimized_engine_degenerate(engine), err);
+        light_grids.threads = rtt_thread_count(opt->threads);
+        if (built && !pgrid_shadows_build_lights(&light_grids, scene, 0, err)) {
+            pgrid_shadows_free(&light_grids);
+            built = false;
+        }
+        if (!built) {
             if (job.shading.planes) rtt_shadow_planes_free(&planes);
             return false;
         }

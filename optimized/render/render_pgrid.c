@@ -13,6 +13,7 @@ bool pgrid_render_begin(pgrid_render *r, const pgrid_kernel *kernel, const rtt_s
     const uint64_t t0 = rtt_clock_ns();
     r->kernel = kernel;
     r->threads = threads;
+    r->grid.threads = threads;
     if (!pgrid_eye_build(&r->grid, scene, degenerate, frame, width, height, cell, err)) return false;
     r->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     const size_t entries = (size_t)r->grid.cell * r->grid.cell;

@@ -1,0 +1,3 @@
+rtt bench ~/.cache/rtt-data/meshes/refined_elephant.off --views bench/views.json --size 1024 --accel pgrid --only shadow,build --no-embree --frames 5 --threads 1,2 --pgrid-light-res 50,100,200,400,800 --json
+# binary: branch pghard, an uncommitted state on the way to ed09115 (same grids; before the counting and placing loops were merged into band_pass and the shadow kernel moved onto bvh_simd.h; every row names its res); niced 19; loadavg before: 6.63 4.51 2.55 6/122 15030
+# loadavg after: 7.02 4.73 2.66 7/110 15597
