@@ -70,9 +70,7 @@ static void check_soft_light(const rtt_scene *s, rtt_engine *ref, const pgrid_so
     pgrid_soft one = *grids;
     pgrid_soft_light grid;
     const float position[3] = {light->position.x, light->position.y, light->position.z};
-    const float extent = light->type == RTT_LIGHT_QUAD ? rtt_v3_length(light->edge_u) + rtt_v3_length(light->edge_v)
-                                                       : light->radius;
-    assert_true(pgrid_soft_light_build(&grid, grids, position, extent, res, slices));
+    assert_true(pgrid_soft_light_build(&grid, grids, position, pgrid_soft_light_extent(light), res, slices));
     one.lights = &grid, one.light_count = 1;
     uint32_t n;
     rtt_ray *rays = light_rays(s, light, points, point_count, 600, &seed, &n);

@@ -66,6 +66,8 @@ typedef struct pgrid_soft_light {
     uint32_t *cell_first;        /* slices * 6 res^2 + 1; cell (k, face, y, x) = ((k * 6 + face) * res + y) * res + x */
     uint32_t *refs;              /* indices into pgrid_soft.tris, ascending per cell */
     size_t ref_count;
+    double *least;               /* per triangle: a lower bound of its distance from L, less 2E (a ray
+                                  * piece reaching no farther than that meets none of it) */
     uint32_t *near_list;
     uint32_t near_count;
 } pgrid_soft_light;
@@ -85,16 +87,24 @@ typedef struct pgrid_soft {
  * sizes are out of range; pgrid_soft_free frees what was built. */
 bool pgrid_soft_build(pgrid_soft *grids, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
                       uint32_t slices, rtt_error *err);
+/* The scene's half of pgrid_soft_build: the triangles' corners (built once
+ * per scene where the caller keeps them: the bench), no light. */
+bool pgrid_soft_prepare(pgrid_soft *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err);
 /* One light at `position` reaching `extent` from it (the tests and the fuzzer). */
 bool pgrid_soft_light_build(pgrid_soft_light *light, const pgrid_soft *grids, const float position[3], float extent,
                             uint32_t res, uint32_t slices);
 void pgrid_soft_light_free(pgrid_soft_light *light);
+/* How far a light's samples reach from its centre (sphere: the radius;
+ * quad: |edge_u| + |edge_v|; point: 0): pgrid_soft_build's `extent`. */
+float pgrid_soft_light_extent(const rtt_light *light);
 void pgrid_soft_free(pgrid_soft *grids);
 
-/* Traversal counters (bench/: Table 5): cells visited and triangle tests,
- * summed over rays (a packet's cell counts once per live ray). */
+/* Traversal counters (bench/: Table 5), summed over rays: cells a packet
+ * visits (once per live ray), triangle tests (per lane), and steps, a
+ * ray's own cells as a 2D DDA would cross them (|dx| + |dy| + 1 per slice
+ * and face its piece crosses: Table 5's traversal steps). */
 typedef struct pgrid_soft_counts {
-    uint64_t rays, cells, tests;
+    uint64_t rays, cells, tests, steps;
 } pgrid_soft_counts;
 
 /* The slice traverser (pgrid_soft_trace.c, one copy per instruction set):

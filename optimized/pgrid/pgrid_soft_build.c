@@ -77,7 +77,7 @@ static bool face_rect(const pgrid_soft_light *L, const double c[3][3], uint32_t 
 /* Triangle `t` relative to the light, its slices [k0, k1] and whether it
  * goes to the near list. */
 static bool triangle_place(const pgrid_soft_light *L, const pgrid_soft_tri *tri, double c[3][3], uint32_t *k0,
-                           uint32_t *k1)
+                           uint32_t *k1, double *least)
 {
     double lo[3], hi[3], far = 0.0;
     for (int k = 0; k < 3; k++) {
@@ -95,6 +95,7 @@ static bool triangle_place(const pgrid_soft_light *L, const pgrid_soft_tri *tri,
         gap_max = fmax(gap_max, g), gap2 += g * g;
     }
     const double dlo = sqrt(gap2) - 2.0 * L->slack, dhi = far + 2.0 * L->slack;
+    *least = dlo;
     uint32_t a = 0, b = L->slices - 1;
     while (a + 1 < L->slices && L->bound[a + 1] <= dlo) a++;
     while (b > a && L->bound[b] > dhi) b--;
@@ -111,22 +112,32 @@ bool pgrid_soft_light_build(pgrid_soft_light *L, const pgrid_soft *g, const floa
     if (res > PGRID_LIGHT_RES_MAX || slices > PGRID_SOFT_SLICES_MAX) return false;
     L->res = res, L->slices = slices;
     /* E from the largest coordinate of the triangles and the light; the scene's farthest corner */
-    double m = 0.0, far = 0.0;
+    double m = 0.0, far = 0.0, gap = INFINITY;
     for (int a = 0; a < 3; a++) L->position[a] = position[a], m = fmax(m, fabs((double)position[a]));
-    for (uint32_t t = 0; t < g->tri_count; t++)
+    for (uint32_t t = 0; t < g->tri_count; t++) {
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, tri_gap = 0.0;
         for (int k = 0; k < 3; k++) {
             double d2 = 0.0;
             for (int a = 0; a < 3; a++) {
-                const double x = g->tris[t].v[k][a];
+                const double x = g->tris[t].v[k][a], q = x - L->position[a];
                 m = fmax(m, fabs(x));
-                d2 += (x - L->position[a]) * (x - L->position[a]);
+                d2 += q * q;
+                lo[a] = fmin(lo[a], q), hi[a] = fmax(hi[a], q);
             }
             far = fmax(far, d2);
         }
+        for (int a = 0; a < 3; a++) tri_gap = fmax(tri_gap, lo[a] > 0.0 ? lo[a] : hi[a] < 0.0 ? -hi[a] : 0.0);
+        gap = fmin(gap, tri_gap);
+    }
     far = sqrt(far);
     L->far = far;
     L->slack = ldexp(m > 0.0 ? m : 1.0, -14);
-    L->near = fmax(2.0 * (double)(isfinite(extent) ? extent : 0.0f), 256.0 * L->slack);
+    /* the near region: at least twice the light's reach, and up to half the
+     * max-norm gap to the nearest triangle (empty of triangles, and the
+     * soft rays' pieces, which fan out within a few radii of L, stay
+     * narrow) */
+    L->near = fmax(fmax(2.0 * (double)(isfinite(extent) ? extent : 0.0f), 256.0 * L->slack),
+                   isfinite(gap) ? 0.5 * gap : 0.0);
     /* slices: geometric from near to the farthest corner, the first from 0, the last to infinity */
     if (!(far > 2.0 * L->near)) far = 2.0 * L->near;
     L->bound[0] = 0.0, L->bound[slices] = INFINITY;
@@ -134,13 +145,14 @@ bool pgrid_soft_light_build(pgrid_soft_light *L, const pgrid_soft *g, const floa
     const size_t cells = (size_t)slices * PGRID_LIGHT_FACES * res * res;
     L->cell_first = calloc(cells + 1, sizeof *L->cell_first);
     L->near_list = malloc(((size_t)g->tri_count + 1) * sizeof *L->near_list);
-    if (!L->cell_first || !L->near_list) return false;
+    L->least = malloc(((size_t)g->tri_count + 1) * sizeof *L->least);
+    if (!L->cell_first || !L->near_list || !L->least) return false;
     /* two passes: count each cell's references, then place them */
     for (int pass = 0; pass < 2; pass++) {
         for (uint32_t t = 0; t < g->tri_count; t++) {
             double c[3][3];
             uint32_t k0, k1;
-            if (triangle_place(L, &g->tris[t], c, &k0, &k1)) {
+            if (triangle_place(L, &g->tris[t], c, &k0, &k1, &L->least[t])) {
                 if (pass == 0) L->near_list[L->near_count++] = t;
                 continue;
             }
@@ -176,25 +188,21 @@ void pgrid_soft_light_free(pgrid_soft_light *L)
     free(L->cell_first);
     free(L->refs);
     free(L->near_list);
+    free(L->least);
     memset(L, 0, sizeof *L);
 }
 
 /* How far the light's samples reach from its centre. */
-static float light_extent(const rtt_light *light)
+float pgrid_soft_light_extent(const rtt_light *light)
 {
     if (light->type == RTT_LIGHT_SPHERE) return light->radius;
     if (light->type == RTT_LIGHT_QUAD) return rtt_v3_length(light->edge_u) + rtt_v3_length(light->edge_v);
     return 0.0f;
 }
 
-bool pgrid_soft_build(pgrid_soft *g, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
-                      uint32_t slices, rtt_error *err)
+bool pgrid_soft_prepare(pgrid_soft *g, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
 {
-    const uint64_t t0 = rtt_clock_ns();
     memset(g, 0, sizeof *g);
-    if (res > PGRID_LIGHT_RES_MAX || slices > PGRID_SOFT_SLICES_MAX)
-        return rtt_error_set(err, "soft light grid: at most %u cells a side and %u slices", PGRID_LIGHT_RES_MAX,
-                             PGRID_SOFT_SLICES_MAX);
     g->tris = malloc(((size_t)scene->triangle_count + 1) * sizeof *g->tris);
     g->lights = calloc((size_t)scene->light_count + 1, sizeof *g->lights);
     if (!g->tris || !g->lights) {
@@ -208,11 +216,23 @@ bool pgrid_soft_build(pgrid_soft *g, const rtt_scene *scene, const uint8_t *dege
         pgrid_soft_tri *tri = &g->tris[g->tri_count++];
         for (int k = 0; k < 3; k++) tri->v[k][0] = c[k].x, tri->v[k][1] = c[k].y, tri->v[k][2] = c[k].z;
     }
+    return true;
+}
+
+bool pgrid_soft_build(pgrid_soft *g, const rtt_scene *scene, const uint8_t *degenerate, uint32_t res,
+                      uint32_t slices, rtt_error *err)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    memset(g, 0, sizeof *g);
+    if (res > PGRID_LIGHT_RES_MAX || slices > PGRID_SOFT_SLICES_MAX)
+        return rtt_error_set(err, "soft light grid: at most %u cells a side and %u slices", PGRID_LIGHT_RES_MAX,
+                             PGRID_SOFT_SLICES_MAX);
+    if (!pgrid_soft_prepare(g, scene, degenerate, err)) return false;
     for (uint32_t l = 0; l < scene->light_count; l++) {
         const rtt_light *light = &scene->lights[l];
         const float at[3] = {light->position.x, light->position.y, light->position.z};
         g->light_count = l + 1;
-        if (!pgrid_soft_light_build(&g->lights[l], g, at, light_extent(light), res, slices)) {
+        if (!pgrid_soft_light_build(&g->lights[l], g, at, pgrid_soft_light_extent(light), res, slices)) {
             pgrid_soft_free(g);
             return rtt_error_set(err, "soft light grid: out of memory");
         }

@@ -98,25 +98,37 @@ static uint32_t cell_of(double u, uint32_t res)
     return x < 0.0 ? 0u : x > (double)res - 1.0 ? res - 1u : (uint32_t)x;
 }
 
+/* The mailbox: per entry the triangle, the packet and the lanes it has met. */
+enum { MAILBOX = 1024 };
+typedef struct mailbox_entry {
+    uint32_t tri, packet, lanes;
+} mailbox_entry;
+
 typedef struct soft_packet {
     bvh_packet rays;
     bvh_wt_shears shears;
-    uint32_t mailbox[256];
+    uint32_t id;
+    mailbox_entry mailbox[MAILBOX];
 } soft_packet;
 
-/* The lanes of `active` that a triangle of list[0 .. count) occludes. */
-static uint32_t test_list(const pgrid_soft *g, const uint32_t *list, uint32_t count, soft_packet *p, uint32_t active,
-                          pgrid_soft_counts *counts, uint32_t lanes)
+/* The lanes of `want` that a triangle of list[0 .. count) occludes, each
+ * triangle meeting each lane once per packet. */
+static uint32_t test_list(const pgrid_soft *g, const pgrid_soft_light *L, const uint32_t *list, uint32_t count,
+                          soft_packet *p, uint32_t want, double reach, pgrid_soft_counts *counts)
 {
     uint32_t hit = 0;
-    for (uint32_t i = 0; i < count && (hit & active) != active; i++) {
+    for (uint32_t i = 0; i < count && (hit & want) != want; i++) {
         const uint32_t t = list[i];
-        if (p->mailbox[t & 255u] == t) continue;
-        p->mailbox[t & 255u] = t;
-        if (counts) counts->tests += lanes;
-        hit |= bvh_occluded_watertight(&g->tris[t], &p->rays, &p->shears, active & ~hit);
+        if (L->least[t] > reach) continue; /* beyond every wanted piece */
+        mailbox_entry *e = &p->mailbox[t & (MAILBOX - 1u)];
+        if (e->tri != t || e->packet != p->id) *e = (mailbox_entry){t, p->id, 0};
+        const uint32_t lanes = want & ~hit & ~e->lanes;
+        if (!lanes) continue;
+        e->lanes |= lanes;
+        if (counts) counts->tests += (uint32_t)__builtin_popcount(lanes);
+        hit |= bvh_occluded_watertight(&g->tris[t], &p->rays, &p->shears, lanes);
     }
-    return hit & active;
+    return hit & want;
 }
 
 void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray *rays, uint32_t count,
@@ -126,8 +138,9 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                          uint8_t *occluded, pgrid_soft_counts *counts)
 {
     const pgrid_soft_light *L = &grids->lights[light];
-    soft_packet p;
+    static _Thread_local soft_packet p; /* 12 KB of mailbox: off the stack, reset by packet id */
     for (uint32_t first = 0; first < count;) {
+        if (++p.id == 0) memset(p.mailbox, 0, sizeof p.mailbox), p.id = 1;
         uint32_t n = 1;
         while (n < BVH_W && first + n < count && memcmp(rays[first + n].org, rays[first].org, sizeof rays->org) == 0)
             n++;
@@ -155,38 +168,63 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                 reach = fmax(reach, sqrt(d2));
             }
         }
-        const uint32_t lanes_live = (uint32_t)__builtin_popcount(live);
-        if (counts) counts->rays += lanes_live;
+        if (counts) counts->rays += (uint32_t)__builtin_popcount(live);
         if (live) {
             bvh_wt_prepare(&p.rays, live, &p.shears);
-            memset(p.mailbox, 0xff, sizeof p.mailbox);
-            if (L->near_count) hit = test_list(grids, L->near_list, L->near_count, &p, live, counts, lanes_live);
+            if (L->near_count)
+                hit = test_list(grids, L, L->near_list, L->near_count, &p, live, INFINITY, counts);
         }
         /* the slices from the origins' side towards the light */
         uint32_t top = L->slices - 1;
         while (top > 0 && L->bound[top] > reach + 4.0 * L->slack) top--;
         for (uint32_t k = top + 1; k-- > 0 && (hit & live) != live;) {
-            double rect[PGRID_LIGHT_FACES][4];
-            for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++)
-                rect[f][0] = rect[f][2] = INFINITY, rect[f][1] = rect[f][3] = -INFINITY;
+            /* each live ray's cell rectangle per face (x0, x1, y0, y1; empty: x0 > x1), and their union */
+            uint32_t cell[PGRID_LIGHT_FACES][BVH_W][4], any[PGRID_LIGHT_FACES][4];
+            double far[BVH_W]; /* the farthest each ray's piece in this slice reaches from L */
+            for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) any[f][0] = any[f][2] = UINT32_MAX, any[f][1] = any[f][3] = 0;
             for (uint32_t l = 0; l < n; l++) {
                 double a, b;
-                if (!((live & ~hit) >> l & 1u) || !slice_piece(L, &seg[l], k, &a, &b)) continue;
-                for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) face_piece(L, &seg[l], f, a, b, rect[f]);
+                const bool piece = ((live & ~hit) >> l & 1u) && slice_piece(L, &seg[l], k, &a, &b);
+                far[l] = 0.0;
+                for (int e = 0; piece && e < 2; e++) { /* the distance is convex along the ray: an end */
+                    const double t = e ? b : a;
+                    double d2 = 0.0;
+                    for (int c = 0; c < 3; c++) d2 += (seg[l].o[c] + t * seg[l].d[c]) * (seg[l].o[c] + t * seg[l].d[c]);
+                    far[l] = fmax(far[l], sqrt(d2) + L->slack);
+                }
+                for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) {
+                    uint32_t *c = cell[f][l];
+                    c[0] = 1, c[1] = 0;
+                    if (!piece) continue;
+                    double rect[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+                    face_piece(L, &seg[l], f, a, b, rect);
+                    if (!(rect[0] <= rect[1])) continue;
+                    c[0] = cell_of(rect[0] - 1e-9, L->res), c[1] = cell_of(rect[1] + 1e-9, L->res);
+                    c[2] = cell_of(rect[2] - 1e-9, L->res), c[3] = cell_of(rect[3] + 1e-9, L->res);
+                    if (counts) counts->steps += (c[1] - c[0]) + (c[3] - c[2]) + 1u;
+                    if (c[0] < any[f][0]) any[f][0] = c[0];
+                    if (c[1] > any[f][1]) any[f][1] = c[1];
+                    if (c[2] < any[f][2]) any[f][2] = c[2];
+                    if (c[3] > any[f][3]) any[f][3] = c[3];
+                }
             }
             for (uint32_t f = 0; f < PGRID_LIGHT_FACES && (hit & live) != live; f++) {
-                if (!(rect[f][0] <= rect[f][1])) continue;
-                const uint32_t x0 = cell_of(rect[f][0] - 1e-9, L->res), x1 = cell_of(rect[f][1] + 1e-9, L->res);
-                const uint32_t y0 = cell_of(rect[f][2] - 1e-9, L->res), y1 = cell_of(rect[f][3] + 1e-9, L->res);
-                for (uint32_t y = y0; y <= y1 && (hit & live) != live; y++)
-                    for (uint32_t x = x0; x <= x1 && (hit & live) != live; x++) {
-                        const size_t cell = (((size_t)k * PGRID_LIGHT_FACES + f) * L->res + y) * L->res + x;
-                        const uint32_t begin = L->cell_first[cell], end = L->cell_first[cell + 1];
-                        const uint32_t left = live & ~hit;
-                        if (counts) counts->cells += (uint32_t)__builtin_popcount(left);
+                if (any[f][0] > any[f][1]) continue;
+                for (uint32_t y = any[f][2]; y <= any[f][3] && (hit & live) != live; y++)
+                    for (uint32_t x = any[f][0]; x <= any[f][1] && (hit & live) != live; x++) {
+                        const size_t at = (((size_t)k * PGRID_LIGHT_FACES + f) * L->res + y) * L->res + x;
+                        const uint32_t begin = L->cell_first[at], end = L->cell_first[at + 1];
+                        uint32_t want = 0; /* the live rays whose own rectangle holds the cell */
+                        double reach = 0.0;
+                        for (uint32_t bits = live & ~hit; bits; bits &= bits - 1u) {
+                            const uint32_t l = (uint32_t)__builtin_ctz(bits);
+                            const uint32_t *c = cell[f][l];
+                            if (c[0] <= x && x <= c[1] && c[2] <= y && y <= c[3]) want |= 1u << l, reach = fmax(reach, far[l]);
+                        }
+                        if (!want) continue;
+                        if (counts) counts->cells += (uint32_t)__builtin_popcount(want);
                         if (begin != end)
-                            hit |= test_list(grids, L->refs + begin, end - begin, &p, left, counts,
-                                             (uint32_t)__builtin_popcount(left));
+                            hit |= test_list(grids, L, L->refs + begin, end - begin, &p, want, reach, counts);
                     }
             }
         }
