@@ -104,9 +104,10 @@ bool bench_soft_multi_make(const rtt_scene *scene, const bench_rays *primary, co
  * light grid's build for light 0 (the triangles' corners made once, as the
  * kd-tree) plus every pixel's N rays as packets through the slice
  * traverser, rows of pixels on the thread pool.  Fills row and build_row as
- * bench_pgrid_row; row->n and row->i are the cells visited and the triangle
- * tests per ray (not per 2x2); result gets each ray's occlusion bit at its
- * place; steps (may be NULL) the cells visited per ray. */
+ * bench_pgrid_row; row->n and row->i are Table 5's traversal steps (the
+ * cells a 2D DDA crosses per slice and face, over the whole segment) and the
+ * triangle tests per ray (not per 2x2); result gets each ray's occlusion bit at its
+ * place. */
 bool bench_pgrid_soft_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays, uint32_t n,
                           const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
 /* Table 5's comparison (bench_grid3d.c): the cells a 3D-DDA visits per ray

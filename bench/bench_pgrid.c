@@ -284,8 +284,8 @@ bool bench_pgrid_soft_row(const rtt_scene *scene, const uint8_t *degenerate, con
                 run_soft_frame(&f);
                 pgrid_soft_counts sum = {0};
                 for (uint32_t y = 0; y < height; y++)
-                    sum.rays += f.counts[y].rays, sum.cells += f.counts[y].cells, sum.tests += f.counts[y].tests;
-                row->n = sum.rays ? (double)sum.cells / (double)sum.rays : 0.0;
+                    sum.rays += f.counts[y].rays, sum.steps += f.counts[y].steps, sum.tests += f.counts[y].tests;
+                row->n = sum.rays ? (double)sum.steps / (double)sum.rays : 0.0;
                 row->i = sum.rays ? (double)sum.tests / (double)sum.rays : 0.0;
             }
             free(f.counts);

@@ -98,6 +98,25 @@ static uint32_t cell_of(double u, uint32_t res)
     return x < 0.0 ? 0u : x > (double)res - 1.0 ? res - 1u : (uint32_t)x;
 }
 
+/* Table 5's steps of one ray over its whole segment, occluded or not: per
+ * slice and face its piece crosses, |dx| + |dy| + 1 cells (a 2D DDA's). */
+static uint64_t ray_steps(const pgrid_soft_light *L, const soft_seg *s)
+{
+    uint64_t steps = 0;
+    for (uint32_t k = 0; k < L->slices; k++) {
+        double a, b;
+        if (!slice_piece(L, s, k, &a, &b)) continue;
+        for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) {
+            double rect[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+            face_piece(L, s, f, a, b, rect);
+            if (!(rect[0] <= rect[1])) continue;
+            steps += (cell_of(rect[1] + 1e-9, L->res) - cell_of(rect[0] - 1e-9, L->res)) +
+                     (cell_of(rect[3] + 1e-9, L->res) - cell_of(rect[2] - 1e-9, L->res)) + 1u;
+        }
+    }
+    return steps;
+}
+
 /* The mailbox: per entry the triangle, the packet and the lanes it has met. */
 enum { MAILBOX = 1024 };
 typedef struct mailbox_entry {
@@ -168,7 +187,10 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                 reach = fmax(reach, sqrt(d2));
             }
         }
-        if (counts) counts->rays += (uint32_t)__builtin_popcount(live);
+        if (counts) {
+            counts->rays += (uint32_t)__builtin_popcount(live);
+            for (uint32_t bits = live; bits; bits &= bits - 1u) counts->steps += ray_steps(L, &seg[__builtin_ctz(bits)]);
+        }
         if (live) {
             bvh_wt_prepare(&p.rays, live, &p.shears);
             if (L->near_count)
@@ -201,7 +223,6 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                     if (!(rect[0] <= rect[1])) continue;
                     c[0] = cell_of(rect[0] - 1e-9, L->res), c[1] = cell_of(rect[1] + 1e-9, L->res);
                     c[2] = cell_of(rect[2] - 1e-9, L->res), c[3] = cell_of(rect[3] + 1e-9, L->res);
-                    if (counts) counts->steps += (c[1] - c[0]) + (c[3] - c[2]) + 1u;
                     if (c[0] < any[f][0]) any[f][0] = c[0];
                     if (c[1] > any[f][1]) any[f][1] = c[1];
                     if (c[2] < any[f][2]) any[f][2] = c[2];
