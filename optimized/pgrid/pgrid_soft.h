@@ -32,6 +32,9 @@
  *    binned by its clipped corners' face coordinates widened by
  *    mu = 4E / near + 1e-6, over the slices its distance range [least
  *    distance of its box, largest of its corners] widened by 2E meets.
+ *  - A ray whose origin has a coordinate larger than M (the triangles' and
+ *    the light's) rounds in the reference's test by more than E: it is
+ *    tested against every triangle instead.
  *  - near >= 256 E; a triangle whose box comes within max-norm near + 2E
  *    of L goes to the near list instead.
  * Both faces of every triangle are kept (no back-face culling: a soft ray
@@ -61,6 +64,8 @@ typedef struct pgrid_soft_light {
     uint32_t res, slices;
     double near;                 /* max-norm radius around L the near list covers */
     double slack;                /* E */
+    double magnitude;            /* M: E's scale; a ray whose origin has a larger coordinate is tested
+                                  * against every triangle (the reference's rounding follows the origin) */
     double far;                  /* the farthest triangle corner's distance from L */
     double bound[PGRID_SOFT_SLICES_MAX + 1]; /* slice k holds distances [bound[k], bound[k + 1]) */
     uint32_t *cell_first;        /* slices * 6 res^2 + 1; cell (k, face, y, x) = ((k * 6 + face) * res + y) * res + x */

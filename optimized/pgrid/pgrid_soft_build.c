@@ -131,6 +131,7 @@ bool pgrid_soft_light_build(pgrid_soft_light *L, const pgrid_soft *g, const floa
     }
     far = sqrt(far);
     L->far = far;
+    L->magnitude = m;
     L->slack = ldexp(m > 0.0 ? m : 1.0, -14);
     /* the near region: at least twice the light's reach, and up to half the
      * max-norm gap to the nearest triangle (empty of triangles, and the

@@ -163,7 +163,7 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
         uint32_t n = 1;
         while (n < BVH_W && first + n < count && memcmp(rays[first + n].org, rays[first].org, sizeof rays->org) == 0)
             n++;
-        const uint32_t live = bvh_packet_load(&p.rays, rays + first, n);
+        uint32_t live = bvh_packet_load(&p.rays, rays + first, n);
         uint32_t hit = 0;
         soft_seg seg[BVH_W];
         double reach = 0.0;
@@ -195,6 +195,14 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
             bvh_wt_prepare(&p.rays, live, &p.shears);
             if (L->near_count)
                 hit = test_list(grids, L, L->near_list, L->near_count, &p, live, INFINITY, counts);
+            /* origins beyond the grid's magnitude: every triangle (pgrid_soft.h) */
+            uint32_t wild = 0;
+            for (uint32_t l = 0; l < n; l++)
+                for (int a = 0; a < 3; a++)
+                    if (!(fabs((double)rays[first + l].org[a]) <= L->magnitude)) wild |= (live >> l & 1u) << l;
+            for (uint32_t t = 0; wild & ~hit && t < grids->tri_count; t++)
+                hit |= bvh_occluded_watertight(&grids->tris[t], &p.rays, &p.shears, wild & ~hit);
+            live &= ~wild;
         }
         /* the slices from the origins' side towards the light */
         uint32_t top = L->slices - 1;
