@@ -86,4 +86,22 @@ static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w,
     return points;
 }
 
+/* 300 random triangles around the origin, every tenth huge, every third tiny. */
+static rtt_scene *triangle_soup(uint32_t *seed)
+{
+    enum { COUNT = 300 };
+    float *xyz = malloc(COUNT * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t i = 0; i < COUNT; i++) {
+        const float size = i % 10 == 0 ? 4.0f : i % 3 == 0 ? 0.01f : 0.3f;
+        const float c[3] = {random_in(seed, -1, 1), random_in(seed, -1, 1), random_in(seed, -1, 1)};
+        for (int k = 0; k < 9; k++) xyz[9 * i + k] = c[k % 3] + random_in(seed, -size, size);
+    }
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_from_triangles(xyz, COUNT, &err);
+    free(xyz);
+    if (!s) fail_msg("soup: %s", err.message);
+    return s;
+}
+
 #endif

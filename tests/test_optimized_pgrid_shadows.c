@@ -131,17 +131,8 @@ static void test_light_grid_on_a_triangle_soup(void **state)
 {
     (void)state;
     uint32_t seed = 12345u;
-    enum { COUNT = 300 };
-    float *xyz = malloc(COUNT * 9 * sizeof *xyz);
-    assert_non_null(xyz);
-    for (uint32_t i = 0; i < COUNT; i++) {
-        const float size = i % 10 == 0 ? 4.0f : i % 3 == 0 ? 0.01f : 0.3f;
-        const float c[3] = {random_in(&seed, -1, 1), random_in(&seed, -1, 1), random_in(&seed, -1, 1)};
-        for (int k = 0; k < 9; k++) xyz[9 * i + k] = c[k % 3] + random_in(&seed, -size, size);
-    }
+    rtt_scene *s = triangle_soup(&seed);
     rtt_error err = {{0}};
-    rtt_scene *s = rtt_scene_from_triangles(xyz, COUNT, &err);
-    assert_non_null(s);
     rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
     assert_non_null(ref);
     pgrid_shadows grids;
@@ -161,7 +152,6 @@ static void test_light_grid_on_a_triangle_soup(void **state)
     pgrid_shadows_free(&grids);
     rtt_engine_destroy(ref);
     rtt_scene_free(s);
-    free(xyz);
 }
 
 /* The renderer: pgrid's image is hard's, bit for bit, and near the reference's. */
