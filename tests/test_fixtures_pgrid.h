@@ -13,7 +13,7 @@
 #include "rtt/reference.h"
 #include "rtt/shade.h"
 
-static rtt_scene *load_scene(const char *name)
+static inline rtt_scene *load_scene(const char *name)
 {
     char path[600];
     snprintf(path, sizeof path, "%s/scenes/%s", RTT_SOURCE_DIR, name);
@@ -23,19 +23,19 @@ static rtt_scene *load_scene(const char *name)
     return s;
 }
 
-static uint32_t next_random(uint32_t *state)
+static inline uint32_t next_random(uint32_t *state)
 {
     *state = *state * 1664525u + 1013904223u;
     return *state >> 8;
 }
 
-static float random_in(uint32_t *state, float lo, float hi)
+static inline float random_in(uint32_t *state, float lo, float hi)
 {
     return lo + (hi - lo) * (float)next_random(state) / (float)(1u << 24);
 }
 
 /* Brute force: any triangle with tnear < t < tfar. */
-static uint8_t brute_force_occluded(const rtt_scene *s, const rtt_ray *r)
+static inline uint8_t brute_force_occluded(const rtt_scene *s, const rtt_ray *r)
 {
     for (uint32_t i = 0; i < s->triangle_count; i++) {
         rtt_vec3 c[3];
@@ -47,7 +47,7 @@ static uint8_t brute_force_occluded(const rtt_scene *s, const rtt_ray *r)
 }
 
 /* The shader proxy's shadow ray from p to target; false when none fits. */
-static bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, rtt_ray *out)
+static inline bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, rtt_ray *out)
 {
     const float epsilon = rtt_scene_ray_epsilon(s);
     rtt_vec3 to = rtt_v3_sub(target, p);
@@ -59,7 +59,7 @@ static bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, rtt_ray 
 }
 
 /* Origins: the eye rays' hits at w x h, then `extra` points in the scene's box grown by a quarter. */
-static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w, uint32_t h, uint32_t extra,
+static inline rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w, uint32_t h, uint32_t extra,
                                 uint32_t *count, uint32_t seed, uint32_t **prims)
 {
     rtt_vec3 *points = malloc(((size_t)w * h + extra) * sizeof *points);
@@ -87,7 +87,7 @@ static rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w,
 }
 
 /* 300 random triangles around the origin, every tenth huge, every third tiny. */
-static rtt_scene *triangle_soup(uint32_t *seed)
+static inline rtt_scene *triangle_soup(uint32_t *seed)
 {
     enum { COUNT = 300 };
     float *xyz = malloc(COUNT * 9 * sizeof *xyz);
