@@ -24,7 +24,10 @@
  *            first light (which must have area): our frusta:16 kernel
  *            (rays made on demand), our bvh-packet and Embree's
  *            rtcOccluded16 (coherent flag) with one pixel's 16 rays per
- *            packet (bench_frusta.c).
+ *            packet (bench_frusta.c); then multi:8's rays (8 samples per
+ *            hit): Embree's rtcOccluded8 one pixel per packet, pgrid:8 (the
+ *            3D light grid, its build row beside it) and Table 5's
+ *            uniform-grid step counts (bench_pgrid.c, bench_grid3d.c).
  *   The BVH kernels (bvh-mono, bvh-packet) race on the same primary and
  *   shadow rays, 16x16 tiles of 4x4 pixel blocks (bench_bvh.c).
  *

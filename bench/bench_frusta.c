@@ -29,6 +29,29 @@
 
 static const rtt_ray inactive = {{0, 0, 0}, {1, 0, 0}, INFINITY, -INFINITY};
 
+/* The shader proxy's shadow segment from p to target (shader_proxy.c's
+ * shadow_segment); false (and the inactive ray) when none fits. */
+static bool segment_ray(rtt_vec3 p, rtt_vec3 target, float epsilon, rtt_ray *ray)
+{
+    *ray = inactive;
+    const rtt_vec3 to = rtt_v3_sub(target, p);
+    const float d = rtt_v3_length(to);
+    if (!(d > 2.0f * epsilon)) return false;
+    const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / d);
+    *ray = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, epsilon, d - epsilon};
+    return true;
+}
+
+/* Pixel i's primary hit point (false on a miss). */
+static bool hit_point(const bench_rays *primary, const uint32_t *prim, const float *t, size_t i, rtt_vec3 *p)
+{
+    const rtt_ray *r = &primary->rays[i];
+    *p = rtt_v3(0, 0, 0);
+    if (prim[i] == RTT_MISS) return false;
+    *p = rtt_v3(r->org[0] + t[i] * r->dir[0], r->org[1] + t[i] * r->dir[1], r->org[2] + t[i] * r->dir[2]);
+    return true;
+}
+
 bool bench_soft_make(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
                      bench_soft *out, rtt_error *err)
 {
@@ -57,12 +80,8 @@ bool bench_soft_make(const rtt_scene *scene, const bench_rays *primary, const ui
     out->rays.width = 4u * w, out->rays.height = 4u * h;
     for (size_t i = 0; i < pixels; i++) {
         const uint32_t x = (uint32_t)(i % w), y = (uint32_t)(i / w);
-        const rtt_ray *r = &primary->rays[i];
-        rtt_vec3 p = rtt_v3(0, 0, 0);
-        if (prim[i] != RTT_MISS) {
-            p = rtt_v3(r->org[0] + t[i] * r->dir[0], r->org[1] + t[i] * r->dir[1], r->org[2] + t[i] * r->dir[2]);
-            out->has[i] = 1;
-        }
+        rtt_vec3 p;
+        out->has[i] = hit_point(primary, prim, t, i, &p);
         const rtt_light_frame fr = rtt_light_sample_frame(light, p);
         bvh_shadow_point *pt = &out->points[i];
         *pt = (bvh_shadow_point){{p.x, p.y, p.z}, {fr.base.x, fr.base.y, fr.base.z}, {fr.du.x, fr.du.y, fr.du.z},
@@ -70,13 +89,10 @@ bool bench_soft_make(const rtt_scene *scene, const bench_rays *primary, const ui
         for (uint32_t k = 0; k < n; k++) {
             rtt_ray *ray = &out->rays.rays[(size_t)(4u * y + k / 4u) * out->rays.width + 4u * x + k % 4u];
             *ray = inactive;
-            if (!out->has[i]) continue;
-            const rtt_vec3 to = rtt_v3_sub(rtt_light_frame_point(&fr, out->sets.x[pt->set][k], out->sets.y[pt->set][k]), p);
-            const float d = rtt_v3_length(to);
-            if (!(d > 2.0f * out->epsilon)) continue;
-            const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / d);
-            *ray = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, out->epsilon, d - out->epsilon};
-            out->rays.active++;
+            if (out->has[i] &&
+                segment_ray(p, rtt_light_frame_point(&fr, out->sets.x[pt->set][k], out->sets.y[pt->set][k]),
+                            out->epsilon, ray))
+                out->rays.active++;
         }
     }
     return true;
@@ -86,4 +102,31 @@ void bench_soft_free(bench_soft *soft)
 {
     free(soft->points), free(soft->has), free(soft->rays.rays);
     memset(soft, 0, sizeof *soft);
+}
+
+bool bench_soft_multi_make(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
+                           uint32_t n, bench_rays *out, rtt_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (scene->light_count == 0 || !rtt_light_has_area(&scene->lights[0]))
+        return rtt_error_set(err, "soft rows need the first light to have area (a sphere or quad light)");
+    if (n == 0 || n % 4u)
+        return rtt_error_set(err, "multi:%u soft rows: the sample count must be a multiple of 4", n);
+    const rtt_light *light = &scene->lights[0];
+    const uint32_t w = primary->width, h = primary->height, rows = n / 4u;
+    const float epsilon = rtt_scene_ray_epsilon(scene);
+    out->width = 4u * w, out->height = rows * h;
+    out->rays = malloc((size_t)out->width * out->height * sizeof *out->rays);
+    if (!out->rays) return rtt_error_set(err, "out of memory for the soft-shadow rays");
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        const uint32_t x = (uint32_t)(i % w), y = (uint32_t)(i / w);
+        rtt_vec3 p;
+        const bool has = hit_point(primary, prim, t, i, &p);
+        for (uint32_t k = 0; k < n; k++) {
+            rtt_ray *ray = &out->rays[(size_t)(rows * y + k / 4u) * out->width + 4u * x + k % 4u];
+            *ray = inactive;
+            if (has && segment_ray(p, rtt_light_sample(light, p, k, n, (uint32_t)i), epsilon, ray)) out->active++;
+        }
+    }
+    return true;
 }

@@ -94,6 +94,27 @@ typedef struct bench_soft {
 bool bench_soft_make(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
                      bench_soft *out, rtt_error *err);
 void bench_soft_free(bench_soft *soft);
+/* multi:N's samples of the first light (rtt_light_sample, pixel index i)
+ * from every primary hit as rays, laid out 4 x N/4 per pixel (an image 4x
+ * wider and N/4 higher: a 4 x N/4 block is one pixel's rays, one packet of
+ * Embree's rtcOccludedN); N a multiple of 4 up to 16.  Free out->rays. */
+bool bench_soft_multi_make(const rtt_scene *scene, const bench_rays *primary, const uint32_t *prim, const float *t,
+                           uint32_t n, bench_rays *out, rtt_error *err);
+/* --shadows pgrid:N on those rays (bench_pgrid_soft.c): a frame is the 3D
+ * light grid's build for light 0 (the triangles' corners made once, as the
+ * kd-tree) plus every pixel's N rays as packets through the slice
+ * traverser, rows of pixels on the thread pool.  Fills row and build_row as
+ * bench_pgrid_row; row->n and row->i are Table 5's traversal steps (the
+ * cells a 2D DDA crosses per slice and face, over the whole segment) and the
+ * triangle tests per ray (not per 2x2); result gets each ray's occlusion bit at its
+ * place. */
+bool bench_pgrid_soft_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays, uint32_t n,
+                          const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
+/* Table 5's comparison (bench_grid3d.c): the cells a 3D-DDA visits per ray
+ * through a uniform axis-aligned grid of about `cells` cubic cells over the
+ * scene's bounds, each ray over [tnear, tfar] clipped to the box.  It only
+ * counts.  dims gets the grid's cells per axis. */
+double bench_grid3d_steps_per_ray(const rtt_scene *scene, const bench_rays *rays, uint64_t cells, uint32_t dims[3]);
 /* Times the soft-shadow frusta kernel (frusta:16) on the points in 16x16
  * tiles of 4x4 pixel blocks; sum (with spec->count) the counting frame's
  * totals and N, I per 2x2 rays; result (may be NULL) each ray's occlusion

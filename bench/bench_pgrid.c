@@ -188,3 +188,114 @@ bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, c
     free(f.build_seconds);
     return ok;
 }
+
+/* ---- soft shadows through the 3D light grid (--shadows pgrid:N) ----
+ * A frame is the 3D grid's build for light 0 (the triangles' corners are
+ * made once, as the kd-tree) plus every pixel's N rays, gathered pixel by
+ * pixel (a pixel's rays share their origin: one packet of the slice
+ * traverser), a row of pixels per job on the thread pool. */
+
+typedef struct pgrid_soft_frame {
+    pgrid_soft grids;                  /* its one light: light 0's grid of this frame */
+    const pgrid_kernel *kernel;
+    const rtt_scene *scene;
+    uint32_t width, height, threads;   /* in pixels */
+    rtt_ray *packed;                   /* the active rays, pixel after pixel */
+    uint32_t *place;                   /* per packed ray: its index in the layout */
+    uint32_t *row_first;               /* per pixel row: its first packed ray (height + 1) */
+    uint8_t *occluded;                 /* per packed ray */
+    pgrid_soft_counts *counts;         /* per row, when counting */
+    double *build_seconds;
+    uint32_t runs;
+    _Atomic bool failed;
+} pgrid_soft_frame;
+
+static void trace_soft_row(void *context, uint32_t thread, uint32_t y)
+{
+    (void)thread;
+    pgrid_soft_frame *f = context;
+    const uint32_t first = f->row_first[y], end = f->row_first[y + 1];
+    f->kernel->soft_occluded(&f->grids, 0, f->packed + first, end - first, f->occluded + first,
+                             f->counts ? &f->counts[y] : NULL);
+}
+
+static void run_soft_frame(void *context)
+{
+    pgrid_soft_frame *f = context;
+    const uint64_t t0 = rtt_clock_ns();
+    pgrid_soft_light_free(&f->grids.lights[0]);
+    f->grids.light_count = 0;
+    const rtt_light *light = &f->scene->lights[0];
+    const float position[3] = {light->position.x, light->position.y, light->position.z};
+    if (!pgrid_soft_light_build(&f->grids.lights[0], &f->grids, position, pgrid_soft_light_extent(light), 0, 0)) {
+        f->failed = true;
+        return;
+    }
+    if (f->build_seconds) f->build_seconds[f->runs++] = 1e-9 * (double)(rtt_clock_ns() - t0);
+    f->grids.light_count = 1;
+    rtt_parallel_run(f->height, f->threads, trace_soft_row, f);
+}
+
+bool bench_pgrid_soft_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays, uint32_t n,
+                          const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result)
+{
+    const uint32_t rows = n / 4u, width = rays->width / 4u, height = rays->height / rows;
+    pgrid_soft_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
+                          .width = width, .height = height, .threads = rtt_thread_count(spec->threads)};
+    const size_t total = (size_t)rays->width * rays->height;
+    f.packed = malloc((rays->active + 1) * sizeof *f.packed);
+    f.place = malloc((rays->active + 1) * sizeof *f.place);
+    f.occluded = malloc(rays->active + 1);
+    f.row_first = malloc(((size_t)height + 1) * sizeof *f.row_first);
+    f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
+    rtt_error err;
+    bool ok = f.packed && f.place && f.occluded && f.row_first && f.build_seconds &&
+              pgrid_soft_prepare(&f.grids, scene, degenerate, &err);
+    if (ok) { /* pixel (x, y)'s sample k is at (4x + k % 4, rows y + k / 4) */
+        uint32_t m = 0;
+        for (uint32_t y = 0; y < height; y++) {
+            f.row_first[y] = m;
+            for (uint32_t x = 0; x < width; x++)
+                for (uint32_t k = 0; k < n; k++) {
+                    const uint32_t at = (rows * y + k / 4u) * rays->width + 4u * x + k % 4u;
+                    if (!bench_ray_active(&rays->rays[at])) continue;
+                    f.packed[m] = rays->rays[at];
+                    f.place[m++] = at;
+                }
+        }
+        f.row_first[height] = m;
+        snprintf(row->variant, sizeof row->variant, "%s/%s %ux%ux%u", f.kernel->name, rtt_isa_name(f.kernel->isa),
+                 PGRID_SOFT_RES_DEFAULT, PGRID_SOFT_RES_DEFAULT, PGRID_SOFT_SLICES_DEFAULT);
+        bench_time_frames(run_soft_frame, &f, spec->warmup, spec->frames, row);
+        if (f.failed) snprintf(row->error, sizeof row->error, "out of memory in the 3D light grid");
+        double *timed = f.build_seconds + spec->warmup;
+        qsort(timed, spec->frames, sizeof *timed, compare_double);
+        build_row->seconds = timed[spec->frames / 2];
+        build_row->seconds_min = timed[0];
+        build_row->frames = spec->frames;
+        const pgrid_soft_light *L = &f.grids.lights[0];
+        build_row->memory_bytes = (size_t)f.grids.tri_count * sizeof(pgrid_soft_tri) + L->ref_count * sizeof(uint32_t) +
+                                  ((size_t)L->slices * PGRID_LIGHT_FACES * L->res * L->res + 1) * sizeof(uint32_t);
+        snprintf(build_row->variant, sizeof build_row->variant, "%s", row->variant);
+        if (spec->count && !f.failed) { /* one more frame, counting: Table 5's steps per ray */
+            f.counts = calloc(height, sizeof *f.counts);
+            f.build_seconds = (free(f.build_seconds), NULL);
+            if (f.counts) {
+                run_soft_frame(&f);
+                pgrid_soft_counts sum = {0};
+                for (uint32_t y = 0; y < height; y++)
+                    sum.rays += f.counts[y].rays, sum.steps += f.counts[y].steps, sum.tests += f.counts[y].tests;
+                row->n = sum.rays ? (double)sum.steps / (double)sum.rays : 0.0;
+                row->i = sum.rays ? (double)sum.tests / (double)sum.rays : 0.0;
+            }
+            free(f.counts);
+        }
+        if (result) {
+            for (size_t i = 0; i < total; i++) result[i] = 0;
+            for (uint32_t j = 0; j < f.row_first[height]; j++) result[f.place[j]] = f.occluded[j];
+        }
+    }
+    pgrid_soft_free(&f.grids);
+    free(f.packed), free(f.place), free(f.occluded), free(f.row_first), free(f.build_seconds);
+    return ok;
+}

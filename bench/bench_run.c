@@ -16,6 +16,7 @@
 
 #include "bvh_build.h"
 #include "engine_optimized.h"
+#include "pgrid_soft.h"
 
 #define EMBREE_VARIANTS 4
 
@@ -270,6 +271,54 @@ static void table1_variant(rtt_bench_row *row, const bvh_counters *c, bool culle
  * soft-shadow frusta, rays made on demand), each checked ray by ray against
  * Embree's answers.  N and I per 2x2 rays as the BVH rows; the variant
  * carries the triangles reached (and passed on after culling). */
+/* Hunt & Mark 2008 section 5.3 (Tables 1 and 5): multi:8's rays (every
+ * primary hit's 8 samples of the first light, as --shadows multi:8 and
+ * pgrid:8 trace them), Embree's rtcOccluded8 with one pixel's 8 rays per
+ * packet (coherent flag), then pgrid:8 (the 3D light grid, built every
+ * frame: its build row gives the share) checked ray by ray against Embree,
+ * then Table 5's count: the cells a uniform 3D grid of as many cells over
+ * the scene's bounds visits per ray (a 3D-DDA) beside the 3D light grid's
+ * (pgrid:8's n on its first thread count). */
+#define BENCH_PGRID_SOFT_SAMPLES 8u
+static bool run_pgrid_soft(bench_state *s, const bench_rays *multi)
+{
+    static const uint32_t lanes[] = {BENCH_PGRID_SOFT_SAMPLES};
+    if (!run_peer_rows(s, RTT_BENCH_SOFT, multi, lanes, 1)) return false;
+    for (uint32_t th = 0; th < s->config->thread_count; th++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[th]);
+        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[th]);
+        snprintf(row.method, sizeof row.method, "pgrid:%u", BENCH_PGRID_SOFT_SAMPLES);
+        snprintf(build.method, sizeof build.method, "pgrid:%u light", BENCH_PGRID_SOFT_SAMPLES);
+        snprintf(row.family, sizeof row.family, "pgrid");
+        snprintf(build.family, sizeof build.family, "build");
+        snprintf(row.isect, sizeof row.isect, "watertight");
+        row.rays = multi->active;
+        build.rays = s->scene->triangle_count;
+        progress(s, &row);
+        bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, th == 0, s->config->isa};
+        const bool check = th == 0 && s->have_oracle;
+        if (!bench_pgrid_soft_row(s->scene, optimized_engine_degenerate(s->engine), multi, BENCH_PGRID_SOFT_SAMPLES,
+                                  &spec, &row, &build, check ? s->result : NULL))
+            return false;
+        if (check && !row.error[0]) row.agree = agreement(s, multi);
+        if (!bench_report_push(s->report, &row) || !bench_report_push(s->report, &build)) return false;
+    }
+    /* as many cells as the six faces' grid, and as one face's (the paper's 54^3 against 200x200x4) */
+    const uint64_t face = (uint64_t)PGRID_SOFT_SLICES_DEFAULT * PGRID_SOFT_RES_DEFAULT * PGRID_SOFT_RES_DEFAULT;
+    const uint64_t cells[2] = {PGRID_LIGHT_FACES * face, face};
+    for (int c = 0; c < 2; c++) {
+        rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", 1);
+        uint32_t dims[3];
+        row.n = bench_grid3d_steps_per_ray(s->scene, multi, cells[c], dims);
+        snprintf(row.method, sizeof row.method, "uniform-grid:%u steps", BENCH_PGRID_SOFT_SAMPLES);
+        snprintf(row.family, sizeof row.family, "grid3d");
+        snprintf(row.variant, sizeof row.variant, "uniform %ux%ux%u", dims[0], dims[1], dims[2]);
+        row.rays = multi->active;
+        if (!bench_report_push(s->report, &row)) return false;
+    }
+    return true;
+}
+
 static bool run_soft(bench_state *s, const bench_rays *primary)
 {
     const size_t pixels = (size_t)s->width * s->height;
@@ -278,18 +327,22 @@ static bool run_soft(bench_state *s, const bench_rays *primary)
     float *t = malloc(pixels * sizeof *t);
     bool ok = hits && prim && t;
     bench_soft soft = {0};
+    bench_rays multi = {0};
     rtt_error why = {{0}};
     bool made = false;
     if (ok) {
         rtt_engine_intersect(s->engine, primary->rays, hits, pixels);
         for (size_t i = 0; i < pixels; i++) prim[i] = hits[i].prim, t[i] = hits[i].t;
-        made = bench_soft_make(s->scene, primary, prim, t, &soft, &why);
+        made = bench_soft_make(s->scene, primary, prim, t, &soft, &why) &&
+               bench_soft_multi_make(s->scene, primary, prim, t, BENCH_PGRID_SOFT_SAMPLES, &multi, &why);
     }
     free(hits), free(prim), free(t);
     if (ok && !made) { /* no light with area: one row says so */
         rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[0]);
         snprintf(row.method, sizeof row.method, "frusta:%u", BENCH_SOFT_SAMPLES);
         row_error(&row, "", why.message);
+        bench_soft_free(&soft);
+        free(multi.rays);
         return bench_report_push(s->report, &row);
     }
     s->result = ok ? malloc(pixels * BENCH_SOFT_SAMPLES * sizeof *s->result) : NULL;
@@ -315,6 +368,8 @@ static bool run_soft(bench_state *s, const bench_rays *primary)
             if (ok && check && !row.error[0]) row.agree = agreement(s, &soft.rays);
             ok = ok && bench_report_push(s->report, &row);
         }
+    ok = ok && run_pgrid_soft(s, &multi);
+    free(multi.rays);
     free(s->result), free(s->oracle);
     s->result = result, s->oracle = oracle;
     bench_soft_free(&soft);

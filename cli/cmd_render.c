@@ -77,7 +77,9 @@ static const cli_option render_options[] = {
              "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines), "
              "frusta[:N][:nofilter] (interleaved's samples and filter, each pixel's samples traced as one of 16 "
              "multi-frusta; the optimized engine with --accel bvh), pgrid (hard "
-             "shadows through a perspective grid per light; the optimized engine)",
+             "shadows through a perspective grid per light; the optimized engine), pgrid:N (N = 1..256: "
+             "multi:N's samples, and image, through a 3D perspective grid per light, each point's N rays "
+             "as packets; the optimized engine, any --accel)",
      .kind = CLI_CUSTOM, CLI_FIELD(render_args, render), .parse = parse_shadows},
     {.name = "--spp", .value_name = "N",
      .help = "anti-aliasing: N samples per pixel, 1 (default: the pixel centre) to 256, stratified "

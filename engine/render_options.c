@@ -61,6 +61,7 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
 {
     static const struct { const char *name; rtt_shadow_method method; } counted[] = {
         {"multi:", RTT_SHADOWS_MULTI}, {"cone:", RTT_SHADOWS_CONE}, {"pyramid:", RTT_SHADOWS_PYRAMID},
+        {"pgrid:", RTT_SHADOWS_PGRID_SOFT},
     };
     if (strcmp(text, "none") == 0) { opt->shadows = RTT_SHADOWS_NONE; return true; }
     if (strcmp(text, "hard") == 0) { opt->shadows = RTT_SHADOWS_HARD; return true; }
@@ -88,7 +89,7 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         return parse_interleaved(text, text + 6, RTT_SHADOWS_FRUSTA, opt, err);
     return rtt_error_set(err,
                          "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R], "
-                         "interleaved[:N][:nofilter], frusta[:N][:nofilter] or pgrid",
+                         "interleaved[:N][:nofilter], frusta[:N][:nofilter], pgrid or pgrid:N",
                          text);
 }
 
@@ -97,7 +98,7 @@ static const char *const method_names[] = {
     [RTT_SHADOWS_MULTI] = "multi",         [RTT_SHADOWS_CONE] = "cone",
     [RTT_SHADOWS_PYRAMID] = "pyramid",     [RTT_SHADOWS_EDGEWIDTH] = "edgewidth",
     [RTT_SHADOWS_INTERLEAVED] = "interleaved", [RTT_SHADOWS_FRUSTA] = "frusta",
-    [RTT_SHADOWS_PGRID] = "pgrid"};
+    [RTT_SHADOWS_PGRID] = "pgrid",         [RTT_SHADOWS_PGRID_SOFT] = "pgrid"};
 _Static_assert(sizeof method_names / sizeof method_names[0] == RTT_SHADOW_METHOD_COUNT, "a name per shadow method");
 
 /* A value of the enum with a name. */
@@ -113,7 +114,9 @@ const char *rtt_shadow_method_name(rtt_shadow_method method)
 
 static const char *sampled_method_name(rtt_shadow_method m)
 {
-    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID ? method_names[m] : NULL;
+    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID || m == RTT_SHADOWS_PGRID_SOFT
+               ? method_names[m]
+               : NULL;
 }
 
 bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, const rtt_image *out, uint32_t width,

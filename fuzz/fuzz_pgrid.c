@@ -12,6 +12,14 @@
  * non-degenerate triangle the reference's watertight test
  * (rtt_reference_intersect_triangle) finds on it.
  *
+ * Then the same for --shadows pgrid:N's 3D grid (pgrid_soft.h) around a
+ * sphere light at the same place (radius from the mode byte, 1 to 8 slices):
+ * its invariants, and from every origin its 4 multi:4 sample rays
+ * (rtt_light_sample, the shader proxy's segment), the ray to the centre and
+ * the segment to the next origin (a ray nowhere near the light), each
+ * through the slice traverser at every instruction set against the brute
+ * force.
+ *
  * Input: [count - 1] [mode] [offset] [res] then 3 * count vertex controls (a
  * byte < 48 repeats an earlier vertex, else three coordinates), the light
  * as a point (control byte: vertex, surface, edge midpoint or palette
@@ -25,6 +33,7 @@
 #include "fuzz_common.h"
 #include "pgrid_eye.h"
 #include "pgrid_light.h"
+#include "pgrid_soft.h"
 #include "rtt/reference.h"
 #include "rtt/rtt.h"
 
@@ -128,6 +137,75 @@ static void check_invariants(const pgrid_shadows *grids, const pgrid_light *ligh
         if (light->near[i] >= grids->corner_count) fuzz_fail("light grid: the near list names triangle %u", light->near[i]);
 }
 
+static void check_soft_invariants(const pgrid_soft *grids, const pgrid_soft_light *light)
+{
+    const size_t cells = (size_t)light->slices * PGRID_LIGHT_FACES * light->res * light->res;
+    if (light->cell_first[0] != 0 || light->cell_first[cells] != light->ref_count)
+        fuzz_fail("soft grid: the cell ranges do not cover the references");
+    for (size_t c = 0; c < cells; c++) {
+        if (light->cell_first[c] > light->cell_first[c + 1]) fuzz_fail("soft grid: cell %zu's range is reversed", c);
+        for (uint32_t r = light->cell_first[c]; r < light->cell_first[c + 1]; r++) {
+            if (light->refs[r] >= grids->tri_count) fuzz_fail("soft grid: cell %zu names triangle %u", c, light->refs[r]);
+            if (r > light->cell_first[c] && light->refs[r] <= light->refs[r - 1])
+                fuzz_fail("soft grid: cell %zu's list is not ascending", c);
+        }
+    }
+    for (uint32_t i = 0; i < light->near_count; i++)
+        if (light->near_list[i] >= grids->tri_count) fuzz_fail("soft grid: the near list names triangle %u", light->near_list[i]);
+    for (uint32_t k = 0; k < light->slices; k++)
+        if (!(light->bound[k] < light->bound[k + 1])) fuzz_fail("soft grid: slice %u's bounds are not increasing", k);
+}
+
+/* The soft rays from the origins (see the header) through the 3D grid. */
+static void check_soft(const rtt_scene *scene, const uint8_t *degenerate, rtt_vec3 at, float radius, uint32_t res,
+                       uint32_t slices, const rtt_ray *hard, uint32_t n)
+{
+    pgrid_soft grids;
+    rtt_error err = {""};
+    if (!pgrid_soft_prepare(&grids, scene, degenerate, &err)) fuzz_fail("soft grid: %s", err.message);
+    rtt_light light = {.type = RTT_LIGHT_SPHERE, .position = at, .radius = radius, .intensity = 1.0f};
+    const float position[3] = {at.x, at.y, at.z};
+    if (!pgrid_soft_light_build(&grids.lights[0], &grids, position, pgrid_soft_light_extent(&light), res, slices))
+        fuzz_fail("soft grid: out of memory");
+    grids.light_count = 1;
+    check_soft_invariants(&grids, &grids.lights[0]);
+    enum { PER = 6 };
+    rtt_ray rays[MAX_ORIGINS * PER];
+    uint8_t expected[MAX_ORIGINS * PER], ours[MAX_ORIGINS * PER];
+    uint32_t m = 0;
+    const float epsilon = rtt_scene_ray_epsilon(scene);
+    for (uint32_t i = 0; i < n; i++) {
+        const rtt_vec3 p = {hard[i].org[0], hard[i].org[1], hard[i].org[2]};
+        for (uint32_t k = 0; k <= 5; k++) {
+            const rtt_vec3 target = k < 4 ? rtt_light_sample(&light, p, k, 4, i)
+                                  : k == 4 ? at
+                                           : rtt_v3(hard[(i + 1) % n].org[0], hard[(i + 1) % n].org[1],
+                                                    hard[(i + 1) % n].org[2]);
+            const rtt_vec3 to = rtt_v3_sub(target, p);
+            const float distance = rtt_v3_length(to);
+            if (!isfinite(distance) || !(distance > 2.0f * epsilon)) continue;
+            const rtt_vec3 dir = rtt_v3_scale(to, 1.0f / distance);
+            rays[m] = (rtt_ray){{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, epsilon, distance - epsilon};
+            expected[m] = brute_force(scene, degenerate, &rays[m]);
+            m++;
+        }
+    }
+    for (rtt_isa isa = RTT_ISA_SSE4; isa < RTT_ISA_COUNT; isa = (rtt_isa)(isa + 1)) {
+        if (!rtt_isa_supported(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        k->soft_occluded(&grids, 0, rays, m, ours, NULL);
+        for (uint32_t i = 0; i < m; i++)
+            if (ours[i] != expected[i])
+                fuzz_fail("soft grid (%s, res %u x %u slices, radius %a): ray %u org (%a %a %a) dir (%a %a %a) tnear "
+                          "%a tfar %a: grid %u, brute force %u",
+                          rtt_isa_name(isa), grids.lights[0].res, grids.lights[0].slices, (double)radius, i,
+                          (double)rays[i].org[0], (double)rays[i].org[1], (double)rays[i].org[2],
+                          (double)rays[i].dir[0], (double)rays[i].dir[1], (double)rays[i].dir[2],
+                          (double)rays[i].tnear, (double)rays[i].tfar, ours[i], expected[i]);
+    }
+    pgrid_soft_free(&grids);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     byte_reader in = {data, size, 0};
@@ -198,6 +276,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                           (double)rays[i].dir[1], (double)rays[i].dir[2], (double)rays[i].tnear,
                           (double)rays[i].tfar, ours[i], expected[i]);
     }
+    static const float radii[4] = {0.0f, 0.05f, 1.0f, 20.0f};
+    check_soft(scene, degenerate, light_at, radii[(mode >> 4) % 4] * scale, res, 1 + (mode >> 6) * 2, rays, n);
     pgrid_light_free(&light);
     pgrid_shadows_free(&grids);
     rtt_scene_free(scene);

@@ -175,6 +175,11 @@ write("pgrid", "cube_floor_coarse", kd_input(cube + floor, [len(cube) + 1, 0, 1,
 write("pgrid", "light_on_a_vertex", kd_input(cube + floor, [len(cube) + 1, 0, 0, 4], bytes([0, 3]) + on_floor + on_cube))
 write("pgrid", "far_huge", kd_input(cube + floor, [len(cube) + 1, 2 << 1, 2, 6], light + on_floor + on_cube))
 write("pgrid", "tiny", kd_input(cube + floor, [len(cube) + 1, 1 << 1, 0, 5], bytes([2, 1, 6]) + on_floor + on_cube))
+# the soft grid's sphere light (mode bits 4-5: radius 0.05, 1 or 20 times the scale; bits 6-7: 1, 3, 5 or 7 slices)
+write("pgrid", "soft_small_light", kd_input(cube + floor, [len(cube) + 1, 1 << 4 | 1 << 6, 0, 6], light + on_floor + on_cube))
+write("pgrid", "soft_large_light", kd_input(cube + floor, [len(cube) + 1, 2 << 4 | 3 << 6, 0, 4], light + on_floor + on_cube))
+write("pgrid", "soft_light_around_the_scene", kd_input(cube + floor, [len(cube) + 1, 3 << 4 | 2 << 6, 0, 3], light + on_floor + on_cube))
+write("pgrid", "soft_on_a_vertex", kd_input(cube + floor, [len(cube) + 1, 1 << 4 | 1 << 6, 0, 5], bytes([0, 3]) + on_floor + on_cube))
 
 
 # --- kdt: mutations of a baked file -----------------------------------------

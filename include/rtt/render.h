@@ -17,13 +17,14 @@ typedef enum rtt_shadow_method {
     RTT_SHADOWS_EDGEWIDTH,  /* Edge Width Soft Shadows (thesis chapter 5) */
     RTT_SHADOWS_INTERLEAVED, /* N samples from the pixel's 4x4 interleaved set, filtered (rtt/interleaved.h) */
     RTT_SHADOWS_FRUSTA,      /* interleaved's samples and filter traced as multi-frusta (optimized, --accel bvh) */
-    RTT_SHADOWS_PGRID        /* hard shadows through a perspective grid per light (Hunt & Mark 2008, 5.2) */
+    RTT_SHADOWS_PGRID,       /* hard shadows through a perspective grid per light (Hunt & Mark 2008, 5.2) */
+    RTT_SHADOWS_PGRID_SOFT   /* multi:N's samples through a 3D perspective grid per light (5.3; optimized) */
 } rtt_shadow_method;
 
 #define RTT_MAX_SHADOW_SAMPLES 256u
 #define RTT_MAX_SPP 256u
-#define RTT_SHADOW_METHOD_COUNT 9u             /* rtt_shadow_method values */
-#define RTT_SHADOWS_ALL 0x1FFu                /* every rtt_shadow_method bit */
+#define RTT_SHADOW_METHOD_COUNT 10u            /* rtt_shadow_method values */
+#define RTT_SHADOWS_ALL 0x3FFu                /* every rtt_shadow_method bit */
 #define RTT_BOUNCES_OF_SCENE UINT32_MAX        /* max_bounces: the scene's own */
 
 typedef enum rtt_aov {

@@ -41,6 +41,7 @@
 #include "rtt/shade.h"
 
 #include "pgrid_light.h"
+#include "pgrid_soft.h"
 
 #define PGRID_NO_TRIANGLE UINT32_MAX
 /* The cell side in pixels when the caller gives none (bench/results/pgrid.md,
@@ -126,6 +127,7 @@ typedef struct pgrid_kernel {
     pgrid_cell_fn trace_cell;
     pgrid_resolve_fn resolve_cell;
     pgrid_occluded_fn shadow_occluded; /* --shadows pgrid: shadow rays through the light grids (pgrid_light.h) */
+    pgrid_soft_occluded_fn soft_occluded; /* --shadows pgrid:N: the slice traverser (pgrid_soft.h) */
     uint32_t lanes;            /* pixels per packet: 16 (AVX-512), 8 (AVX2), 4 (SSE4.1) */
     rtt_isa isa;
 } pgrid_kernel;

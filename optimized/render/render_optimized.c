@@ -294,6 +294,16 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         job.tracer.light_grids = &light_grids;
         job.tracer.light_grid_occluded = grid_kernel->shadow_occluded;
     }
+    /* --shadows pgrid:N: the 3D light grids, built per frame too */
+    pgrid_soft soft_grids = {0};
+    if (opt->shadows == RTT_SHADOWS_PGRID_SOFT) {
+        if (!pgrid_soft_build(&soft_grids, scene, optimized_engine_degenerate(engine), 0, 0, err)) {
+            if (job.shading.planes) rtt_shadow_planes_free(&planes);
+            return false;
+        }
+        job.tracer.soft_grids = &soft_grids;
+        job.tracer.soft_grid_occluded = pgrid_kernel_find("", isa)->soft_occluded;
+    }
     const uint32_t threads = rtt_thread_count(opt->threads);
     job.threads = threads;
     frame_memory *memory = frame_memory_get(opt->cache, threads, job.shading.max_bounces + 1,
@@ -309,6 +319,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                                 optimized_engine_degenerate(engine), &job.frame, width, height, 0, threads, err)) {
             pgrid_render_end(&pgrid);
             pgrid_shadows_free(&light_grids);
+            pgrid_soft_free(&soft_grids);
             frame_memory_free(memory);
             if (job.shading.planes) rtt_shadow_planes_free(&planes);
             free(frusta_sets);
@@ -329,11 +340,12 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     if (ok && stats) {
         gather_stats(&job, stats);
         if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
-        stats->seconds_secondary += light_grids.build_seconds;
+        stats->seconds_secondary += light_grids.build_seconds + soft_grids.build_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.pgrid) pgrid_render_end(job.pgrid);
     pgrid_shadows_free(&light_grids);
+    pgrid_soft_free(&soft_grids);
     if (ok && opt->cache && frame_memory_even_out(memory))
         rtt_render_cache_keep(opt->cache, &rtt_optimized_engine_class, memory, frame_memory_free);
     else

@@ -32,8 +32,11 @@
  * leaves the light terms to the renderer's rtt_shadow_planes instead of
  * adding them (the filter needs the whole image); pgrid traces hard's rays
  * (one to each light's centre) through the frame's light grids
- * (../pgrid/pgrid_light.h), each light's rays of the batch together.  multi, cone, pyramid and
- * interleaved sample sphere and quad lights alike.
+ * (../pgrid/pgrid_light.h), each light's rays of the batch together;
+ * pgrid:N traces multi:N's rays (point lights: hard's) through the frame's
+ * 3D light grids (../pgrid/pgrid_soft.h), a point's N rays as packets.
+ * multi, cone, pyramid, pgrid:N and interleaved sample sphere and quad
+ * lights alike.
  *
  * Transparent shadows (scenes with a transparent material): after any of
  * those methods, the shadow rays found occluded are traced again, as omni
@@ -97,7 +100,7 @@ static void shadow_segment(const sp_shading *sh, sp_scratch *s, rtt_vec3 p, rtt_
 /* Methods that trace rtt_light_sample's N samples on sphere and quad lights. */
 static bool is_sampled(rtt_shadow_method m)
 {
-    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID;
+    return m == RTT_SHADOWS_MULTI || m == RTT_SHADOWS_CONE || m == RTT_SHADOWS_PYRAMID || m == RTT_SHADOWS_PGRID_SOFT;
 }
 
 /* Does this light get N sample rays (else one to its centre)?  As the
@@ -229,8 +232,8 @@ static void trace_shadows(const sp_tracer *tr, sp_scratch *s, uint32_t rays)
     for (uint32_t i = 0; i < rays; i++) clear[i] = !(occluded[i / 4] >> (i % 4) & 1u);
 }
 
-/* Step 2 for pgrid: each light's rays (contiguous: gather_shadows goes
- * light by light) through that light's grid. */
+/* Step 2 for pgrid and pgrid:N: each light's rays (contiguous:
+ * gather_shadows goes light by light) through that light's grid. */
 static void trace_light_grids(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s, uint32_t d, uint32_t first,
                               uint32_t end)
 {
@@ -239,8 +242,9 @@ static void trace_light_grids(const sp_shading *sh, const sp_tracer *tr, sp_scra
     const sp_light_request *requests = SP_ARRAY(s->requests, sp_light_request);
     const rtt_ray *shadow_rays = SP_ARRAY(s->shadow_rays, rtt_ray);
     uint8_t *clear = SP_ARRAY(s->shadow_clear, uint8_t);
-    uint32_t *prim = malloc(((size_t)(end - first) + 1) * sizeof *prim); /* per ray: the triangle it starts on */
-    if (!prim) {
+    /* per ray: the triangle it starts on (hard: one ray per node and light; pgrid:N needs none) */
+    uint32_t *prim = tr->soft_grids ? NULL : malloc(((size_t)(end - first) + 1) * sizeof *prim);
+    if (!prim && !tr->soft_grids) {
         s->failed = true;
         return;
     }
@@ -250,11 +254,13 @@ static void trace_light_grids(const sp_shading *sh, const sp_tracer *tr, sp_scra
         for (uint32_t i = first; i < end; i++) {
             const sp_light_request *q = &requests[(size_t)(i - first) * lights + l];
             if (nodes[i].hit.prim == RTT_MISS) continue;
-            for (uint32_t k = 0; k < q->rays; k++) prim[q->first + k - from] = nodes[i].hit.prim;
+            for (uint32_t k = 0; prim && k < q->rays; k++) prim[q->first + k - from] = nodes[i].hit.prim;
             if (q->first + q->rays > to) to = q->first + q->rays;
         }
         if (to == from) continue;
-        if (!tr->light_grid_occluded(tr->light_grids, l, &shadow_rays[from], prim, to - from, &clear[from])) {
+        if (tr->soft_grids)
+            tr->soft_grid_occluded(tr->soft_grids, l, &shadow_rays[from], to - from, &clear[from], NULL);
+        else if (!tr->light_grid_occluded(tr->light_grids, l, &shadow_rays[from], prim, to - from, &clear[from])) {
             free(prim);
             s->failed = true;
             return;
@@ -456,7 +462,7 @@ static void shade_level(const sp_shading *sh, const sp_tracer *tr, sp_scratch *s
         uint64_t t1 = s->timing ? rtt_clock_ns() : 0;
         if (is_grouped(sh->shadows))
             trace_shadow_groups(sh, tr, s, rays, groups);
-        else if (sh->shadows == RTT_SHADOWS_PGRID)
+        else if (sh->shadows == RTT_SHADOWS_PGRID || sh->shadows == RTT_SHADOWS_PGRID_SOFT)
             trace_light_grids(sh, tr, s, d, first, end);
         else if (sp_frusta_hard(sh, tr))
             sp_frusta_trace_rays(sh, tr, s, rays);

@@ -23,6 +23,7 @@
 #include "kernels.h"
 #include "packet.h"
 #include "pgrid_light.h"
+#include "pgrid_soft.h"
 #include "rtt/edge_width.h"
 #include "rtt/interleaved.h"
 #include "rtt/render.h"
@@ -48,6 +49,10 @@ typedef struct sp_tracer {
      * shadow rays go there instead of the kernels above) */
     const pgrid_shadows *light_grids;
     pgrid_occluded_fn light_grid_occluded;
+    /* --shadows pgrid:N: the frame's 3D light grids and their slice
+     * traverser (every shadow ray goes there) */
+    const pgrid_soft *soft_grids;
+    pgrid_soft_occluded_fn soft_grid_occluded;
 } sp_tracer;
 
 typedef struct sp_shading {
