@@ -3,7 +3,7 @@
  * triangle (the reference's watertight test), the shader proxy's shadow
  * segment and the shadow rays' origins (eye-ray hits and points all over
  * the scene's box).  Included by test_optimized_pgrid_shadows.c and
- * test_optimized_pgrid_soft.c. */
+ * test_optimized_pgrid_soft.c (and its load_scene by test_optimized_pgrid.c). */
 #ifndef RTT_TEST_FIXTURES_PGRID_H
 #define RTT_TEST_FIXTURES_PGRID_H
 

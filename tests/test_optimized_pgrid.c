@@ -28,6 +28,7 @@
 #include "rtt/optimized.h"
 #include "rtt/reference.h"
 #include "rtt/shade.h"
+#include "test_fixtures_pgrid.h"
 #include "test_isa.h"
 
 #define EDGE_MARGIN 1e-4
@@ -94,16 +95,6 @@ static int check_hit(const rtt_scene *s, const rtt_ray *ray, const rtt_hit *ref,
     if (ref->prim != RTT_MISS && ours->prim != RTT_MISS && fabs((double)ref->t - ours->t) > tol)
         fail_msg("pixel %u: tie at different t %.9g, %.9g", pixel, ours->t, ref->t);
     return 1;
-}
-
-static rtt_scene *load_scene(const char *name)
-{
-    char path[600];
-    snprintf(path, sizeof path, "%s/scenes/%s", RTT_SOURCE_DIR, name);
-    rtt_error err = {{0}};
-    rtt_scene *s = rtt_scene_load(path, NULL, &err);
-    if (!s) fail_msg("%s: %s", path, err.message);
-    return s;
 }
 
 static rtt_hit *trace_pgrid(const rtt_scene *s, const uint8_t *degenerate, const pgrid_kernel *k, uint32_t w,
