@@ -113,6 +113,20 @@ static rtt_bench_row row_start(const bench_state *s, rtt_bench_kind kind, const 
     return row;
 }
 
+/* A pgrid row and the build row of its per-frame grid, for `threads`. */
+static void pgrid_rows_start(const bench_state *s, rtt_bench_kind kind, uint32_t threads, const char *method,
+                             const char *build_method, uint64_t rays, rtt_bench_row *row, rtt_bench_row *build)
+{
+    *row = row_start(s, kind, "rtt", threads);
+    *build = row_start(s, RTT_BENCH_BUILD, "rtt", threads);
+    snprintf(row->method, sizeof row->method, "%s", method);
+    snprintf(build->method, sizeof build->method, "%s", build_method);
+    snprintf(row->family, sizeof row->family, "pgrid");
+    snprintf(build->family, sizeof build->family, "build");
+    row->rays = rays;
+    build->rays = s->scene->triangle_count;
+}
+
 /* Share of active pixels where the row's result equals the oracle's. */
 static double agreement(const bench_state *s, const bench_rays *rays)
 {
@@ -285,15 +299,12 @@ static bool run_pgrid_soft(bench_state *s, const bench_rays *multi)
     static const uint32_t lanes[] = {BENCH_PGRID_SOFT_SAMPLES};
     if (!run_peer_rows(s, RTT_BENCH_SOFT, multi, lanes, 1)) return false;
     for (uint32_t th = 0; th < s->config->thread_count; th++) {
-        rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[th]);
-        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[th]);
-        snprintf(row.method, sizeof row.method, "pgrid:%u", BENCH_PGRID_SOFT_SAMPLES);
-        snprintf(build.method, sizeof build.method, "pgrid:%u light", BENCH_PGRID_SOFT_SAMPLES);
-        snprintf(row.family, sizeof row.family, "pgrid");
-        snprintf(build.family, sizeof build.family, "build");
+        char method[32], build_method[32];
+        snprintf(method, sizeof method, "pgrid:%u", BENCH_PGRID_SOFT_SAMPLES);
+        snprintf(build_method, sizeof build_method, "pgrid:%u light", BENCH_PGRID_SOFT_SAMPLES);
+        rtt_bench_row row, build;
+        pgrid_rows_start(s, RTT_BENCH_SOFT, s->config->threads[th], method, build_method, multi->active, &row, &build);
         snprintf(row.isect, sizeof row.isect, "watertight");
-        row.rays = multi->active;
-        build.rays = s->scene->triangle_count;
         progress(s, &row);
         bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, th == 0, s->config->isa};
         const bool check = th == 0 && s->have_oracle;
@@ -411,14 +422,8 @@ static bool run_llvmpipe(bench_state *s, const bench_rays *rays, const uint32_t 
 static bool run_pgrid_rows(bench_state *s, const bench_rays *rays, uint32_t *ours)
 {
     for (uint32_t t = 0; t < s->config->thread_count; t++) {
-        rtt_bench_row row = row_start(s, RTT_BENCH_PRIMARY, "rtt", s->config->threads[t]);
-        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
-        snprintf(row.method, sizeof row.method, "pgrid");
-        snprintf(build.method, sizeof build.method, "pgrid");
-        snprintf(row.family, sizeof row.family, "pgrid");
-        snprintf(build.family, sizeof build.family, "build");
-        row.rays = rays->active;
-        build.rays = s->scene->triangle_count;
+        rtt_bench_row row, build;
+        pgrid_rows_start(s, RTT_BENCH_PRIMARY, s->config->threads[t], "pgrid", "pgrid", rays->active, &row, &build);
         progress(s, &row);
         bench_trace_spec spec = {false, row.threads, s->warmup, s->frames, false, s->config->isa};
         bool check = t == 0 && s->have_oracle;
@@ -477,14 +482,8 @@ static bool run_pgrid_shadow_rows(bench_state *s, const bench_rays *rays, const 
         const uint32_t t = k % s->config->thread_count, res = s->config->pgrid_light_res_count
                                                                  ? s->config->pgrid_light_res[k / s->config->thread_count]
                                                                  : 0;
-        rtt_bench_row row = row_start(s, RTT_BENCH_SHADOW, "rtt", s->config->threads[t]);
-        rtt_bench_row build = row_start(s, RTT_BENCH_BUILD, "rtt", s->config->threads[t]);
-        snprintf(row.method, sizeof row.method, "pgrid");
-        snprintf(build.method, sizeof build.method, "pgrid light");
-        snprintf(row.family, sizeof row.family, "pgrid");
-        snprintf(build.family, sizeof build.family, "build");
-        row.rays = rays->active;
-        build.rays = s->scene->triangle_count;
+        rtt_bench_row row, build;
+        pgrid_rows_start(s, RTT_BENCH_SHADOW, s->config->threads[t], "pgrid", "pgrid light", rays->active, &row, &build);
         progress(s, &row);
         bench_trace_spec spec = {true, row.threads, s->warmup, s->frames, false, s->config->isa};
         bool check = k == 0 && s->have_oracle;
