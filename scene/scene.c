@@ -510,10 +510,30 @@ static void centre_scene(rtt_scene *scene)
     builder->light_exact_count = 0;
 }
 
+/* After centre_scene: every stored point fits in float.  A file's points are
+ * finite, but relative to the centre of the triangles' bounds a point the
+ * triangles do not bound (an unused vertex, the camera, a light) can lie
+ * beyond float's range. */
+static bool stored_points_are_finite(const rtt_scene *scene, rtt_error *err)
+{
+    for (uint32_t i = 0; i < scene->vertex_count; i++)
+        if (!rtt_v3_is_finite(scene->vertices[i]))
+            return rtt_error_set(err, "%s: vertex %u lies beyond float's range from the scene's centre", scene->path,
+                                 i);
+    if (has_camera(scene) && !(rtt_v3_is_finite(scene->camera.eye) && rtt_v3_is_finite(scene->camera.look_at)))
+        return rtt_error_set(err, "%s: the camera lies beyond float's range from the scene's centre", scene->path);
+    for (uint32_t l = 0; l < scene->light_count; l++)
+        if (!rtt_light_is_finite(&scene->lights[l]))
+            return rtt_error_set(err, "%s: light %u lies beyond float's range from the scene's centre", scene->path,
+                                 l);
+    return true;
+}
+
 bool rtt_scene_finish(rtt_scene *scene, rtt_error *err)
 {
     if (scene->triangle_count == 0) return rtt_error_set(err, "%s: the scene has no triangles", scene->path);
     centre_scene(scene);
+    if (!stored_points_are_finite(scene, err)) return false;
     if (scene->material_count == 0) {
         rtt_material m = rtt_material_default();
         if (rtt_scene_add_material(scene, &m) == UINT32_MAX)

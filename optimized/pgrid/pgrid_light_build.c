@@ -244,9 +244,9 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
         memset(light->cell_front + first, 0, (last - first) * sizeof *light->cell_front);
         for (size_t c = first; c < last; c++) light->cell_min[c] = INFINITY;
     }
-    const pgrid_footprint *prints = light->prints + (size_t)face * b->n;
+    const size_t face_first = (size_t)face * b->n; /* face-major; no pointer into an empty (NULL) array */
     for (uint32_t i = 0; i < b->n; i++) {
-        const pgrid_footprint f = prints[i];
+        const pgrid_footprint f = light->prints[face_first + i];
         if (f.x0 == PGRID_FOOTPRINT_NONE || f.y1 < r0 || f.y0 >= r1) continue;
         const bool front = light->record_front[i];
         const float bound = light->bound[i];
