@@ -182,6 +182,23 @@ static void test_light_grid_on_a_triangle_soup(void **state)
     /* on a corner of a triangle: that triangle is a near one */
     check_light(s, ref, &grids, points, prims, count, 0, s->vertices[s->triangles[3].v[1]],
                 "soup, light on a corner");
+    /* origins far beyond the scene (1e3 to 1e20 times its size): the
+     * reference's rounding follows the origin, so the grid tests them
+     * against every triangle (pgrid_light.h) */
+    enum { FAR = 96 };
+    rtt_vec3 far[FAR];
+    uint32_t far_prims[FAR];
+    for (uint32_t i = 0; i < FAR; i++) {
+        rtt_vec3 d = {random_in(&seed, -1, 1), random_in(&seed, -1, 1), random_in(&seed, -1, 1)};
+        if (!(rtt_v3_length(d) > 1e-3f)) d = rtt_v3(1, 0, 0);
+        far[i] = rtt_v3_scale(rtt_v3_normalize(d), powf(10.0f, 3.0f + (float)(i % 18)));
+        far_prims[i] = RTT_MISS;
+    }
+    for (int l = 0; l < 3; l++) {
+        const rtt_vec3 light = {random_in(&seed, -0.5f, 0.5f), random_in(&seed, -0.5f, 0.5f),
+                                random_in(&seed, -0.5f, 0.5f)};
+        check_light(s, ref, &grids, far, far_prims, FAR, l ? 200 : 16, light, "soup, far origins");
+    }
     free(points);
     free(prims);
     pgrid_shadows_free(&grids);

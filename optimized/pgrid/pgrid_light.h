@@ -26,7 +26,12 @@
  *    mu_T = 1e-5 + 4 times that angle (a face coordinate is tan of an angle
  *    at most 45 degrees off the axis, so at most twice the angle; twice
  *    again for margin), with 1e-5 for the rounding of the ray's face
- *    coordinates themselves.
+ *    coordinates themselves.  E assumes origins of magnitude at most 2M
+ *    (the test's rounding, a few float ulps of 3M, stays far below 2^-14 M):
+ *    the shader proxy's rays start on the scene's triangles, within M up to
+ *    the hit point's rounding; a ray whose origin has a coordinate beyond 2M
+ *    (an arbitrary caller's) rounds on its origin's scale instead and is
+ *    tested against every triangle.
  *  - A triangle within 256 E of the light, or whose mu_T would pass 4e-2,
  *    goes to the near list, tested by every ray.  (The factor 4 holds
  *    while the perturbed direction stays within 60 degrees of the axis,
@@ -84,6 +89,8 @@ typedef struct pgrid_light {
     float position[3];
     uint32_t res;              /* cells per face side */
     float reach;               /* 4E: slack of the per-cell distance test */
+    double magnitude;          /* 2M: a ray whose origin has a larger coordinate is tested against
+                                * every triangle (the reference's rounding follows the origin) */
     uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] ..) */
     float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
     float *bound;              /* per corner record: its d_T (the same test per triangle) */

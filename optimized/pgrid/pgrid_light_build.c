@@ -298,6 +298,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     light->res = res;
     const double E = error_bound(scene, position);
     light->reach = (float)(4.0 * E);
+    light->magnitude = ldexp(E, 15); /* 2M (pgrid_light.h) */
     const size_t cells = (size_t)PGRID_LIGHT_FACES * res * res;
     /* the arrays are grown to what this build needs, never shrunk */
     bool ok = true;

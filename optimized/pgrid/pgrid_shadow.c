@@ -190,7 +190,7 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
         const uint32_t cell = key / 3u, kz = key % 3u;
         p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
         const float cell_min = L->cell_min[cell];
-        uint32_t active = 0, reaching = 0, full = 0;
+        uint32_t active = 0, reaching = 0, full = 0, wild = 0;
         for (uint32_t l = 0; l < LANES; l++) {
             const uint32_t index = (uint32_t)keys[first + (l < n ? l : 0)];
             const rtt_ray *r = &rays[index];
@@ -201,6 +201,9 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
             p.tnear[l] = r->tnear, p.tfar[l] = r->tfar;
             if (l >= n) continue;
             active |= 1u << l;
+            /* an origin beyond 2M: every triangle (pgrid_light.h) */
+            for (int a = 0; a < 3; a++)
+                if (!(fabs((double)r->org[a]) <= L->magnitude)) wild |= 1u << l;
             /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
             p.reach[l] = r->tnear + r->tfar + L->reach;
             if (!(p.reach[l] < cell_min)) reaching |= 1u << l;
@@ -208,9 +211,12 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
                 full |= 1u << l;
         }
         uint32_t hit = 0, entering = 0;
+        for (uint32_t t = 0; wild & ~hit && t < grids->corner_count; t++)
+            hit |= occluded_lanes(&grids->corners[t], &p, wild & ~hit, NULL);
+        active &= ~wild, reaching &= ~wild, full &= ~wild;
         uint32_t *watch = grids->culled_count ? &entering : NULL;
         if (reaching)
-            hit = occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
+            hit |= occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
                                 reaching, watch);
         if (L->near_count && (hit & active) != active)
             hit |= occluded_list(grids, L, L->near, L->near_count, &p, active & ~hit, watch);
