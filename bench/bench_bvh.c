@@ -5,7 +5,10 @@
  * a 16-wide packet is one 4x4 block, as Embree's rtcIntersect16 row gets
  * it (an 8-wide packet is a 4x2 half, a 4-wide one a row of four); the
  * tiles go to threads through rtt_tiles_run, one kernel call per tile.
- * Counters per thread on the extra counting frame only.  The soft rows'
+ * A kernel that makes primary rays itself from the camera frame (bvh-mft's
+ * trace_camera) gets each tile as a pixel rectangle instead and writes its
+ * hits there row-major: the rays are made on demand, never loaded, as
+ * Benthin & Wald's are.  Counters per thread on the extra counting frame only.  The soft rows'
  * frusta:16 kernel is timed here too, on the same tiles (bench_frusta_row). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,16 +33,23 @@ typedef struct bvh_job {
     rtt_hit *hits;
     uint8_t *occluded;
     const float *toward;
+    const bvh_camera_block *camera; /* the frame, for trace_camera; NULL: the rays */
     bvh_thread_counters *counters;
     uint32_t tiles_x, threads;
 } bvh_job;
 
 static void bvh_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
 {
-    (void)x1, (void)y1;
     bvh_job *job = context;
     const size_t first = ((size_t)(y0 / BVH_BENCH_TILE) * job->tiles_x + x0 / BVH_BENCH_TILE) *
                          BVH_BENCH_TILE * BVH_BENCH_TILE;
+    if (job->camera) {
+        bvh_camera_block block = *job->camera;
+        block.x0 = x0, block.y0 = y0, block.x1 = x1, block.y1 = y1;
+        job->kernel->trace_camera(job->tree, &block, &job->hits[first],
+                                  job->counters ? &job->counters[thread].counters : NULL);
+        return;
+    }
     bvh_query q = {.rays = &job->rays[first], .count = BVH_BENCH_TILE * BVH_BENCH_TILE,
                    .counters = job->counters ? &job->counters[thread].counters : NULL, .toward = job->toward};
     if (job->occluded) q.occluded = &job->occluded[first];
@@ -104,6 +114,20 @@ bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *ker
         ordered[i] = on ? rays->rays[(size_t)y * w + x] : off_image;
     }
     job.rays = ordered;
+    const rtt_camera_frame *c = &rays->camera;
+    const bvh_camera_block camera = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
+                                     {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, 0, 0, 0, 0};
+    if (!spec->occlusion && rays->from_camera && job.kernel->trace_camera) {
+        job.camera = &camera;
+        /* the tile's hits row-major (bvh_camera_block) */
+        for (size_t i = 0; i < slots; i++) {
+            const uint32_t tile = (uint32_t)(i / (BVH_BENCH_TILE * BVH_BENCH_TILE)), in = (uint32_t)(i % 256u);
+            const uint32_t tx = (tile % tiles_x) * BVH_BENCH_TILE, ty = (tile / tiles_x) * BVH_BENCH_TILE;
+            const uint32_t tw = w - tx < BVH_BENCH_TILE ? w - tx : BVH_BENCH_TILE;
+            const uint32_t th = h - ty < BVH_BENCH_TILE ? h - ty : BVH_BENCH_TILE;
+            job.pixel[i] = in < tw * th ? (ty + in / tw) * w + tx + in % tw : UINT32_MAX;
+        }
+    }
     bvh_frame frame = {bvh_tile, &job, w, h, spec->threads};
     bench_time_frames(bvh_frame_run, &frame, spec->warmup, spec->frames, row);
     row->n = row->i = -1.0;

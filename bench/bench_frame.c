@@ -48,6 +48,8 @@ bool bench_rays_primary(const rtt_scene *scene, uint32_t width, uint32_t height,
     for (uint32_t y = 0; y < height; y++)
         for (uint32_t x = 0; x < width; x++) out->rays[(size_t)y * width + x] = rtt_camera_ray(&frame, x, y);
     out->active = (uint64_t)width * height;
+    out->from_camera = true;
+    out->camera = frame;
     return true;
 }
 

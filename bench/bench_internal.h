@@ -12,6 +12,7 @@
 #include "bvh_tree.h"
 #include "kd_tree.h"
 #include "packet.h"
+#include "rtt/shade.h"
 
 /* Monotonic seconds. */
 
@@ -27,6 +28,10 @@ typedef struct bench_rays {
     uint32_t width, height;
     rtt_ray *rays;
     uint64_t active;
+    /* primary rays: pixel (x, y)'s ray is rtt_camera_ray(&camera, x, y), so
+     * a kernel may make them itself (bvh-mft's trace_camera) */
+    bool from_camera;
+    rtt_camera_frame camera;
 } bench_rays;
 
 static inline bool bench_ray_active(const rtt_ray *r) { return r->tnear <= r->tfar; }

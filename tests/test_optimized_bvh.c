@@ -8,7 +8,9 @@
  * under the watertight test bit for bit (the same arithmetic), under the
  * projected test within the conformance tolerance (a hit/miss at an edge of
  * the hit triangle counted apart, as that test is not watertight).  And
- * watertightness: from inside a closed mesh, rays aimed at its corners and
+ * bvh-mft's primary rays made from the camera frame, per pixel against the
+ * brute force and the reference, for three cameras and two block tilings.
+ * And watertightness: from inside a closed mesh, rays aimed at its corners and
  * edges escape through no BVH kernel (closest hit, occlusion, hard-shadow
  * apex frusta, soft-shadow frusta:N) under the watertight test. */
 #include <float.h>
@@ -288,6 +290,87 @@ static void test_kernels_on_primary_rays(void **state)
     free(rays);
 }
 
+/* bvh-mft's rays made from the camera frame (bvh_camera_block): per pixel
+ * the brute force's hit on rtt_camera_ray's ray, bit for bit, and under
+ * the watertight test the reference's bits, at every ISA; images whose
+ * sides are no multiple of the group's, and blocks that start off the
+ * group grid. */
+static void check_camera_kernel(const bvh_fixture *f, const bvh_tree *tree, const rtt_camera *camera, uint32_t w,
+                                uint32_t h)
+{
+    const rtt_camera_frame frame = rtt_camera_frame_make(camera, w, h);
+    const size_t n = (size_t)w * h;
+    rtt_ray *rays = malloc(n * sizeof *rays);
+    rtt_hit *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
+    uint8_t *occ = malloc(n);
+    assert_true(rays && want && got && occ);
+    uint32_t hit = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            rays[(size_t)y * w + x] = rtt_camera_ray(&frame, x, y);
+            want[(size_t)y * w + x] = bvh_records_closest(tree, &rays[(size_t)y * w + x]);
+            hit += want[(size_t)y * w + x].prim != RTT_MISS;
+        }
+    assert_true(hit > 0 && hit < n); /* both answers are checked */
+    bvh_camera_block block = {{frame.eye.x, frame.eye.y, frame.eye.z}, {frame.corner.x, frame.corner.y, frame.corner.z},
+                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0};
+    const bvh_kernel *row;
+    for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
+        if (!row->trace_camera) {
+            assert_string_not_equal(row->name, "bvh-mft");
+            continue;
+        }
+        if (!isa_runs(row->isa)) continue;
+        /* the whole image in 16 x 16 blocks, then in 13 x 7 blocks from (3, 5) */
+        for (int pass = 0; pass < 2; pass++) {
+            const uint32_t bw = pass ? 13 : 16, bh = pass ? 7 : 16, sx = pass ? 3 : 0, sy = pass ? 5 : 0;
+            memset(got, 0xab, n * sizeof *got);
+            for (uint32_t y0 = 0; y0 < h; y0 += y0 ? bh : (sy ? sy : bh))
+                for (uint32_t x0 = 0; x0 < w; x0 += x0 ? bw : (sx ? sx : bw)) {
+                    const uint32_t x1 = x0 ? x0 + bw : (sx ? sx : bw), y1 = y0 ? y0 + bh : (sy ? sy : bh);
+                    block.x0 = x0, block.y0 = y0, block.x1 = x1 < w ? x1 : w, block.y1 = y1 < h ? y1 : h;
+                    rtt_hit part[16 * 16];
+                    bvh_counters counters = {0};
+                    row->trace_camera(tree, &block, part, &counters);
+                    assert_true(counters.packets > 0);
+                    for (uint32_t y = block.y0; y < block.y1; y++)
+                        for (uint32_t x = block.x0; x < block.x1; x++)
+                            got[(size_t)y * w + x] = part[(y - y0) * (block.x1 - x0) + (x - x0)];
+                }
+            uint32_t lost = 0;
+            for (size_t i = 0; i < n; i++)
+                if (memcmp(&got[i], &want[i], sizeof got[i]) != 0 && lost++ < 5)
+                    print_message("%s camera (%s) pixel %zu: prim %u t %a, brute force prim %u t %a\n", row->name,
+                                  rtt_isa_name(row->isa), i, got[i].prim, (double)got[i].t, want[i].prim,
+                                  (double)want[i].t);
+            for (size_t i = 0; i < n; i++) occ[i] = want[i].prim != RTT_MISS;
+            const uint32_t bits = tree->watertight ? reference_bit_differences(&f->base, rays, got, occ, (uint32_t)n) : 0;
+            print_message("%s camera %-7s %-10s %ux%u in %ux%u blocks: %u lost%s\n", row->name,
+                          rtt_isa_name(row->isa), bvh_tree_test_name(tree), w, h, bw, bh, lost,
+                          tree->watertight ? (bits ? ", not the reference's bits" : ", the reference's bits") : "");
+            assert_int_equal(lost, 0);
+            assert_int_equal(bits, 0);
+        }
+    }
+    free(rays), free(want), free(got), free(occ);
+}
+
+static void test_mft_camera_rays(void **state)
+{
+    const bvh_fixture *f = *state;
+    /* wide, narrow, and a camera whose rays cross the axis planes (looking down an axis) */
+    static const struct { rtt_vec3 eye, at; float fov; uint32_t w, h; } cams[] = {
+        {{0.3f, 0.4f, 3.0f}, {0, 0, 0}, 110.0f, 61, 45},
+        {{2.5f, 1.5f, -2.0f}, {0, 0, 0}, 4.0f, 37, 29},
+        {{0.0f, 0.0f, 2.5f}, {0, 0, 0}, 60.0f, 48, 32},
+    };
+    for (size_t c = 0; c < sizeof cams / sizeof cams[0]; c++) {
+        rtt_camera cam = f->base.scene->camera;
+        cam.eye = cams[c].eye, cam.look_at = cams[c].at, cam.up = rtt_v3(0, 1, 0), cam.fov_deg = cams[c].fov;
+        for (uint32_t t = 0; t < BVH_FIXTURE_TESTS; t++) check_camera_kernel(f, f->trees[t], &cam, cams[c].w, cams[c].h);
+    }
+}
+
 static void test_kernels_on_random_rays_with_specials(void **state)
 {
     const bvh_fixture *f = *state;
@@ -427,6 +510,7 @@ int main(void)
         cmocka_unit_test(test_one_and_two_threads_build_the_same_bytes),
         cmocka_unit_test(test_degenerate_only_and_empty_scenes_build_and_miss),
         cmocka_unit_test_setup_teardown(test_kernels_on_primary_rays, setup_bvh, teardown_bvh),
+        cmocka_unit_test_setup_teardown(test_mft_camera_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(

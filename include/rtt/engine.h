@@ -78,6 +78,7 @@ enum {
 };
 
 #define RTT_TRAVERSAL_NAME_MAX 32u
+#define RTT_TILE_MAX 32u /* the largest tile side rtt_engine_options.tile takes */
 
 typedef struct rtt_engine_options {
     rtt_accel accel;

@@ -17,6 +17,7 @@
 #define bvh_kernel_mono BVH_ISA(bvh_kernel_mono)
 #define bvh_kernel_packet BVH_ISA(bvh_kernel_packet)
 #define bvh_kernel_mft BVH_ISA(bvh_kernel_mft)
+#define bvh_kernel_mft_camera BVH_ISA(bvh_kernel_mft_camera)
 #define bvh_trace_packet BVH_ISA(bvh_trace_packet)
 #define bvh_shadow_frusta BVH_ISA(bvh_shadow_frusta)
 

@@ -9,11 +9,11 @@
 #define BVH_DEFAULT_KERNEL "bvh-packet"
 
 #define BVH_KERNEL_ROWS(isa_enum, isa, lanes)                                                                     \
-    {"bvh-mono", "Kay & Kajiya slabs, ordered depth-first walk: one ray", bvh_kernel_mono_##isa, 1, isa_enum},    \
+    {"bvh-mono", "Kay & Kajiya slabs, ordered depth-first walk: one ray", bvh_kernel_mono_##isa, NULL, 1, isa_enum},    \
     {"bvh-packet", "Benthin & Wald 2009, 5.1: the 16-wide packet baseline (8 on AVX2, 4 on SSE4.1)",             \
-     bvh_kernel_packet_##isa, lanes, isa_enum},                                                                  \
+     bvh_kernel_packet_##isa, NULL, lanes, isa_enum},                                                                  \
     {"bvh-mft", "Benthin & Wald 2009, 4.1-4.3: 16 frusta of 16 rays (8 on AVX2, 4 on SSE4.1) at once",          \
-     bvh_kernel_mft_##isa, lanes * 16u, isa_enum},
+     bvh_kernel_mft_##isa, bvh_kernel_mft_camera_##isa, lanes * 16u, isa_enum},
 
 static const bvh_kernel bvh_kernels[] = {
     BVH_KERNEL_ROWS(RTT_ISA_SSE4, sse4, 4)

@@ -37,10 +37,24 @@ typedef struct bvh_query {
 
 typedef void (*bvh_kernel_fn)(const bvh_tree *tree, const bvh_query *query);
 
+/* Primary rays made by the kernel from the camera frame, never stored
+ * (Benthin & Wald 2009, 4.1: start and delta vectors): pixel (x, y)'s ray
+ * is rtt_camera_ray(frame, x, y) bit for bit, for the pixels
+ * [x0, x1) x [y0, y1); its closest hit goes to
+ * hits[(y - y0) * (x1 - x0) + (x - x0)]. */
+typedef struct bvh_camera_block {
+    float eye[3], corner[3], du[3], dv[3]; /* rtt_camera_frame's */
+    uint32_t x0, y0, x1, y1;
+} bvh_camera_block;
+
+typedef void (*bvh_camera_fn)(const bvh_tree *tree, const bvh_camera_block *block, rtt_hit *hits,
+                              bvh_counters *counters);
+
 typedef struct bvh_kernel {
     const char *name;          /* what --traversal calls it (with --accel bvh) */
     const char *implements;    /* the paper and section */
     bvh_kernel_fn trace;
+    bvh_camera_fn trace_camera; /* primary rays from the camera frame: bvh-mft's; NULL for the others */
     uint32_t width;            /* rays a packet holds: 1, or the ISA's lanes */
     rtt_isa isa;               /* the instruction set its object was compiled for */
 } bvh_kernel;
@@ -113,6 +127,8 @@ const bvh_shadow_kernel *bvh_shadow_kernel_row_at(uint32_t i);
     void bvh_kernel_mono_##isa(const bvh_tree *tree, const bvh_query *q);      \
     void bvh_kernel_packet_##isa(const bvh_tree *tree, const bvh_query *q);     \
     void bvh_kernel_mft_##isa(const bvh_tree *tree, const bvh_query *q);        \
+    void bvh_kernel_mft_camera_##isa(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits,            \
+                                     bvh_counters *counters);                                                 \
     void bvh_shadow_frusta_##isa(const bvh_tree *tree, const bvh_shadow_query *q);
 BVH_KERNEL_PROTOTYPES(sse4)
 BVH_KERNEL_PROTOTYPES(avx2)

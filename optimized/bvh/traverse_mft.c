@@ -26,9 +26,12 @@
  *    its rays are occluded; a closest-hit frustum's bound shrinks to its
  *    rays' farthest closest hit after every leaf that lowered one.
  *
- * What it departs from and why: the kernel takes any ray stream (engine,
- * conformance, bench), so the rays of a frustum are loaded from the stream
- * rather than generated from start and delta vectors, and the culling uses
+ * Two entries: bvh_kernel_mft takes any ray stream (engine, conformance,
+ * the renderer's anti-aliased samples), loading each frustum's rays;
+ * bvh_kernel_mft_camera (the renderer at one sample per pixel, the bench's
+ * primary rows) makes primary rays itself from the camera frame's start and
+ * delta vectors, the paper's way, never storing them (bottom of the file).
+ * What it departs from and why: the culling uses
  * the direction box (exact for any rays sharing an origin) rather than four
  * corner rays (exact only for pinhole grids).  A group of 16 whose rays do
  * not share one origin is traced by the packet walk instead (bvh_traverse.h).
@@ -41,6 +44,7 @@
 #include "bvh_frusta.h"
 #include "bvh_isect_wide.h"
 #include "bvh_traverse.h"
+#include "rtt/shade.h"
 
 #define MFT_RAYS 16u                 /* rays per frustum */
 #define MFT_VECS (MFT_RAYS / BVH_W)  /* packets per frustum: 1, 2 or 4 */
@@ -133,27 +137,31 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
     if (counters) counters->aabb_tests += aabb;
 }
 
-/* Loads frustum f of the group from rays[0 .. count-1]; true when its live
- * rays share one origin (a frustum), false when they need the packet walk.
- * Per packet: the first live ray's origin against every live lane's, and
- * the live lanes' smallest and largest direction components and tnear. */
-static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t count, float org[3][MFT_FRUSTA],
-                         float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear)
+/* Frustum f's bounds from its packets (g->rays, g->live): true when its
+ * live rays share one origin (a frustum), false when they need the packet
+ * walk.  Per packet: the first live ray's origin against every live lane's,
+ * and the live lanes' smallest and largest direction components and tnear. */
+static bool frustum_bounds(const mft_group *g, uint32_t f, float org[3][MFT_FRUSTA], float dlo[3][MFT_FRUSTA],
+                           float dhi[3][MFT_FRUSTA], float *tnear)
 {
     bool common = true, any = false;
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     for (uint32_t v = 0; v < MFT_VECS; v++) {
-        const size_t first = (size_t)v * BVH_W, n = count > first ? (count - first < BVH_W ? count - first : BVH_W) : 0;
-        const uint32_t live = g->live[f][v] = n ? bvh_packet_load(&g->rays[f][v], rays + first, n) : 0;
-        g->occ[f][v] = 0;
-        bvh_hits_clear(&g->hits[f][v]);
+        const uint32_t live = g->live[f][v];
         if (!live) continue;
         const bvh_packet *p = &g->rays[f][v];
         const vm m = vm_of_bits(live);
         if (!any) {
-            const rtt_ray *r = &rays[first + (uint32_t)__builtin_ctz(live)];
-            for (int k = 0; k < 3; k++) org[k][f] = r->org[k], dlo[k][f] = dhi[k][f] = r->dir[k];
-            *tnear = r->tnear;
+            float lane[BVH_W];
+            const uint32_t l = (uint32_t)__builtin_ctz(live);
+            for (int k = 0; k < 3; k++) {
+                vf_store(lane, p->org[k]);
+                org[k][f] = lane[l];
+                vf_store(lane, p->dir[k]);
+                dlo[k][f] = dhi[k][f] = lane[l];
+            }
+            vf_store(lane, p->tnear);
+            *tnear = lane[l];
             any = true;
         }
         for (int k = 0; k < 3; k++) {
@@ -168,6 +176,20 @@ static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t c
     if (!any)
         for (int k = 0; k < 3; k++) org[k][f] = 0.0f, dlo[k][f] = dhi[k][f] = 1.0f;
     return common;
+}
+
+/* Loads frustum f of the group from rays[0 .. count-1]; frustum_bounds'
+ * answer. */
+static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t count, float org[3][MFT_FRUSTA],
+                         float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear)
+{
+    for (uint32_t v = 0; v < MFT_VECS; v++) {
+        const size_t first = (size_t)v * BVH_W, n = count > first ? (count - first < BVH_W ? count - first : BVH_W) : 0;
+        g->live[f][v] = n ? bvh_packet_load(&g->rays[f][v], rays + first, n) : 0;
+        g->occ[f][v] = 0;
+        bvh_hits_clear(&g->hits[f][v]);
+    }
+    return frustum_bounds(g, f, org, dlo, dhi, tnear);
 }
 
 /* Frustum f as seen from `apex`, the point every one of its rays heads to
@@ -207,13 +229,33 @@ static void apex_frustum(mft_group *g, uint32_t f, const float apex[3], float or
     g->apex |= 1u << f;
 }
 
+/* The group's frusta (their bounds in org .. grow) through the tree. */
+static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, float org[3][MFT_FRUSTA],
+                        float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], const float *tnear, const float *grow,
+                        bool closest, bvh_counters *counters)
+{
+    float rlo[3][MFT_FRUSTA], rhi[3][MFT_FRUSTA];
+    for (int k = 0; k < 3; k++)
+        for (uint32_t f = 0; f < MFT_FRUSTA; f++) rlo[k][f] = 1.0f / dlo[k][f], rhi[k][f] = 1.0f / dhi[k][f];
+    for (int k = 0; k < 3; k++) {
+        g->b.org[k] = vf_load(org[k]);
+        g->b.dlo[k] = vf_load(dlo[k]), g->b.dhi[k] = vf_load(dhi[k]);
+        g->b.rlo[k] = vf_load(rlo[k]), g->b.rhi[k] = vf_load(rhi[k]);
+    }
+    g->b.tnear = vf_load(tnear);
+    g->b.grow = vf_load(grow);
+    for (uint32_t f = 0; f < MFT_FRUSTA; f++)
+        g->dist[f] = !(frusta >> f & 1u) ? -INFINITY : g->apex >> f & 1u ? 1.0f : frustum_dist(g, f, false);
+    if (frusta) trace_frusta(tree, g, frusta, closest, counters);
+}
+
 void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
 {
     const bool closest = q->hits != NULL;
     const size_t group_rays = (size_t)MFT_FRUSTA * MFT_RAYS;
     mft_group g;
     for (size_t first = 0; first < q->count; first += group_rays) {
-        float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA], rlo[3][MFT_FRUSTA], rhi[3][MFT_FRUSTA];
+        float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
         float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
         uint32_t frusta = 0;
         g.apex = 0;
@@ -244,18 +286,7 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
                     bvh_trace_packet(tree, &g.rays[f][v], g.live[f][v], closest ? &g.hits[f][v] : NULL,
                                      &g.occ[f][v], q->counters);
         }
-        for (int k = 0; k < 3; k++)
-            for (uint32_t f = 0; f < MFT_FRUSTA; f++) rlo[k][f] = 1.0f / dlo[k][f], rhi[k][f] = 1.0f / dhi[k][f];
-        for (int k = 0; k < 3; k++) {
-            g.b.org[k] = vf_load(org[k]);
-            g.b.dlo[k] = vf_load(dlo[k]), g.b.dhi[k] = vf_load(dhi[k]);
-            g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
-        }
-        g.b.tnear = vf_load(tnear);
-        g.b.grow = vf_load(grow);
-        for (uint32_t f = 0; f < MFT_FRUSTA; f++)
-            g.dist[f] = !(frusta >> f & 1u) ? -INFINITY : g.apex >> f & 1u ? 1.0f : frustum_dist(&g, f, false);
-        if (frusta) trace_frusta(tree, &g, frusta, closest, q->counters);
+        trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, closest, q->counters);
         for (uint32_t f = 0; f < MFT_FRUSTA; f++)
             for (uint32_t v = 0; v < MFT_VECS; v++) {
                 const size_t at = first + (size_t)f * MFT_RAYS + (size_t)v * BVH_W;
@@ -267,4 +298,106 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
                     for (size_t l = 0; l < n; l++) q->occluded[at + l] = (g.occ[f][v] >> l) & 1u;
             }
     }
+}
+
+/* ---- primary rays made from the camera frame (bvh_camera_block) ----
+ *
+ * Frustum f of a group is 4x4 pixels, its packet v the rows v * BVH_W / 4
+ * onwards; a group is GROUP_FX x GROUP_FY frusta (16 x 16 pixels on
+ * AVX-512, 16 x 8 on AVX2, 8 x 8 on SSE4.1).  A lane's direction is
+ * rtt_camera_ray's, computed in the same order with the same IEEE
+ * operations (contraction is off), so the same bits: d = corner + (du (x +
+ * 1/2) + dv (y + 1/2)), scaled by 1 / sqrt(d.d); a lane whose length falls
+ * outside rtt_v3_normalize's fast range takes rtt_camera_ray itself. */
+#define GROUP_FX (MFT_FRUSTA >= 8u ? 4u : 2u)
+#define GROUP_FY (MFT_FRUSTA / GROUP_FX)
+#define VEC_ROWS (BVH_W / 4u)
+
+static void camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, uint32_t fx, uint32_t fy)
+{
+    _Alignas(64) float col[BVH_W], row[BVH_W];
+    for (uint32_t l = 0; l < BVH_W; l++) col[l] = (float)(l % 4u), row[l] = (float)(l / 4u);
+    const vf lane_x = vf_load(col), lane_y = vf_load(row), zero = vf_set1(0.0f), one = vf_set1(1.0f);
+    for (uint32_t v = 0; v < MFT_VECS; v++) {
+        const uint32_t y = fy + v * VEC_ROWS;
+        uint32_t live = 0;
+        for (uint32_t l = 0; l < BVH_W; l++)
+            if (fx + l % 4u < b->x1 && y + l / 4u < b->y1) live |= 1u << l;
+        bvh_packet *p = &g->rays[f][v];
+        /* pixel centres: small integers plus one half, exact in float */
+        const vf px = vf_add(vf_set1((float)fx + 0.5f), lane_x), py = vf_add(vf_set1((float)y + 0.5f), lane_y);
+        vf d[3];
+        for (int k = 0; k < 3; k++)
+            d[k] = vf_add(vf_set1(b->corner[k]),
+                          vf_add(vf_mul(vf_set1(b->du[k]), px), vf_mul(vf_set1(b->dv[k]), py)));
+        const vf len = vf_sqrt(vf_add(vf_add(vf_mul(d[0], d[0]), vf_mul(d[1], d[1])), vf_mul(d[2], d[2])));
+        const vf inv = vf_div(one, len);
+        const uint32_t fast = vm_bits(vm_and(vf_gt(len, vf_set1(1e-18f)), vf_lt(len, vf_set1(1e18f))));
+        _Alignas(64) float dir[3][BVH_W];
+        for (int k = 0; k < 3; k++) vf_store(dir[k], vf_mul(d[k], inv));
+        for (uint32_t slow = live & ~fast; slow; slow &= slow - 1u) {
+            const uint32_t l = (uint32_t)__builtin_ctz(slow);
+            const rtt_camera_frame frame = {{b->eye[0], b->eye[1], b->eye[2]},
+                                            {b->corner[0], b->corner[1], b->corner[2]},
+                                            {b->du[0], b->du[1], b->du[2]},
+                                            {b->dv[0], b->dv[1], b->dv[2]}};
+            const rtt_ray r = rtt_camera_ray(&frame, fx + l % 4u, y + l / 4u);
+            for (int k = 0; k < 3; k++) dir[k][l] = r.dir[k];
+        }
+        /* bvh_packet_load's rule: a lane whose origin or direction is not finite is inactive */
+        vm ok = vm_of_bits(live);
+        for (int k = 0; k < 3; k++) {
+            p->org[k] = vf_set1(b->eye[k]);
+            p->dir[k] = vf_load(dir[k]);
+            ok = vm_and(ok, vm_and(vf_eq(vf_sub(p->org[k], p->org[k]), zero), vf_eq(vf_sub(p->dir[k], p->dir[k]), zero)));
+        }
+        for (int k = 0; k < 3; k++) {
+            p->org[k] = vf_blend(ok, zero, p->org[k]);
+            p->dir[k] = vf_blend(ok, one, p->dir[k]);
+            p->inv_dir[k] = vf_div(one, p->dir[k]);
+        }
+        p->tnear = vf_blend(ok, vf_set1(INFINITY), zero);
+        p->tfar = vf_blend(ok, vf_set1(-INFINITY), vf_set1(INFINITY));
+        g->live[f][v] = vm_bits(ok);
+        g->occ[f][v] = 0;
+        bvh_hits_clear(&g->hits[f][v]);
+    }
+}
+
+void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
+{
+    const uint32_t width = b->x1 - b->x0;
+    mft_group g;
+    for (uint32_t gy = b->y0; gy < b->y1; gy += 4u * GROUP_FY)
+        for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
+            float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
+            float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
+            uint32_t frusta = 0;
+            g.apex = 0;
+            for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
+                const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
+                tnear[f] = INFINITY;
+                camera_frustum(&g, f, b, fx, fy);
+                uint32_t live = 0;
+                for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
+                frustum_bounds(&g, f, org, dlo, dhi, &tnear[f]); /* one origin: the eye */
+                if (!live) continue;
+                if (counters) counters->packets++;
+                if (tree->triangle_count == 0) continue;
+                for (uint32_t v = 0; v < MFT_VECS; v++)
+                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
+                frusta |= 1u << f;
+            }
+            trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
+            for (uint32_t f = 0; f < MFT_FRUSTA; f++)
+                for (uint32_t v = 0; v < MFT_VECS; v++) {
+                    const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX) + v * VEC_ROWS;
+                    rtt_hit lane[BVH_W];
+                    bvh_hits_store(&g.hits[f][v], lane, BVH_W);
+                    for (uint32_t l = 0; l < BVH_W; l++) {
+                        const uint32_t x = fx + l % 4u, y = fy + l / 4u;
+                        if (x < b->x1 && y < b->y1) hits[(size_t)(y - b->y0) * width + (x - b->x0)] = lane[l];
+                    }
+                }
+        }
 }

@@ -157,6 +157,30 @@ static bool frame_memory_even_out(frame_memory *m)
     return true;
 }
 
+/* bvh-mft with one sample per pixel: the kernel makes the tile's primary
+ * rays itself from the camera frame (bvh_camera_block), rtt_camera_ray's
+ * bits, and the shader gets them with their hits. */
+static bool camera_rays_in_kernel(const render_job *job)
+{
+    return job->tracer.bvh && job->tracer.bvh_kernel->trace_camera && job->spp == 1;
+}
+
+static void trace_camera_tile(const render_job *job, sp_scratch *s, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
+{
+    const uint64_t t0 = rtt_clock_ns();
+    const rtt_camera_frame *c = &job->frame;
+    const bvh_camera_block block = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
+                                    {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, x0, y0, x1, y1};
+    rtt_hit hits[RTT_TILE_MAX * RTT_TILE_MAX];
+    job->tracer.bvh_kernel->trace_camera(job->tracer.bvh, &block, hits, NULL);
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = x0; x < x1; x++) {
+            const rtt_ray ray = rtt_camera_ray(c, x, y);
+            sp_primary_push_hit(s, &ray, &hits[(y - y0) * (x1 - x0) + (x - x0)], y * job->width + x);
+        }
+    sp_primary_hits_done(s, rtt_clock_ns() - t0);
+}
+
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)
 {
     render_job *job = context;
@@ -166,6 +190,8 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     sp_tile_begin(s, job->pgrid ? 0 : side * side * job->spp);
     if (job->pgrid) { /* one eye ray per pixel centre: spp is 1 (refused otherwise) */
         pgrid_render_cell(job->pgrid, thread, s, x0, y0, x1, y1);
+    } else if (camera_rays_in_kernel(job)) {
+        trace_camera_tile(job, s, x0, y0, x1, y1);
     } else {
         /* samples in the reference's order, last to first: the same sums */
         for (uint32_t sample = job->spp; sample-- > 0;) push_primary_packets(job, s, x0, y0, x1, y1, sample);
