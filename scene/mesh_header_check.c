@@ -272,6 +272,11 @@ static bool ply_header(ply_file *ply, const unsigned char *bytes, size_t size, s
         }
     }
     if (!format_seen) return rtt_error_set(err, "%s: header: no format line", path);
+    /* items without properties take no bytes: their count would go unchecked */
+    for (uint32_t e = 0; e < ply->element_count; e++)
+        if (ply->elements[e].count > 0 && ply->elements[e].property_count == 0)
+            return rtt_error_set(err, "%s: header: element \"%s\" declares %llu items but no properties", path,
+                                 ply->elements[e].name, (unsigned long long)ply->elements[e].count);
     *body = (size_t)(at - bytes);
     return true;
 }
