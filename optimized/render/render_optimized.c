@@ -172,13 +172,18 @@ static void trace_camera_tile(const render_job *job, sp_scratch *s, uint32_t x0,
     const bvh_camera_block block = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
                                     {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, x0, y0, x1, y1};
     rtt_hit hits[RTT_TILE_MAX * RTT_TILE_MAX];
-    job->tracer.bvh_kernel->trace_camera(job->tracer.bvh, &block, hits, NULL);
+    bvh_counters counters = {0};
+    const bool counting = sp_tile_counting(s);
+    job->tracer.bvh_kernel->trace_camera(job->tracer.bvh, &block, hits, counting ? &counters : NULL);
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             const rtt_ray ray = rtt_camera_ray(c, x, y);
             sp_primary_push_hit(s, &ray, &hits[(y - y0) * (x1 - x0) + (x - x0)], y * job->width + x);
         }
     sp_primary_hits_done(s, rtt_clock_ns() - t0);
+    /* per 2x2 packet of the tile's rays, as sp_primary_trace counts a BVH row's */
+    if (counting) sp_primary_hits_counted(s, ((x1 - x0 + 1) / 2) * ((y1 - y0 + 1) / 2), counters.aabb_tests,
+                                          counters.isect_tests);
 }
 
 static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1)

@@ -119,6 +119,10 @@ void sp_primary_trace(const sp_tracer *tracer, sp_scratch *s);
 void sp_primary_push_hit(sp_scratch *s, const rtt_ray *ray, const rtt_hit *hit, uint32_t pixel);
 /* ...and once the tile's are in, counts them and the `ns` spent finding them. */
 void sp_primary_hits_done(sp_scratch *s, uint64_t ns);
+/* Whether the tile's stats are kept (timing on): then the finder of those
+ * hits may add its counters (N and I, as sp_primary_trace counts them). */
+bool sp_tile_counting(const sp_scratch *s);
+void sp_primary_hits_counted(sp_scratch *s, uint64_t packets, uint64_t steps, uint64_t isects);
 /* Shades the primary hits and every level below, then combines colours. */
 void sp_tile_shade(const sp_shading *shading, const sp_tracer *tracer, sp_scratch *s);
 /* The tile's primary rays, in push order, with their hits and colours. */

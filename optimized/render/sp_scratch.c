@@ -231,6 +231,16 @@ void sp_primary_hits_done(sp_scratch *s, uint64_t ns)
     if (s->timing) s->stats.ns_primary_traversal += ns;
 }
 
+bool sp_tile_counting(const sp_scratch *s) { return !s->failed && s->timing; }
+
+void sp_primary_hits_counted(sp_scratch *s, uint64_t packets, uint64_t steps, uint64_t isects)
+{
+    if (!sp_tile_counting(s)) return;
+    s->stats.primary.packets += packets;
+    s->stats.primary.steps += steps;
+    s->stats.primary.isects += isects;
+}
+
 uint32_t sp_tile_pixel_count(const sp_scratch *s) { return s->failed ? 0 : s->levels[0].count; }
 
 const sp_node *sp_tile_pixel(const sp_scratch *s, uint32_t i) { return &sp_level_nodes(s, 0)[i]; }
