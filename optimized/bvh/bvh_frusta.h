@@ -59,7 +59,8 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
  * triangle's orientation as the origin sees it: Benthin & Wald's back-face
  * test decides which sign the edge tests must have).  A frustum is culled
  * when over its whole direction box one edge's n.d has the wrong sign; an
- * origin (nearly) in the triangle's plane culls nothing. */
+ * origin (nearly) in the triangle's plane -- within 1e-4 of its farthest
+ * corner's distance -- culls nothing. */
 static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
                                                vf corner_grow, vm active)
 {
@@ -106,7 +107,23 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
-    const vf det_margin = vf_mul(det_mag, eps);
+    /* D decides the orientation only when the origin lies clear of the
+     * triangle's plane on the scale of its corners: D = 2 area x distance,
+     * so the distance must pass eps times the farthest corner (the
+     * reference's watertight test rounds on that scale; an origin on an
+     * edge of a long sliver has |D| = det_mag yet sits on the triangle) */
+    vf area = zero, reach = zero;
+    {
+        vf e1[3], e2[3];
+        for (int k = 0; k < 3; k++) e1[k] = vf_sub(rel[1][k], rel[0][k]), e2[k] = vf_sub(rel[2][k], rel[0][k]);
+        const vf nx = vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1]));
+        const vf ny = vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2]));
+        const vf nz = vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0]));
+        area = vf_add(vf_add(vf_abs(nx), vf_abs(ny)), vf_abs(nz)); /* L1 >= L2: a larger bound */
+        for (int v = 0; v < 3; v++)
+            reach = vf_max(reach, vf_add(vf_add(vf_abs(rel[v][0]), vf_abs(rel[v][1])), vf_abs(rel[v][2])));
+    }
+    const vf det_margin = vf_max(vf_mul(det_mag, eps), vf_mul(vf_mul(area, reach), eps));
     const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
