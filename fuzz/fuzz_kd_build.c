@@ -320,11 +320,9 @@ static void check_pgrid(rtt_scene *scene, rtt_vec3 eye, uint8_t fov_byte)
     fuzz_oracle_free(oracle);
 }
 
-/* bvh-mft's camera-made primary rays (trace_camera, every instruction set)
- * for the scene's camera (check_pgrid's), in one block and in blocks of
- * 5 x 3 pixels: each pixel's hit must be bvh-packet's on rtt_camera_ray's
- * ray, bit for bit. */
-static void check_mft_camera(const rtt_scene *scene)
+/* The optimized engine with --accel bvh on `scene`, one thread (its tree:
+ * bvh_engine_tree). */
+static rtt_engine *bvh_engine_for(const rtt_scene *scene)
 {
     rtt_engine_options opt;
     rtt_engine_options_default(&opt);
@@ -333,6 +331,16 @@ static void check_mft_camera(const rtt_scene *scene)
     rtt_error err = {""};
     rtt_engine *engine = rtt_engine_create("optimized", scene, &opt, &err);
     if (!engine) fuzz_fail("optimized engine (bvh) refused a valid scene: %s", err.message);
+    return engine;
+}
+
+/* bvh-mft's camera-made primary rays (trace_camera, every instruction set)
+ * for the scene's camera (check_pgrid's), in one block and in blocks of
+ * 5 x 3 pixels: each pixel's hit must be bvh-packet's on rtt_camera_ray's
+ * ray, bit for bit. */
+static void check_mft_camera(const rtt_scene *scene)
+{
+    rtt_engine *engine = bvh_engine_for(scene);
     const bvh_tree *tree = bvh_engine_tree(engine);
     const rtt_camera_frame frame = rtt_camera_frame_make(&scene->camera, PGRID_W, PGRID_H);
     rtt_ray rays[PGRID_W * PGRID_H];
@@ -441,13 +449,7 @@ static void check_shadow_frusta_light(const bvh_tree *tree, const rtt_light *lig
 
 static void check_shadow_frusta(const rtt_scene *scene, const rtt_ray *rays, size_t ray_count, rtt_vec3 eye)
 {
-    rtt_engine_options opt;
-    rtt_engine_options_default(&opt);
-    opt.threads = 1;
-    opt.accel = RTT_ACCEL_BVH;
-    rtt_error err = { "" };
-    rtt_engine *engine = rtt_engine_create("optimized", scene, &opt, &err);
-    if (!engine) fuzz_fail("optimized engine (bvh) refused a valid scene: %s", err.message);
+    rtt_engine *engine = bvh_engine_for(scene);
     const bvh_tree *tree = bvh_engine_tree(engine);
     rtt_hit hits[MAX_RAYS + GRID * GRID];
     rtt_engine_intersect(engine, rays, hits, ray_count);

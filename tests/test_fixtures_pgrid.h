@@ -58,6 +58,22 @@ static inline bool shadow_ray(const rtt_scene *s, rtt_vec3 p, rtt_vec3 target, r
     return true;
 }
 
+/* expected[i]: the brute force's answer for rays[i], which must be the
+ * reference engine's (engine[i], scratch); returns how many are occluded. */
+static inline uint32_t expected_occlusion(const rtt_scene *s, rtt_engine *ref, const rtt_ray *rays, uint32_t n,
+                                          uint8_t *expected, uint8_t *engine, const char *what)
+{
+    uint32_t blocked = 0;
+    rtt_engine_occluded(ref, rays, engine, n);
+    for (uint32_t i = 0; i < n; i++) {
+        expected[i] = brute_force_occluded(s, &rays[i]);
+        if (expected[i] != (engine[i] != 0))
+            fail_msg("%s: ray %u: the brute force says %u, the reference engine %u", what, i, expected[i], engine[i]);
+        blocked += expected[i];
+    }
+    return blocked;
+}
+
 /* Origins: the eye rays' hits at w x h, then `extra` points in the scene's box grown by a quarter. */
 static inline rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint32_t w, uint32_t h, uint32_t extra,
                                 uint32_t *count, uint32_t seed, uint32_t **prims)

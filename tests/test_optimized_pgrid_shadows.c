@@ -81,16 +81,10 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
     uint32_t *prims = malloc(((size_t)point_count + 1) * sizeof *prims);
     uint8_t *expected = malloc(point_count + 1), *engine = malloc(point_count + 1), *ours = malloc(point_count + 1);
     assert_true(rays && prims && expected && engine && ours);
-    uint32_t n = 0, blocked = 0;
+    uint32_t n = 0;
     for (uint32_t i = 0; i < point_count; i++)
         if (shadow_ray(s, points[i], light, &rays[n])) prims[n++] = point_prims[i];
-    rtt_engine_occluded(ref, rays, engine, n);
-    for (uint32_t i = 0; i < n; i++) {
-        expected[i] = brute_force_occluded(s, &rays[i]);
-        if (expected[i] != (engine[i] != 0))
-            fail_msg("%s: ray %u: the brute force says %u, the reference engine %u", what, i, expected[i], engine[i]);
-        blocked += expected[i];
-    }
+    const uint32_t blocked = expected_occlusion(s, ref, rays, n, expected, engine, what);
     for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
         if (!isa_runs(isa)) continue;
         const pgrid_kernel *k = pgrid_kernel_find("", isa);

@@ -115,14 +115,7 @@ static void check_soft_light(const rtt_scene *s, rtt_engine *ref, const pgrid_so
     rtt_ray *rays = light_rays(s, light, points, point_count, 600, &seed, &n);
     uint8_t *expected = malloc(n + 1), *engine = malloc(n + 1), *ours = malloc(n + 1);
     assert_true(expected && engine && ours);
-    uint32_t blocked = 0;
-    rtt_engine_occluded(ref, rays, engine, n);
-    for (uint32_t i = 0; i < n; i++) {
-        expected[i] = brute_force_occluded(s, &rays[i]);
-        if (expected[i] != (engine[i] != 0))
-            fail_msg("%s: ray %u: the brute force says %u, the reference engine %u", what, i, expected[i], engine[i]);
-        blocked += expected[i];
-    }
+    const uint32_t blocked = expected_occlusion(s, ref, rays, n, expected, engine, what);
     for (size_t g = 0; g < shape_count; g++) check_grid_shape(grids, light, rays, n, expected, ours, shapes[g], what);
     print_message("%s: %u rays, %u occluded\n", what, n, blocked);
     if (n > 200) assert_true(blocked > 0 && blocked < n); /* both answers were checked */
