@@ -52,6 +52,32 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
     return vm_and(active, vf_le(t0, t1));
 }
 
+/* Which frusta see the triangle (corners rel[v], relative to each origin)
+ * facing them and which backing: D = rel[0] . (rel[1] x rel[2]) given as
+ * det with det_mag its terms' magnitudes. */
+static inline void frusta_orientation(const vf rel[3][3], vf det, vf det_mag, uint32_t *facing, uint32_t *backing)
+{
+    const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
+    /* D decides the orientation only when the origin lies clear of the
+     * triangle's plane on the scale of its corners: D = 2 area x distance,
+     * so the distance must pass eps times the farthest corner (the
+     * reference's watertight test rounds on that scale; an origin on an
+     * edge of a long sliver has |D| = det_mag yet sits on the triangle) */
+    vf area = zero, reach = zero;
+    {
+        vf e1[3], e2[3];
+        for (int k = 0; k < 3; k++) e1[k] = vf_sub(rel[1][k], rel[0][k]), e2[k] = vf_sub(rel[2][k], rel[0][k]);
+        const vf nx = vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1]));
+        const vf ny = vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2]));
+        const vf nz = vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0]));
+        area = vf_add(vf_add(vf_abs(nx), vf_abs(ny)), vf_abs(nz)); /* L1 >= L2: a larger bound */
+        for (int v = 0; v < 3; v++)
+            reach = vf_max(reach, vf_add(vf_add(vf_abs(rel[v][0]), vf_abs(rel[v][1])), vf_abs(rel[v][2])));
+    }
+    const vf det_margin = vf_max(vf_mul(det_mag, eps), vf_mul(vf_mul(area, reach), eps));
+    *facing = vm_bits(vf_gt(det, det_margin)), *backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+}
+
 /* The frusta of `active` some of whose directions may cross the triangle
  * ahead of the origin.  With A, B, C the corners relative to the origin and
  * D = A . (B x C), a direction d = aA + bB + cC hits ahead iff a, b, c >= 0,
@@ -60,9 +86,10 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
  * test decides which sign the edge tests must have).  A frustum is culled
  * when over its whole direction box one edge's n.d has the wrong sign; an
  * origin (nearly) in the triangle's plane -- within 1e-4 of its farthest
- * corner's distance -- culls nothing. */
+ * corner's distance -- culls nothing.  The margin is 1e-4 of n.d's terms
+ * plus |n|_1 slack: a direction known only to within slack per axis. */
 static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
-                                               vf corner_grow, vm active)
+                                               vf slack, vm active)
 {
     vf rel[3][3];
     for (int v = 0; v < 3; v++)
@@ -81,10 +108,9 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
                 det_mag = vf_add(det_mag, vf_abs(x));
             }
         vf hi = zero, lo = zero, mag = zero;
+        const vf spread = vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2]));
         if (corner) { /* over the cone of four corner directions: n.d at its corners */
             hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
-            vf spread = zero;
-            for (int k = 0; k < 3; k++) spread = vf_add(spread, vf_abs(n[k]));
             for (int c = 0; c < 4; c++) {
                 vf dot = zero, m = zero;
                 for (int k = 0; k < 3; k++) {
@@ -94,7 +120,6 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
                 }
                 hi = vf_max(dot, hi), lo = vf_min(dot, lo), mag = vf_max(m, mag);
             }
-            mag = vf_add(mag, vf_div(vf_mul(spread, corner_grow), eps)); /* the corners known to corner_grow */
         } else { /* over the direction box */
             for (int k = 0; k < 3; k++) {
                 const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
@@ -103,28 +128,12 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
                 mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
             }
         }
-        const vf margin = vf_mul(mag, eps);
+        const vf margin = vf_add(vf_mul(mag, eps), vf_mul(spread, slack)); /* directions known to slack per axis */
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
-    /* D decides the orientation only when the origin lies clear of the
-     * triangle's plane on the scale of its corners: D = 2 area x distance,
-     * so the distance must pass eps times the farthest corner (the
-     * reference's watertight test rounds on that scale; an origin on an
-     * edge of a long sliver has |D| = det_mag yet sits on the triangle) */
-    vf area = zero, reach = zero;
-    {
-        vf e1[3], e2[3];
-        for (int k = 0; k < 3; k++) e1[k] = vf_sub(rel[1][k], rel[0][k]), e2[k] = vf_sub(rel[2][k], rel[0][k]);
-        const vf nx = vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1]));
-        const vf ny = vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2]));
-        const vf nz = vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0]));
-        area = vf_add(vf_add(vf_abs(nx), vf_abs(ny)), vf_abs(nz)); /* L1 >= L2: a larger bound */
-        for (int v = 0; v < 3; v++)
-            reach = vf_max(reach, vf_add(vf_add(vf_abs(rel[v][0]), vf_abs(rel[v][1])), vf_abs(rel[v][2])));
-    }
-    const vf det_margin = vf_max(vf_mul(det_mag, eps), vf_mul(vf_mul(area, reach), eps));
-    const uint32_t facing = vm_bits(vf_gt(det, det_margin)), backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+    uint32_t facing, backing;
+    frusta_orientation(rel, det, det_mag, &facing, &backing);
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 
@@ -133,8 +142,61 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
     return frusta_triangle_bounded(tri, g, NULL, vf_set1(0.0f), active);
 }
 
+/* Pinhole frusta (primary rays made from the camera frame): every ray
+ * direction of a frustum is, up to rounding, a positive multiple of a
+ * convex combination of its four corner vectors (d = corner + du x + dv y
+ * is affine in the pixel; normalising is a positive scale).  `scale` per
+ * frustum is eps * cmax + grow: cmax the largest |component| of its corner
+ * vectors, grow a bound per axis on the rounding of the corners and of the
+ * rays' directions (scaled back to the corners' length). */
+typedef struct mft_cone {
+    vf corner[4][3];
+    vf scale;
+} mft_cone;
+
+/* frusta_triangle_bounded's edge test over the four corner vectors, with
+ * one margin per edge and frustum: |n.c| <= |n|_1 cmax for every corner c,
+ * so |n|_1 (eps cmax + grow) is never below that test's eps * mag plus the
+ * corners' and the rays' rounding.  Three dot products per corner and
+ * edge, no magnitudes: cheaper than the box's bound and tighter (the cone
+ * of a 4x4 pixel block, not the box around its directions). */
+static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_bounds *g, const mft_cone *cone,
+                                               vm active)
+{
+    vf rel[3][3];
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+    const vf zero = vf_set1(0.0f);
+    vm below = vm_of_bits(0), above = vm_of_bits(0);
+    vf det = zero, det_mag = zero;
+    for (int e = 0; e < 3; e++) {
+        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3];
+        const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
+                         vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
+        if (e == 0)
+            for (int k = 0; k < 3; k++) {
+                const vf x = vf_mul(rel[0][k], n[k]);
+                det = vf_add(det, x);
+                det_mag = vf_add(det_mag, vf_abs(x));
+            }
+        vf hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
+        for (int c = 0; c < 4; c++) {
+            const vf dot = vf_add(vf_add(vf_mul(n[0], cone->corner[c][0]), vf_mul(n[1], cone->corner[c][1])),
+                                  vf_mul(n[2], cone->corner[c][2]));
+            hi = vf_max(dot, hi), lo = vf_min(dot, lo);
+        }
+        const vf margin = vf_mul(vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])), cone->scale);
+        below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
+        above = vm_or(above, vf_gt(lo, margin));
+    }
+    uint32_t facing, backing;
+    frusta_orientation(rel, det, det_mag, &facing, &backing);
+    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+}
+
 /* The same test over the cone of four corner directions per frustum
- * (corner[c][axis], each known to within corner_grow per axis): every
+ * (corner[c][axis], each known to within corner_grow per axis, as are the
+ * rays' directions on the corners' scale): every
  * direction of the frustum is a positive combination of them (the paper's
  * corner rays), a tighter bound than their box. */
 static inline uint32_t frusta_triangle_cone(const bvh_corners *tri, const mft_bounds *g, const vf corner[4][3],

@@ -31,9 +31,13 @@
  * bvh_kernel_mft_camera (the renderer at one sample per pixel, the bench's
  * primary rows) makes primary rays itself from the camera frame's start and
  * delta vectors, the paper's way, never storing them (bottom of the file).
- * What it departs from and why: the culling uses
- * the direction box (exact for any rays sharing an origin) rather than four
- * corner rays (exact only for pinhole grids).  A group of 16 whose rays do
+ * The leaf culling of the camera path is the paper's corner-ray test: the
+ * edge planes against the four corner vectors of each 4x4 pixel block,
+ * whose cone holds every ray of the block (frusta_triangle_pinhole).  What
+ * it departs from and why: the stream kernel culls over the direction box
+ * instead (exact for any rays sharing an origin; corner rays are exact only
+ * for pinhole grids), as does a camera frustum with a ray rtt_camera_ray had
+ * to make the slow way (a length outside the fast range).  A group of 16 whose rays do
  * not share one origin is traced by the packet walk instead (bvh_traverse.h).
  * No back-face CULLING (rtt's triangles are two-sided): the orientation only
  * picks the sign the edge tests need.  Bounds get a
@@ -60,12 +64,24 @@ typedef struct mft_group {
     bvh_wt_shears shears[MFT_FRUSTA][MFT_VECS]; /* the watertight test's, per packet */
     const bvh_wt_shears *wt[MFT_FRUSTA][MFT_VECS]; /* NULL for the projected test */
     uint32_t apex;                   /* frusta whose origin is the rays' common end point (hard shadows) */
+    uint32_t pinhole;                /* frusta culled over the cone of their corner vectors (camera-made) */
+    vf apex_reach;                   /* apex frusta: the largest |component| of their directions */
+    mft_cone cone;                   /* those frusta's corner vectors (bvh_frusta.h) */
 } mft_group;
 
-/* The frusta of `active` whose bounds reach the box of the triangle's
- * corners: the leaf test of apex frusta, whose rays do not start at the
- * frustum's origin, so the common-origin edge test does not hold for them. */
-static inline uint32_t frusta_triangle_box(const bvh_corners *tri, const mft_bounds *b, vf dist, vm active)
+/* The leaf test of apex frusta, whose rays do not start at the frustum's
+ * origin: the frusta of `active` whose bounds reach the box of the
+ * triangle's corners, and then the common-origin edge test from the apex
+ * with the rays' distance from the apex line in its margin.  A ray's point
+ * p on the triangle is apex + s d + e, d in the direction box, |e| <= 2
+ * grow per axis (the rounding apex_frustum's `grow` bounds, twice over: of
+ * d and of the ray's own points); p - apex lies in the triangle's cone from
+ * the apex whatever e is, so the edge test holds for the vector s d + e.
+ * With R the box's distance from the apex (max norm), s >= (R - 2 grow) /
+ * reach, and culling s d + e needs n.d clear of zero by |n|_1 2 grow reach
+ * / (R - 2 grow): the slack.  A triangle within 2 grow of the apex keeps
+ * the box's answer. */
+static inline uint32_t frusta_triangle_apex(const bvh_corners *tri, const mft_bounds *b, vf reach, vf dist, vm active)
 {
     bvh_child box = {{tri->v[0][0], tri->v[0][1], tri->v[0][2]}, 0, {tri->v[0][0], tri->v[0][1], tri->v[0][2]}, 0};
     for (int v = 1; v < 3; v++)
@@ -74,7 +90,19 @@ static inline uint32_t frusta_triangle_box(const bvh_corners *tri, const mft_bou
             box.hi[k] = tri->v[v][k] > box.hi[k] ? tri->v[v][k] : box.hi[k];
         }
     vf entry;
-    return vm_bits(frusta_box(&box, b, dist, active, &entry));
+    const uint32_t reached = vm_bits(frusta_box(&box, b, dist, active, &entry));
+    if (!reached) return 0;
+    const vf zero = vf_set1(0.0f), two_grow = vf_add(b->grow, b->grow);
+    vf gap = zero; /* R: the box's distance from the apex, max norm */
+    for (int k = 0; k < 3; k++) {
+        const vf below = vf_sub(vf_set1(box.lo[k]), b->org[k]), above = vf_sub(b->org[k], vf_set1(box.hi[k]));
+        gap = vf_max(gap, vf_max(below, above));
+    }
+    const vf clear = vf_sub(gap, two_grow);
+    const vm far = vf_gt(clear, zero);
+    const vf slack = vf_blend(far, vf_set1(INFINITY), vf_div(vf_mul(two_grow, reach), clear));
+    const uint32_t near_lanes = reached & ~vm_bits(far);
+    return near_lanes | frusta_triangle_bounded(tri, b, NULL, slack, vm_of_bits(reached & vm_bits(far)));
 }
 
 static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
@@ -102,8 +130,12 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
         for (uint32_t i = 0; i < c->count && lanes; i++) {
             const uint32_t rec = c->index + i;
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
-            uint32_t survive = frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(lanes & ~g->apex));
-            if (lanes & g->apex) survive |= frusta_triangle_box(&tree->corners[rec], &g->b, dist, vm_of_bits(lanes & g->apex));
+            const uint32_t boxed = lanes & ~(g->apex | g->pinhole);
+            uint32_t survive = boxed ? frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(boxed)) : 0;
+            if (lanes & g->pinhole)
+                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->b, &g->cone, vm_of_bits(lanes & g->pinhole));
+            if (lanes & g->apex)
+                survive |= frusta_triangle_apex(&tree->corners[rec], &g->b, g->apex_reach, dist, vm_of_bits(lanes & g->apex));
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
@@ -244,6 +276,15 @@ static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, flo
     }
     g->b.tnear = vf_load(tnear);
     g->b.grow = vf_load(grow);
+    float reach[MFT_FRUSTA];
+    for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
+        reach[f] = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            const float m = fabsf(dlo[k][f]) > fabsf(dhi[k][f]) ? fabsf(dlo[k][f]) : fabsf(dhi[k][f]);
+            reach[f] = m > reach[f] ? m : reach[f];
+        }
+    }
+    g->apex_reach = vf_load(reach);
     for (uint32_t f = 0; f < MFT_FRUSTA; f++)
         g->dist[f] = !(frusta >> f & 1u) ? -INFINITY : g->apex >> f & 1u ? 1.0f : frustum_dist(g, f, false);
     if (frusta) trace_frusta(tree, g, frusta, closest, counters);
@@ -258,7 +299,7 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
         float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
         float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
         uint32_t frusta = 0;
-        g.apex = 0;
+        g.apex = g.pinhole = 0;
         for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
             const size_t at = first + (size_t)f * MFT_RAYS;
             const size_t n = at < q->count ? (q->count - at < MFT_RAYS ? q->count - at : MFT_RAYS) : 0;
@@ -313,8 +354,9 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
 #define GROUP_FY (MFT_FRUSTA / GROUP_FX)
 #define VEC_ROWS (BVH_W / 4u)
 
-static void camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, uint32_t fx, uint32_t fy)
+static bool camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, uint32_t fx, uint32_t fy)
 {
+    bool exact = true; /* every live lane's direction made the fast way (a positive multiple of d) */
     _Alignas(64) float col[BVH_W], row[BVH_W];
     for (uint32_t l = 0; l < BVH_W; l++) col[l] = (float)(l % 4u), row[l] = (float)(l / 4u);
     const vf lane_x = vf_load(col), lane_y = vf_load(row), zero = vf_set1(0.0f), one = vf_set1(1.0f);
@@ -335,6 +377,7 @@ static void camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
         const uint32_t fast = vm_bits(vm_and(vf_gt(len, vf_set1(1e-18f)), vf_lt(len, vf_set1(1e18f))));
         _Alignas(64) float dir[3][BVH_W];
         for (int k = 0; k < 3; k++) vf_store(dir[k], vf_mul(d[k], inv));
+        exact &= (live & ~fast) == 0;
         for (uint32_t slow = live & ~fast; slow; slow &= slow - 1u) {
             const uint32_t l = (uint32_t)__builtin_ctz(slow);
             const rtt_camera_frame frame = {{b->eye[0], b->eye[1], b->eye[2]},
@@ -351,10 +394,9 @@ static void camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
             p->dir[k] = vf_load(dir[k]);
             ok = vm_and(ok, vm_and(vf_eq(vf_sub(p->org[k], p->org[k]), zero), vf_eq(vf_sub(p->dir[k], p->dir[k]), zero)));
         }
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < 3; k++) { /* no reciprocals: only the packet walk reads them */
             p->org[k] = vf_blend(ok, zero, p->org[k]);
             p->dir[k] = vf_blend(ok, one, p->dir[k]);
-            p->inv_dir[k] = vf_div(one, p->dir[k]);
         }
         p->tnear = vf_blend(ok, vf_set1(INFINITY), zero);
         p->tfar = vf_blend(ok, vf_set1(-INFINITY), vf_set1(INFINITY));
@@ -362,6 +404,30 @@ static void camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
         g->occ[f][v] = 0;
         bvh_hits_clear(&g->hits[f][v]);
     }
+    return exact;
+}
+
+/* Frustum f's corner vectors: d at the centres of its block's corner
+ * pixels (the rays past the image's edge are dead; their cone holds the
+ * live ones), and its scale (mft_cone): the rounding of d, of its
+ * normalisation and of these corners is a few ulps of the terms' size per
+ * axis, bounded by 2^-16 of it.  false when they are not finite. */
+static bool camera_cone(float corner[4][3][MFT_FRUSTA], float *scale, uint32_t f, const bvh_camera_block *b,
+                        uint32_t fx, uint32_t fy)
+{
+    float cmax = 0.0f, size = 0.0f;
+    for (int c = 0; c < 4; c++) {
+        const float px = (float)fx + (c & 1 ? 3.5f : 0.5f), py = (float)fy + (c & 2 ? 3.5f : 0.5f);
+        for (int k = 0; k < 3; k++) {
+            const float d = b->corner[k] + (b->du[k] * px + b->dv[k] * py);
+            const float terms = fabsf(b->corner[k]) + fabsf(b->du[k] * px) + fabsf(b->dv[k] * py);
+            corner[c][k][f] = d;
+            cmax = fabsf(d) > cmax ? fabsf(d) : cmax;
+            size = terms > size ? terms : size;
+        }
+    }
+    *scale = 1e-4f * cmax + size * 0x1p-16f;
+    return *scale - *scale == 0.0f;
 }
 
 void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
@@ -372,12 +438,19 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
             float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
             float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
+            float corner[4][3][MFT_FRUSTA], scale[MFT_FRUSTA];
             uint32_t frusta = 0;
-            g.apex = 0;
+            g.apex = g.pinhole = 0;
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
                 const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
                 tnear[f] = INFINITY;
-                camera_frustum(&g, f, b, fx, fy);
+                const bool exact = camera_frustum(&g, f, b, fx, fy);
+                if (camera_cone(corner, &scale[f], f, b, fx, fy) && exact) g.pinhole |= 1u << f;
+                else {
+                    scale[f] = 0.0f;
+                    for (int c = 0; c < 4; c++)
+                        for (int k = 0; k < 3; k++) corner[c][k][f] = 0.0f;
+                }
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
                 frustum_bounds(&g, f, org, dlo, dhi, &tnear[f]); /* one origin: the eye */
@@ -388,6 +461,9 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                     g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
             }
+            for (int c = 0; c < 4; c++)
+                for (int k = 0; k < 3; k++) g.cone.corner[c][k] = vf_load(corner[c][k]);
+            g.cone.scale = vf_load(scale);
             trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
             for (uint32_t f = 0; f < MFT_FRUSTA; f++)
                 for (uint32_t v = 0; v < MFT_VECS; v++) {
