@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzz smoke run: builds the libFuzzer harnesses with clang
 # (-DRTT_FUZZ=ON -DRTT_EMBREE=ON, ASan + UBSan, in build-fuzz) and runs each
-# for FUZZ_SECONDS (default 60; seven harnesses stay under 10 minutes) over its
+# for FUZZ_SECONDS (default 60; JOBS of them at once, so the eleven take about
+# six minutes on two cores) over its
 # committed seed corpus.  New inputs go to a scratch directory, never into the
 # committed corpus.  A crash fails the run and leaves its input in
 # build-fuzz/fuzz-artifacts/<harness>/: minimise it (-minimize_crash=1), fix
@@ -25,7 +26,8 @@
 # FUZZ_SEED=0 asks libFuzzer for a random seed.
 #
 # Environment: FUZZ_SECONDS, FUZZ_SEED, FUZZ_BUILD (build directory), JOBS
-# (default 2), FUZZ_HARNESSES (default: all seven).
+# (default 2: the build's jobs and the harnesses run at once),
+# FUZZ_HARNESSES (default: all eleven).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -53,9 +55,11 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 asan_options=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 
-status=0
-summary=()
-for h in "${harnesses[@]}"; do
+# One harness: its run, its verdict and its summary line in $build/fuzz-<h>.result
+# (first word ok or CRASH).
+run_harness() {
+  local h=$1
+  local scratch artifacts log timeout args asan start code result elapsed units execs cov hangs note
   scratch=$(mktemp -d)
   artifacts="$build/fuzz-artifacts/$h"
   rm -rf "$artifacts"
@@ -86,9 +90,9 @@ for h in "${harnesses[@]}"; do
     result=ok
   else
     result=CRASH
-    status=1
-    grep -E "^(fuzz:|==[0-9]+==ERROR|SUMMARY)|runtime error" "$log" | head -5 >&2 || true
-    ls "$artifacts" >&2 || true
+    { echo "fuzz-smoke: $h crashed:"
+      grep -E "^(fuzz:|==[0-9]+==ERROR|SUMMARY)|runtime error" "$log" | head -5 || true
+      ls "$artifacts" || true; } >&2
   fi
   elapsed=$(( $(date +%s) - start ))
   units=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
@@ -99,8 +103,27 @@ for h in "${harnesses[@]}"; do
   hangs=$(find "$artifacts" -name 'timeout-*' | wc -l)
   note=""
   [ "$h" = assimp ] && [ "$hangs" -gt 0 ] && note="  ($hangs Assimp parser hangs tolerated)"
-  summary+=("$(printf '%-11s %-6s %8s execs/s %10s runs  %s%s' "$h" "$result" "$execs" "${units:-?}" "${cov:-}" "$note")")
+  printf '%-11s %-6s %8s execs/s %10s runs  %s%s\n' "$h" "$result" "$execs" "${units:-?}" "${cov:-}" "$note" \
+    > "$build/fuzz-$h.result"
   rm -rf "$scratch"
+}
+
+# $jobs harnesses at a time, each a single libFuzzer process on one core:
+# the seeded sequence of each is the same as when they ran one by one.
+running=0
+for h in "${harnesses[@]}"; do
+  rm -f "$build/fuzz-$h.result"
+  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+  run_harness "$h" &
+  running=$((running + 1))
+done
+wait
+status=0
+summary=()
+for h in "${harnesses[@]}"; do
+  line=$(cat "$build/fuzz-$h.result" 2>/dev/null || printf '%-11s %-6s (no verdict: the run did not finish)' "$h" CRASH)
+  case $line in "$h"*" ok "*) ;; *) status=1 ;; esac
+  summary+=("$line")
 done
 
 echo "fuzz-smoke: summary (${seconds}s each, seed $seed; logs in $build/fuzz-<harness>.log)"

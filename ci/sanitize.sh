@@ -2,8 +2,9 @@
 # Sanitizer runs:
 #  1. -DRTT_SANITIZE=address,undefined in build-asan, then every ctest test
 #     (except the fuzz-smoke and sanitize wrappers, which would recurse);
-#  2. -DRTT_SANITIZE=thread in build-tsan, then the threaded tests (the tile
-#     scheduler and the renderers), selected by TSAN_TESTS.
+#  2. -DRTT_SANITIZE=thread in build-tsan, then the tests that start threads
+#     (the pool, the tile scheduler, the renderers, the builders), selected
+#     by TSAN_TESTS; both steps run JOBS tests at once.
 # Any report fails the run (-fno-sanitize-recover=all is set by the top-level
 # CMake).  Environment: SANITIZE_BUILD_PREFIX (default <root>/build), JOBS
 # (default 2), CC (default: the system compiler), TSAN_TESTS (ctest regex),
@@ -15,7 +16,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 prefix=${SANITIZE_BUILD_PREFIX:-$root/build}
 jobs=${JOBS:-2}
 steps=(${SANITIZE_STEPS:-asan tsan})
-tsan_tests=${TSAN_TESTS:-'^test_engine_threads$|render|^test_optimized'}
+# the tests that start threads (the pool, the tile scheduler, the renderers,
+# the builders); the single-threaded kernel tests gain nothing from TSan
+tsan_tests=${TSAN_TESTS:-'^(test_engine_threads|test_optimized_(antialiasing|build|bvh|bvh_frusta|kdt|pgrid|pgrid_shadows|pgrid_soft|render|shadows|transparent_shadows)|test_reference_(render|edge_width)|test_render_cache|mpi_render)$'}
 # Leaks inside libassimp on its STL parse-error path are not ours: fuzz/lsan.supp.
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 
@@ -38,7 +41,7 @@ for step in "${steps[@]}"; do
     tsan)
       configure_and_build "$prefix-tsan" thread
       TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1} \
-        ctest --test-dir "$prefix-tsan" --output-on-failure -R "$tsan_tests" -E '^(fuzz_smoke|sanitize)$'
+        ctest --test-dir "$prefix-tsan" --output-on-failure -j "$jobs" -R "$tsan_tests" -E '^(fuzz_smoke|sanitize)$'
       ;;
     *) echo "sanitize: unknown step $step (asan or tsan)" >&2; exit 2 ;;
   esac

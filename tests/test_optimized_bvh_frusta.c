@@ -19,6 +19,7 @@
 #include "rtt/interleaved.h"
 #include "rtt/render.h"
 #include "test_fixtures_bvh.h"
+#include "test_scale.h"
 
 static int setup_bvh(void **state) { return setup_bvh_seeded(state, 0x2545f4914f6cdd1dull); }
 
@@ -58,7 +59,7 @@ static uint32_t reference_disagreements(const bvh_fixture *f, const bvh_tree *tr
 /* Rays of 16 neighbouring points each (a 4x4 block's hit points) to one light. */
 static void check_hard_shadows_on(const bvh_fixture *f, const bvh_tree *tree, rtt_vec3 light, uint64_t seed)
 {
-    const uint32_t n = 4096;
+    const uint32_t n = test_sweep(4096);
     rtt_ray *rays = shadow_rays(n, light, seed);
     uint8_t *want = malloc(n), *got = malloc(n);
     assert_non_null(want), assert_non_null(got);
@@ -143,7 +144,7 @@ static bool sample_ray(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, 
 static void check_soft_shadows_on(const bvh_fixture *f, const bvh_tree *tree, const rtt_light *light,
                                   uint32_t samples, uint64_t seed)
 {
-    const uint32_t n = 1024;
+    const uint32_t n = test_sweep(1024);
     const float eps = 1e-4f;
     bvh_shadow_sets *sets = calloc(1, sizeof *sets);
     assert_non_null(sets);

@@ -30,6 +30,7 @@
 #include "rtt/shade.h"
 #include "test_fixtures_pgrid.h"
 #include "test_isa.h"
+#include "test_scale.h"
 
 /* The grids a and b hold the same cells, lists, bounds and flags. */
 static void assert_same_grid(const pgrid_light *a, const pgrid_light *b, const rtt_scene *s, uint32_t records)
@@ -132,7 +133,7 @@ static void test_light_grid_rays_match_reference_and_brute_force(void **state)
         assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
         assert_int_equal(grids.light_count, s->light_count);
         uint32_t count, *prims;
-        rtt_vec3 *points = shadow_origins(s, ref, 48, 36, 800, &count, 7u + (uint32_t)sc, &prims);
+        rtt_vec3 *points = shadow_origins(s, ref, 48, test_sweep(36), test_sweep(800), &count, 7u + (uint32_t)sc, &prims);
         uint32_t seed = 99u + (uint32_t)sc;
         for (size_t r = 0; r < sizeof resolutions / sizeof resolutions[0]; r++) {
             char what[96];
@@ -167,7 +168,7 @@ static void test_light_grid_on_a_triangle_soup(void **state)
     pgrid_shadows grids;
     assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
     uint32_t count, *prims;
-    rtt_vec3 *points = shadow_origins(s, ref, 32, 32, 2000, &count, 5u, &prims);
+    rtt_vec3 *points = shadow_origins(s, ref, 32, test_sweep(32), test_sweep(2000), &count, 5u, &prims);
     for (int l = 0; l < 4; l++) {
         const rtt_vec3 light = {random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f),
                                 random_in(&seed, -1.2f, 1.2f)};
@@ -274,7 +275,7 @@ static void test_light_grid_culling_on_the_bunny(void **state)
     if (!s) fail_msg("%s: %s", path, err.message);
     rtt_engine *opt = rtt_optimized_engine_create(s, NULL, &err), *ref = rtt_reference_engine_create(s, NULL, &err);
     assert_true(opt && ref);
-    enum { SIDE = 384 };
+    const uint32_t SIDE = TEST_SANITIZED ? 192 : 384;
     rtt_hit *hits = malloc((size_t)SIDE * SIDE * sizeof *hits);
     rtt_ray *rays = malloc((size_t)SIDE * SIDE * sizeof *rays);
     uint32_t *prims = malloc((size_t)SIDE * SIDE * sizeof *prims);

@@ -29,6 +29,7 @@
 #include "rtt/optimized.h"
 #include "test_fixtures_pgrid.h"
 #include "test_isa.h"
+#include "test_scale.h"
 
 enum { SAMPLES = 8 };
 
@@ -112,7 +113,7 @@ static void check_soft_light(const rtt_scene *s, rtt_engine *ref, const pgrid_so
                              const rtt_light *light, uint32_t seed, const char *what)
 {
     uint32_t n;
-    rtt_ray *rays = light_rays(s, light, points, point_count, 600, &seed, &n);
+    rtt_ray *rays = light_rays(s, light, points, point_count, test_sweep(600), &seed, &n);
     uint8_t *expected = malloc(n + 1), *engine = malloc(n + 1), *ours = malloc(n + 1);
     assert_true(expected && engine && ours);
     const uint32_t blocked = expected_occlusion(s, ref, rays, n, expected, engine, what);
@@ -144,7 +145,7 @@ static void test_soft_grid_rays_match_reference_and_brute_force(void **state)
         assert_int_equal(grids.lights[0].res, PGRID_SOFT_RES_DEFAULT);
         assert_int_equal(grids.lights[0].slices, PGRID_SOFT_SLICES_DEFAULT);
         uint32_t count, *prims;
-        rtt_vec3 *points = shadow_origins(s, ref, 16, 12, 120, &count, 7u + (uint32_t)sc, &prims);
+        rtt_vec3 *points = shadow_origins(s, ref, 16, test_sweep(12), test_sweep(120), &count, 7u + (uint32_t)sc, &prims);
         uint32_t seed = 99u + (uint32_t)sc;
         char what[96];
         for (uint32_t l = 0; l < s->light_count; l++) {
@@ -182,7 +183,7 @@ static void test_soft_grid_on_a_triangle_soup(void **state)
     pgrid_soft grids;
     assert_true(pgrid_soft_build(&grids, s, NULL, 0, 0, &err));
     uint32_t count, *prims;
-    rtt_vec3 *points = shadow_origins(s, ref, 16, 16, 400, &count, 5u, &prims);
+    rtt_vec3 *points = shadow_origins(s, ref, 16, test_sweep(16), test_sweep(400), &count, 5u, &prims);
     for (int l = 0; l < 5; l++) {
         rtt_light light = {0};
         light.type = l % 2 ? RTT_LIGHT_QUAD : RTT_LIGHT_SPHERE;
