@@ -266,25 +266,17 @@ static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, flo
                         float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], const float *tnear, const float *grow,
                         bool closest, bvh_counters *counters)
 {
-    float rlo[3][MFT_FRUSTA], rhi[3][MFT_FRUSTA];
-    for (int k = 0; k < 3; k++)
-        for (uint32_t f = 0; f < MFT_FRUSTA; f++) rlo[k][f] = 1.0f / dlo[k][f], rhi[k][f] = 1.0f / dhi[k][f];
+    const vf one = vf_set1(1.0f);
+    vf reach = vf_set1(0.0f);
     for (int k = 0; k < 3; k++) {
         g->b.org[k] = vf_load(org[k]);
         g->b.dlo[k] = vf_load(dlo[k]), g->b.dhi[k] = vf_load(dhi[k]);
-        g->b.rlo[k] = vf_load(rlo[k]), g->b.rhi[k] = vf_load(rhi[k]);
+        g->b.rlo[k] = vf_div(one, g->b.dlo[k]), g->b.rhi[k] = vf_div(one, g->b.dhi[k]);
+        reach = vf_max(reach, vf_max(vf_abs(g->b.dlo[k]), vf_abs(g->b.dhi[k])));
     }
     g->b.tnear = vf_load(tnear);
     g->b.grow = vf_load(grow);
-    float reach[MFT_FRUSTA];
-    for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
-        reach[f] = 0.0f;
-        for (int k = 0; k < 3; k++) {
-            const float m = fabsf(dlo[k][f]) > fabsf(dhi[k][f]) ? fabsf(dlo[k][f]) : fabsf(dhi[k][f]);
-            reach[f] = m > reach[f] ? m : reach[f];
-        }
-    }
-    g->apex_reach = vf_load(reach);
+    g->apex_reach = reach;
     for (uint32_t f = 0; f < MFT_FRUSTA; f++)
         g->dist[f] = !(frusta >> f & 1u) ? -INFINITY : g->apex >> f & 1u ? 1.0f : frustum_dist(g, f, false);
     if (frusta) trace_frusta(tree, g, frusta, closest, counters);
@@ -362,12 +354,11 @@ static bool camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
     const vf lane_x = vf_load(col), lane_y = vf_load(row), zero = vf_set1(0.0f), one = vf_set1(1.0f);
     for (uint32_t v = 0; v < MFT_VECS; v++) {
         const uint32_t y = fy + v * VEC_ROWS;
-        uint32_t live = 0;
-        for (uint32_t l = 0; l < BVH_W; l++)
-            if (fx + l % 4u < b->x1 && y + l / 4u < b->y1) live |= 1u << l;
         bvh_packet *p = &g->rays[f][v];
-        /* pixel centres: small integers plus one half, exact in float */
+        /* pixel centres: small integers plus one half, exact in float; a
+         * lane is on the block when its centre is below x1 and y1 */
         const vf px = vf_add(vf_set1((float)fx + 0.5f), lane_x), py = vf_add(vf_set1((float)y + 0.5f), lane_y);
+        const uint32_t live = vm_bits(vm_and(vf_lt(px, vf_set1((float)b->x1)), vf_lt(py, vf_set1((float)b->y1))));
         vf d[3];
         for (int k = 0; k < 3; k++)
             d[k] = vf_add(vf_set1(b->corner[k]),
@@ -407,27 +398,28 @@ static bool camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
     return exact;
 }
 
-/* Frustum f's corner vectors: d at the centres of its block's corner
- * pixels (the rays past the image's edge are dead; their cone holds the
- * live ones), and its scale (mft_cone): the rounding of d, of its
- * normalisation and of these corners is a few ulps of the terms' size per
- * axis, bounded by 2^-16 of it.  false when they are not finite. */
-static bool camera_cone(float corner[4][3][MFT_FRUSTA], float *scale, uint32_t f, const bvh_camera_block *b,
-                        uint32_t fx, uint32_t fy)
+/* Every frustum's corner vectors (mft_cone), frustum f's block at
+ * (fx[f], fy[f]): d at the centres of its corner pixels (the rays past the
+ * image's edge are dead; their cone holds the live ones), and its scale:
+ * the rounding of d, of its normalisation and of these corners is a few
+ * ulps of the terms' size per axis, bounded by 2^-16 of it.  Returns the
+ * frusta whose corners are finite. */
+static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, vf fy)
 {
-    float cmax = 0.0f, size = 0.0f;
+    const vf zero = vf_set1(0.0f);
+    vf cmax = zero, size = zero;
     for (int c = 0; c < 4; c++) {
-        const float px = (float)fx + (c & 1 ? 3.5f : 0.5f), py = (float)fy + (c & 2 ? 3.5f : 0.5f);
+        const vf px = vf_add(fx, vf_set1(c & 1 ? 3.5f : 0.5f)), py = vf_add(fy, vf_set1(c & 2 ? 3.5f : 0.5f));
         for (int k = 0; k < 3; k++) {
-            const float d = b->corner[k] + (b->du[k] * px + b->dv[k] * py);
-            const float terms = fabsf(b->corner[k]) + fabsf(b->du[k] * px) + fabsf(b->dv[k] * py);
-            corner[c][k][f] = d;
-            cmax = fabsf(d) > cmax ? fabsf(d) : cmax;
-            size = terms > size ? terms : size;
+            const vf su = vf_mul(vf_set1(b->du[k]), px), sv = vf_mul(vf_set1(b->dv[k]), py);
+            const vf d = vf_add(vf_set1(b->corner[k]), vf_add(su, sv));
+            cone->corner[c][k] = d;
+            cmax = vf_max(cmax, vf_abs(d));
+            size = vf_max(size, vf_add(vf_add(vf_set1(fabsf(b->corner[k])), vf_abs(su)), vf_abs(sv)));
         }
     }
-    *scale = 1e-4f * cmax + size * 0x1p-16f;
-    return *scale - *scale == 0.0f;
+    cone->scale = vf_add(vf_mul(vf_set1(1e-4f), cmax), vf_mul(size, vf_set1(0x1p-16f)));
+    return vm_bits(vf_eq(vf_sub(cone->scale, cone->scale), zero));
 }
 
 void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
@@ -438,19 +430,15 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
             float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
             float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
-            float corner[4][3][MFT_FRUSTA], scale[MFT_FRUSTA];
-            uint32_t frusta = 0;
-            g.apex = g.pinhole = 0;
+            _Alignas(64) float block_x[MFT_FRUSTA], block_y[MFT_FRUSTA];
+            for (uint32_t f = 0; f < MFT_FRUSTA; f++)
+                block_x[f] = (float)(gx + 4u * (f % GROUP_FX)), block_y[f] = (float)(gy + 4u * (f / GROUP_FX));
+            uint32_t frusta = 0, exact = 0;
+            g.apex = 0;
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
                 const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
                 tnear[f] = INFINITY;
-                const bool exact = camera_frustum(&g, f, b, fx, fy);
-                if (camera_cone(corner, &scale[f], f, b, fx, fy) && exact) g.pinhole |= 1u << f;
-                else {
-                    scale[f] = 0.0f;
-                    for (int c = 0; c < 4; c++)
-                        for (int k = 0; k < 3; k++) corner[c][k][f] = 0.0f;
-                }
+                if (camera_frustum(&g, f, b, fx, fy)) exact |= 1u << f;
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
                 frustum_bounds(&g, f, org, dlo, dhi, &tnear[f]); /* one origin: the eye */
@@ -461,18 +449,32 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                     g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
             }
-            for (int c = 0; c < 4; c++)
-                for (int k = 0; k < 3; k++) g.cone.corner[c][k] = vf_load(corner[c][k]);
-            g.cone.scale = vf_load(scale);
+            g.pinhole = camera_cones(&g.cone, b, vf_load(block_x), vf_load(block_y)) & exact;
             trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
+            /* each packet's rows of four straight into the block's rows; a
+             * lane that missed holds bvh_hits_clear's t, made +inf as
+             * bvh_hits_store makes it */
+            const vi miss = vi_set1(RTT_MISS);
             for (uint32_t f = 0; f < MFT_FRUSTA; f++)
                 for (uint32_t v = 0; v < MFT_VECS; v++) {
                     const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX) + v * VEC_ROWS;
-                    rtt_hit lane[BVH_W];
-                    bvh_hits_store(&g.hits[f][v], lane, BVH_W);
-                    for (uint32_t l = 0; l < BVH_W; l++) {
-                        const uint32_t x = fx + l % 4u, y = fy + l / 4u;
-                        if (x < b->x1 && y < b->y1) hits[(size_t)(y - b->y0) * width + (x - b->x0)] = lane[l];
+                    if (fx >= b->x1 || fy >= b->y1) continue;
+                    const bvh_hits *h = &g.hits[f][v];
+                    const vm hit = vi_lt_u(h->prim, miss);
+                    _Alignas(64) float t[BVH_W], u[BVH_W], w[BVH_W];
+                    _Alignas(64) uint32_t prim[BVH_W];
+                    vf_store(t, vf_blend(hit, vf_set1(INFINITY), h->t));
+                    vf_store(u, vf_blend(hit, vf_set1(0.0f), h->u));
+                    vf_store(w, vf_blend(hit, vf_set1(0.0f), h->v));
+                    vi_store(prim, h->prim);
+                    const uint32_t cols = b->x1 - fx < 4u ? b->x1 - fx : 4u;
+                    const uint32_t rows = b->y1 - fy < VEC_ROWS ? b->y1 - fy : VEC_ROWS;
+                    for (uint32_t r = 0; r < rows; r++) {
+                        rtt_hit *out = &hits[(size_t)(fy + r - b->y0) * width + (fx - b->x0)];
+                        for (uint32_t i = 0; i < cols; i++) {
+                            const uint32_t l = 4u * r + i;
+                            out[i] = (rtt_hit){t[l], u[l], w[l], prim[l]};
+                        }
                     }
                 }
         }
