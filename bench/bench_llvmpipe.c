@@ -7,13 +7,19 @@
  * The projection is the camera's (rtt_camera_frame_make's frame, pixel
  * centres at +0.5 as GL samples them); near and far planes bound the scene
  * (near = far * 2^-14: what GL clips away in front of it, the grid keeps).
- * llvmpipe's threads are LP_NUM_THREADS, set before each row's context.
+ * llvmpipe's threads are LP_NUM_THREADS, which Mesa reads once per process,
+ * when OSMesa makes its screen: each row runs in a child process of its
+ * own that sets it first (bench_llvmpipe_row), so the two-thread row really
+ * draws on two threads and every row starts from a fresh screen.
  * Built only where OSMesa is (RTT_HAVE_OSMESA); elsewhere the rows report
  * themselves missing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "bench_internal.h"
 #include "rtt/shade.h"
@@ -64,8 +70,9 @@ static void load_matrices(const rtt_scene *scene, uint32_t width, uint32_t heigh
     glLoadMatrixf(view);
 }
 
-bool bench_llvmpipe_row(const rtt_scene *scene, uint32_t width, uint32_t height, const bench_trace_spec *spec,
-                        rtt_bench_row *row, uint32_t *result, rtt_error *err)
+/* The row in this process (the child's part of bench_llvmpipe_row). */
+static bool llvmpipe_row_here(const rtt_scene *scene, uint32_t width, uint32_t height, const bench_trace_spec *spec,
+                              rtt_bench_row *row, uint32_t *result, rtt_error *err)
 {
     char threads[16];
     snprintf(threads, sizeof threads, "%u", spec->threads);
@@ -117,6 +124,47 @@ bool bench_llvmpipe_row(const rtt_scene *scene, uint32_t width, uint32_t height,
     free(xyz);
     free(rgba);
     return ok || rtt_error_set(err, "llvmpipe: no OSMesa context of %ux%u (or out of memory)", width, height);
+}
+
+/* What the child hands back, in a shared anonymous mapping. */
+typedef struct llvmpipe_shared {
+    rtt_bench_row row;
+    rtt_error err;
+    int ok;
+    uint32_t result[];
+} llvmpipe_shared;
+
+bool bench_llvmpipe_row(const rtt_scene *scene, uint32_t width, uint32_t height, const bench_trace_spec *spec,
+                        rtt_bench_row *row, uint32_t *result, rtt_error *err)
+{
+    const size_t size = sizeof(llvmpipe_shared) + (result ? (size_t)width * height * sizeof(uint32_t) : 0);
+    llvmpipe_shared *shared = mmap(NULL, size, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    if (shared == MAP_FAILED) return rtt_error_set(err, "llvmpipe: no memory for the row's %zu bytes", size);
+    shared->row = *row;
+    shared->ok = 0;
+    fflush(NULL);
+    const pid_t child = fork();
+    if (child == 0) {
+        shared->ok = llvmpipe_row_here(scene, width, height, spec, &shared->row, result ? shared->result : NULL,
+                                       &shared->err);
+        _exit(0);
+    }
+    bool ok = false;
+    int status = 0;
+    if (child < 0) {
+        rtt_error_set(err, "llvmpipe: cannot start the row's process");
+    } else if (waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        rtt_error_set(err, "llvmpipe: the row's process died (%s %d)", WIFSIGNALED(status) ? "signal" : "status",
+                      WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+    } else if (!shared->ok) {
+        if (err) *err = shared->err;
+    } else {
+        *row = shared->row;
+        if (result) memcpy(result, shared->result, (size_t)width * height * sizeof(uint32_t));
+        ok = true;
+    }
+    munmap(shared, size);
+    return ok;
 }
 #else
 bool bench_llvmpipe_available(void) { return false; }
