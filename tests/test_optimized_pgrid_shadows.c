@@ -168,7 +168,7 @@ static void test_light_grid_on_a_triangle_soup(void **state)
     pgrid_shadows grids;
     assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
     uint32_t count, *prims;
-    rtt_vec3 *points = shadow_origins(s, ref, 32, test_sweep(32), test_sweep(2000), &count, 5u, &prims);
+    rtt_vec3 *points = shadow_origins(s, ref, 32, 32, 2000, &count, 5u, &prims);
     for (int l = 0; l < 4; l++) {
         const rtt_vec3 light = {random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f),
                                 random_in(&seed, -1.2f, 1.2f)};
