@@ -52,6 +52,28 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
     return vm_and(active, vf_le(t0, t1));
 }
 
+/* Per frustum: the triangle's corners relative to its origin, the normal
+ * of each edge plane through the origin (edge e: rel[e+1] x rel[e+2]) and
+ * D = rel[0] . n[0] with det_mag the magnitudes of its terms. */
+static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, vf rel[3][3], vf n[3][3], vf *det,
+                                vf *det_mag)
+{
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+    for (int e = 0; e < 3; e++) {
+        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
+        n[e][0] = vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1]));
+        n[e][1] = vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2]));
+        n[e][2] = vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]));
+    }
+    *det = *det_mag = vf_set1(0.0f);
+    for (int k = 0; k < 3; k++) {
+        const vf x = vf_mul(rel[0][k], n[0][k]);
+        *det = vf_add(*det, x);
+        *det_mag = vf_add(*det_mag, vf_abs(x));
+    }
+}
+
 /* Which frusta see the triangle (corners rel[v], relative to each origin)
  * facing them and which backing: D = rel[0] . (rel[1] x rel[2]) given as
  * det with det_mag its terms' magnitudes. */
@@ -91,22 +113,12 @@ static inline void frusta_orientation(const vf rel[3][3], vf det, vf det_mag, ui
 static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
                                                vf slack, vm active)
 {
-    vf rel[3][3];
-    for (int v = 0; v < 3; v++)
-        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+    vf rel[3][3], normals[3][3], det, det_mag;
+    frusta_edges(tri, g, rel, normals, &det, &det_mag);
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
     vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
-    vf det = zero, det_mag = zero;
     for (int e = 0; e < 3; e++) {
-        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
-        const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
-                         vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
-        if (e == 0)
-            for (int k = 0; k < 3; k++) {
-                const vf x = vf_mul(rel[0][k], n[k]);
-                det = vf_add(det, x);
-                det_mag = vf_add(det_mag, vf_abs(x));
-            }
+        const vf *n = normals[e];
         vf hi = zero, lo = zero, mag = zero;
         const vf spread = vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2]));
         if (corner) { /* over the cone of four corner directions: n.d at its corners */
@@ -163,22 +175,12 @@ typedef struct mft_cone {
 static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_bounds *g, const mft_cone *cone,
                                                vm active)
 {
-    vf rel[3][3];
-    for (int v = 0; v < 3; v++)
-        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+    vf rel[3][3], normals[3][3], det, det_mag;
+    frusta_edges(tri, g, rel, normals, &det, &det_mag);
     const vf zero = vf_set1(0.0f);
     vm below = vm_of_bits(0), above = vm_of_bits(0);
-    vf det = zero, det_mag = zero;
     for (int e = 0; e < 3; e++) {
-        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3];
-        const vf n[3] = {vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1])), vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2])),
-                         vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]))};
-        if (e == 0)
-            for (int k = 0; k < 3; k++) {
-                const vf x = vf_mul(rel[0][k], n[k]);
-                det = vf_add(det, x);
-                det_mag = vf_add(det_mag, vf_abs(x));
-            }
+        const vf *n = normals[e];
         vf hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
         for (int c = 0; c < 4; c++) {
             const vf dot = vf_add(vf_add(vf_mul(n[0], cone->corner[c][0]), vf_mul(n[1], cone->corner[c][1])),
