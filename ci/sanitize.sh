@@ -4,7 +4,8 @@
 #     (except the fuzz-smoke and sanitize wrappers, which would recurse);
 #  2. -DRTT_SANITIZE=thread in build-tsan, then the tests that start threads
 #     (the pool, the tile scheduler, the renderers, the builders), selected
-#     by TSAN_TESTS; both steps run JOBS tests at once.
+#     by TSAN_TESTS, building only their executables (and rtt for the
+#     scripts); both steps run JOBS tests at once.
 # Any report fails the run (-fno-sanitize-recover=all is set by the top-level
 # CMake).  Environment: SANITIZE_BUILD_PREFIX (default <root>/build), JOBS
 # (default 2), CC (default: the system compiler), TSAN_TESTS (ctest regex),
@@ -22,12 +23,15 @@ tsan_tests=${TSAN_TESTS:-'^(test_engine_threads|test_optimized_(antialiasing|bui
 # Leaks inside libassimp on its STL parse-error path are not ours: fuzz/lsan.supp.
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 
-configure_and_build() {   # build-dir sanitizers
+configure() {   # build-dir sanitizers
   local build=$1 sanitizers=$2
   echo "sanitize: building $build with -fsanitize=$sanitizers"
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTT_SANITIZE="$sanitizers" \
     > "$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
-  cmake --build "$build" -j "$jobs"
+}
+configure_and_build() {   # build-dir sanitizers: every target
+  configure "$1" "$2"
+  cmake --build "$1" -j "$jobs"
 }
 
 for step in "${steps[@]}"; do
@@ -39,7 +43,18 @@ for step in "${steps[@]}"; do
         ctest --test-dir "$prefix-asan" --output-on-failure -j "$jobs" -E '^(fuzz_smoke|sanitize)$'
       ;;
     tsan)
-      configure_and_build "$prefix-tsan" thread
+      # only what the selected tests run: each cmocka test's own executable,
+      # and rtt for a script (mpi_render)
+      configure "$prefix-tsan" thread
+      targets=()
+      for t in $(ctest --test-dir "$prefix-tsan" -N -R "$tsan_tests" | sed -n 's/^ *Test *#[0-9]*: *//p'); do
+        case $t in
+          test_*) targets+=(--target "$t") ;;
+          *) targets+=(--target rtt) ;;
+        esac
+      done
+      [ ${#targets[@]} -gt 0 ] || { echo "sanitize: TSAN_TESTS ($tsan_tests) selects no test" >&2; exit 2; }
+      cmake --build "$prefix-tsan" -j "$jobs" "${targets[@]}"
       TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1} \
         ctest --test-dir "$prefix-tsan" --output-on-failure -j "$jobs" -R "$tsan_tests" -E '^(fuzz_smoke|sanitize)$'
       ;;

@@ -111,7 +111,7 @@ static void triangle_setup(pgrid_triangle *t, pgrid_surface *surface, const rtt_
     const float inv_n2 = 1.0f / rtt_v3_dot(normal, normal);
     const rtt_vec3 m_u = rtt_v3_scale(rtt_v3_cross(e2, normal), inv_n2);
     const rtt_vec3 m_v = rtt_v3_scale(rtt_v3_cross(normal, e1), inv_n2);
-    *surface = (pgrid_surface){{rel[0].x, rel[0].y, rel[0].z}, {m_u.x, m_u.y, m_u.z}, {m_v.x, m_v.y, m_v.z}, {0}};
+    *surface = (pgrid_surface){{rel[0].x, rel[0].y, rel[0].z}, {m_u.x, m_u.y, m_u.z}, {m_v.x, m_v.y, m_v.z}, 0, {0}};
     for (int e = 0; e < 4; e++) {
         rtt_vec3 n = e < 3 ? rtt_v3_cross(rel[(e + 1) % 3], rel[(e + 2) % 3]) : normal;
         t->a[e] = rtt_v3_dot(n, f->du);
@@ -235,7 +235,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
         bool near;
         if (!triangle_rect(&job->p, rel, g->width, g->height, t, &near)) continue;
         triangle_setup(t, &g->surfaces[kept], job->frame, rel);
-        t->prim = i;
+        t->prim = g->surfaces[kept].prim = i;
         near_count += near;
         kept++;
     }

@@ -66,6 +66,26 @@ static inline void clear_block(float *depth, uint32_t *triangle)
     _mm512_store_ps(depth, _mm512_set1_ps(INFINITY));
     _mm512_store_si512((void *)triangle, _mm512_set1_epi32(-1));
 }
+static inline vfloat vf_sub(vfloat a, vfloat b) { return _mm512_sub_ps(a, b); }
+static inline vfloat vf_sqrt(vfloat a) { return _mm512_sqrt_ps(a); }
+static inline void vf_store(float *p, vfloat a) { _mm512_store_ps(p, a); }
+/* The lanes of a block holding a triangle, and (in those lanes) the
+ * fields [0, count) of its surface (pgrid_surface as floats); others 0. */
+static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
+{
+    const __m512i index = _mm512_load_si512((const void *)triangle);
+    const vmask hit = _mm512_cmpneq_epi32_mask(index, _mm512_set1_epi32(-1));
+    const __m512i at = _mm512_mullo_epi32(index, _mm512_set1_epi32((int)(sizeof(pgrid_surface) / sizeof(float))));
+    for (int k = 0; k < count; k++)
+        field[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), hit, at, (const float *)surfaces + k, 4);
+    return hit;
+}
+/* lanes of m where a is in (lo, hi) */
+static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
+{
+    return m & _mm512_cmp_ps_mask(a, _mm512_set1_ps(lo), _CMP_GT_OQ) & _mm512_cmp_ps_mask(a, _mm512_set1_ps(hi), _CMP_LT_OQ);
+}
+static inline uint32_t vm_bits(vmask m) { return m; }
 #elif defined(__AVX2__)
 #define LANES 8
 typedef __m256 vfloat;
@@ -104,6 +124,25 @@ static inline void clear_block(float *depth, uint32_t *triangle)
     _mm256_store_ps(depth, _mm256_set1_ps(INFINITY));
     _mm256_store_si256((__m256i *)triangle, _mm256_set1_epi32(-1));
 }
+static inline vfloat vf_sub(vfloat a, vfloat b) { return _mm256_sub_ps(a, b); }
+static inline vfloat vf_sqrt(vfloat a) { return _mm256_sqrt_ps(a); }
+static inline void vf_store(float *p, vfloat a) { _mm256_store_ps(p, a); }
+static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
+{
+    const __m256i index = _mm256_load_si256((const __m256i *)triangle);
+    const __m256 hit = _mm256_castsi256_ps(_mm256_xor_si256(_mm256_cmpeq_epi32(index, _mm256_set1_epi32(-1)),
+                                                            _mm256_set1_epi32(-1)));
+    const __m256i at = _mm256_mullo_epi32(index, _mm256_set1_epi32((int)(sizeof(pgrid_surface) / sizeof(float))));
+    for (int k = 0; k < count; k++)
+        field[k] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), (const float *)surfaces + k, at, hit, 4);
+    return hit;
+}
+static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
+{
+    return (uint32_t)_mm256_movemask_ps(_mm256_and_ps(m, _mm256_and_ps(_mm256_cmp_ps(a, _mm256_set1_ps(lo), _CMP_GT_OQ),
+                                                                       _mm256_cmp_ps(a, _mm256_set1_ps(hi), _CMP_LT_OQ))));
+}
+static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm256_movemask_ps(m); }
 #else
 #define LANES 4
 typedef __m128 vfloat;
@@ -138,6 +177,26 @@ static inline void clear_block(float *depth, uint32_t *triangle)
     _mm_store_ps(depth, _mm_set1_ps(INFINITY));
     _mm_store_si128((__m128i *)triangle, _mm_set1_epi32(-1));
 }
+static inline vfloat vf_sub(vfloat a, vfloat b) { return _mm_sub_ps(a, b); }
+static inline vfloat vf_sqrt(vfloat a) { return _mm_sqrt_ps(a); }
+static inline void vf_store(float *p, vfloat a) { _mm_store_ps(p, a); }
+static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
+{
+    _Alignas(16) float lane[PGRID_SURFACE_FLOATS][4] = {{0}};
+    for (int i = 0; i < 4; i++)
+        if (triangle[i] != PGRID_NO_TRIANGLE) {
+            const float *f = (const float *)&surfaces[triangle[i]];
+            for (int k = 0; k < count; k++) lane[k][i] = f[k];
+        }
+    for (int k = 0; k < count; k++) field[k] = _mm_load_ps(lane[k]);
+    const __m128i index = _mm_load_si128((const __m128i *)triangle);
+    return _mm_castsi128_ps(_mm_xor_si128(_mm_cmpeq_epi32(index, _mm_set1_epi32(-1)), _mm_set1_epi32(-1)));
+}
+static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
+{
+    return (uint32_t)_mm_movemask_ps(_mm_and_ps(m, _mm_and_ps(_mm_cmpgt_ps(a, _mm_set1_ps(lo)), _mm_cmplt_ps(a, _mm_set1_ps(hi)))));
+}
+static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm_movemask_ps(m); }
 #endif
 
 #define BLOCK_H (LANES / 4)
@@ -220,9 +279,12 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
 void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, const uint32_t *triangle,
                         rtt_hit *hits, size_t stride);
 
-/* The hits of the cell's pixels from its buffers: t along the normalised
- * direction is t_D |D| (|D| in rtt_camera_ray's order), u, v the
- * barycentric map of the hit point t_D D (pgrid_eye.h). */
+/* The hits of the cell's pixels from its buffers, a block (one vector)
+ * at a time: t along the normalised direction is t_D |D| (|D| in
+ * rtt_camera_ray's order: rtt_v3_length, whose wide-range fallback a lane
+ * outside (1e-18, 1e18) takes), u, v the barycentric map of the hit point
+ * t_D D (pgrid_eye.h); each lane's operations are the scalar formula's, in
+ * its order, so every width gives the same bits. */
 void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, const uint32_t *triangle,
                         rtt_hit *hits, size_t stride)
 {
@@ -231,25 +293,46 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
     const uint32_t w = (X0 + side < g->width ? X0 + side : g->width) - X0;
     const uint32_t h = (Y0 + side < g->height ? Y0 + side : g->height) - Y0;
     const rtt_camera_frame *f = &g->frame;
-    for (uint32_t y = 0; y < h; y++) {
-        const float fy = (float)(Y0 + y) + 0.5f;
-        const rtt_vec3 row = rtt_v3_scale(f->dv, fy);
-        const size_t block_row = (size_t)(y / BLOCK_H) * (side / 4u) * LANES + (y % BLOCK_H) * 4u;
-        rtt_hit *out = hits + (size_t)y * stride;
-        for (uint32_t x = 0; x < w; x++) {
-            const size_t at = block_row + (x / 4u) * LANES + x % 4u;
-            const uint32_t index = triangle[at];
-            if (index == PGRID_NO_TRIANGLE) {
-                out[x] = (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-                continue;
+    const vfloat lane_x = vf_lane_x(), lane_y = vf_lane_y(), inv_scale = vf_set1(g->inv_scale);
+    const vfloat corner_x = vf_set1(f->corner.x), corner_y = vf_set1(f->corner.y), corner_z = vf_set1(f->corner.z);
+    const vfloat du_x = vf_set1(f->du.x), du_y = vf_set1(f->du.y), du_z = vf_set1(f->du.z);
+    const vfloat dv_x = vf_set1(f->dv.x), dv_y = vf_set1(f->dv.y), dv_z = vf_set1(f->dv.z);
+    _Alignas(64) float out_t[LANES], out_u[LANES], out_v[LANES];
+    _Alignas(64) uint32_t out_prim[LANES];
+    for (uint32_t by = 0; by * BLOCK_H < h; by++) {
+        const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
+        const vfloat row_x = vf_mul(dv_x, fy), row_y = vf_mul(dv_y, fy), row_z = vf_mul(dv_z, fy);
+        for (uint32_t bx = 0; bx * 4u < w; bx++) {
+            const size_t at = ((size_t)by * (side / 4u) + bx) * LANES;
+            vfloat sf[PGRID_SURFACE_FLOATS];
+            const vmask hit = gather_surfaces(g->surfaces, triangle + at, PGRID_SURFACE_FLOATS, sf);
+            const uint32_t hit_bits = vm_bits(hit);
+            if (hit_bits) {
+                const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x), t_d = vf_load(depth + at);
+                const vfloat d_x = vf_add(corner_x, vf_add(vf_mul(du_x, fx), row_x));
+                const vfloat d_y = vf_add(corner_y, vf_add(vf_mul(du_y, fx), row_y));
+                const vfloat d_z = vf_add(corner_z, vf_add(vf_mul(du_z, fx), row_z));
+                const vfloat q_x = vf_sub(vf_mul(t_d, d_x), sf[0]), q_y = vf_sub(vf_mul(t_d, d_y), sf[1]),
+                             q_z = vf_sub(vf_mul(t_d, d_z), sf[2]);
+                vf_store(out_u, vf_add(vf_add(vf_mul(q_x, sf[3]), vf_mul(q_y, sf[4])), vf_mul(q_z, sf[5])));
+                vf_store(out_v, vf_add(vf_add(vf_mul(q_x, sf[6]), vf_mul(q_y, sf[7])), vf_mul(q_z, sf[8])));
+                const vfloat length = vf_sqrt(vf_add(vf_add(vf_mul(d_x, d_x), vf_mul(d_y, d_y)), vf_mul(d_z, d_z)));
+                vf_store(out_t, vf_mul(vf_mul(t_d, inv_scale), length));
+                vf_store((float *)out_prim, sf[9]);
+                /* lanes whose |D| needs rtt_v3_length's wide-range path */
+                for (uint32_t wide = hit_bits & ~vm_bits_inside(hit, length, 1e-18f, 1e18f); wide; wide &= wide - 1) {
+                    const uint32_t i = (uint32_t)__builtin_ctz(wide);
+                    const float px = (float)(X0 + bx * 4u + i % 4u) + 0.5f, py = (float)(Y0 + by * BLOCK_H + i / 4u) + 0.5f;
+                    const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, px), rtt_v3_scale(f->dv, py)));
+                    out_t[i] = depth[at + i] * g->inv_scale * rtt_v3_length(d);
+                }
             }
-            const pgrid_surface *sf = &g->surfaces[index];
-            const float fx = (float)(X0 + x) + 0.5f, t_d = depth[at];
-            const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, fx), row));
-            const rtt_vec3 q = rtt_v3(t_d * d.x - sf->origin[0], t_d * d.y - sf->origin[1], t_d * d.z - sf->origin[2]);
-            const float u = (q.x * sf->m_u[0] + q.y * sf->m_u[1]) + q.z * sf->m_u[2];
-            const float v = (q.x * sf->m_v[0] + q.y * sf->m_v[1]) + q.z * sf->m_v[2];
-            out[x] = (rtt_hit){t_d * g->inv_scale * rtt_v3_length(d), u, v, g->triangles[index].prim};
+            for (uint32_t i = 0; i < LANES; i++) {
+                const uint32_t x = bx * 4u + i % 4u, y = by * BLOCK_H + i / 4u;
+                if (x >= w || y >= h) continue;
+                hits[(size_t)y * stride + x] = hit_bits >> i & 1u ? (rtt_hit){out_t[i], out_u[i], out_v[i], out_prim[i]}
+                                                                 : (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
+            }
         }
     }
 }

@@ -65,8 +65,11 @@ typedef struct pgrid_triangle {
  * the barycentric map, m_u = (e2 x N) / |N|^2, m_v = (N x e1) / |N|^2. */
 typedef struct pgrid_surface {
     float origin[3], m_u[3], m_v[3];
-    float pad[3];
+    uint32_t prim;             /* the triangle's, beside its map: the resolve reads one record per hit */
+    float pad[2];
 } pgrid_surface;
+/* what the resolve reads of it, as floats: origin, m_u, m_v, prim */
+#define PGRID_SURFACE_FLOATS 10
 _Static_assert(sizeof(pgrid_surface) == 48, "pgrid_surface: three rows of 16 bytes");
 _Static_assert(sizeof(pgrid_triangle) == 64, "pgrid_triangle is one cache line");
 
