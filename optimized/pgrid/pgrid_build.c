@@ -203,6 +203,14 @@ static bool triangle_rect(const projection *p, const rtt_vec3 rel[3], uint32_t w
     return pixel_range(box[0], box[1], width, &t->x0, &t->x1) && pixel_range(box[2], box[3], height, &t->y0, &t->y1);
 }
 
+/* A pixel index's cell without a division: pixel indices are below 2^16 and
+ * cells at most 2^9 pixels, so x * ceil(2^32 / cell) / 2^32 is off x / cell
+ * by less than 2^-16 and floors to the quotient (the binning's two passes
+ * divide every rectangle's four bounds). */
+_Static_assert(PGRID_EYE_CELL_MAX <= 512u && PGRID_IMAGE_MAX < 65536u, "cell_of's bound: pixels < 2^16, cells <= 2^9");
+static inline uint64_t cell_reciprocal(uint32_t cell) { return ((UINT64_C(1) << 32) + cell - 1) / cell; }
+static inline uint32_t cell_of(uint32_t pixel, uint64_t reciprocal) { return (uint32_t)((pixel * reciprocal) >> 32); }
+
 enum { SETUP_CHUNK = 4096 };
 
 /* What the set-up's tasks share. */
@@ -283,6 +291,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
     const projection p = job.p;
     memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
+    const uint64_t inv_cell = cell_reciprocal(cell);
     uint32_t kept = 0, near_count = 0;
     size_t refs = 0;
     for (uint32_t c = 0; c < chunks; c++) {
@@ -294,9 +303,11 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         near_count += g->chunk_kept[2 * c + 1];
         for (uint32_t k = kept; k < kept + n; k++) {
             const pgrid_triangle *t = &g->triangles[k];
-            for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
-                for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
-            refs += (size_t)(t->x1 / cell - t->x0 / cell + 1) * (t->y1 / cell - t->y0 / cell + 1);
+            const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
+            const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);
+            for (uint32_t cy = cy0; cy <= cy1; cy++)
+                for (uint32_t cx = cx0; cx <= cx1; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
+            refs += (size_t)(cx1 - cx0 + 1) * (cy1 - cy0 + 1);
         }
         kept += n;
     }
@@ -311,8 +322,10 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
     for (uint32_t k = 0; k < kept; k++) {
         const pgrid_triangle *t = &g->triangles[k];
-        for (uint32_t cy = t->y0 / cell; cy <= t->y1 / cell; cy++)
-            for (uint32_t cx = t->x0 / cell; cx <= t->x1 / cell; cx++) g->refs[g->cell_first[cy * g->cells_x + cx]++] = k;
+        const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
+        const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);
+        for (uint32_t cy = cy0; cy <= cy1; cy++)
+            for (uint32_t cx = cx0; cx <= cx1; cx++) g->refs[g->cell_first[cy * g->cells_x + cx]++] = k;
     }
     for (uint32_t c = cells; c > 0; c--) g->cell_first[c] = g->cell_first[c - 1];
     g->cell_first[0] = 0;

@@ -200,6 +200,8 @@ static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm_movemask_ps(m); }
 #endif
 
 #define BLOCK_H (LANES / 4)
+/* how many references ahead the cell loop prefetches a triangle */
+#define PREFETCH_AHEAD 6u
 
 /* Edge stepping for wide rectangles: the blocks of one block row that can
  * hold a pixel inside the triangle.  A hit at t > 0 has every w_e of the
@@ -245,6 +247,9 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
     const vfloat lane_x = vf_lane_x(), lane_y = vf_lane_y();
     const uint32_t end = g->cell_first[cell + 1];
     for (uint32_t r = g->cell_first[cell]; r < end; r++) {
+        /* a cell's triangles lie all over the array (mesh order), which
+         * outgrows the cache: ask for one a few references ahead */
+        if (r + PREFETCH_AHEAD < end) __builtin_prefetch(&g->triangles[g->refs[r + PREFETCH_AHEAD]]);
         const uint32_t index = g->refs[r];
         const pgrid_triangle *t = &g->triangles[index];
         const uint32_t x0 = t->x0 > X0 ? t->x0 : X0, x1 = t->x1 < X1 ? t->x1 : X1;
@@ -255,6 +260,7 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
         const vfloat a3 = vf_set1(t->a[3]), b3 = vf_set1(t->b[3]), c3 = vf_set1(t->c[3]);
         const vfloat det = vf_set1(t->det);
         const float sign = t->det < 0.0f ? -1.0f : 1.0f;
+        bool won = false;
         for (uint32_t by = (y0 - Y0) / BLOCK_H; by <= (y1 - Y0) / BLOCK_H; by++) {
             const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
             const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
@@ -270,9 +276,15 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, float *depth, uint32_t 
                 const size_t at = ((size_t)by * blocks_x + bx) * LANES;
                 const vfloat tv = vf_div(det, vf_add(r3, vf_mul(a3, fx)));
                 const vmask closer = vm_closer(inside, tv, vf_load(depth + at));
-                if (vm_any(closer)) store_closer(closer, depth + at, triangle + at, tv, index);
+                if (vm_any(closer)) {
+                    store_closer(closer, depth + at, triangle + at, tv, index);
+                    won = true;
+                }
             }
         }
+        /* the resolve reads the surface of every triangle left in the
+         * buffers: a winner's is brought in now, while the cell is traced */
+        if (won) __builtin_prefetch(&g->surfaces[index]);
     }
 }
 
