@@ -22,6 +22,7 @@
  * binned by the clipped polygon; only one whose plane passes within about
  * z_near of the eye is kept in every cell (its projection is unbounded),
  * counted in near_count.  Exact for every scene. */
+#include <immintrin.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -213,6 +214,89 @@ static inline uint32_t cell_of(uint32_t pixel, uint64_t reciprocal) { return (ui
 
 enum { SETUP_CHUNK = 4096 };
 
+/* ---- four triangles at once (SSE4.1, the baseline) ----
+ * The common case, every corner beyond the near plane, for four triangles
+ * in the lanes of one vector: the same operations in the same order as
+ * triangle_rect's projection and triangle_setup, lane by lane, so the
+ * same bits (min_float(a, b) is _mm_min_ps(b, a), NaN included); a lane
+ * crossing the near plane or behind the eye takes the scalar path. */
+typedef struct v3x4 {
+    __m128 x, y, z;
+} v3x4;
+
+static inline v3x4 v4_sub(v3x4 a, v3x4 b) { return (v3x4){_mm_sub_ps(a.x, b.x), _mm_sub_ps(a.y, b.y), _mm_sub_ps(a.z, b.z)}; }
+static inline v3x4 v4_scale(v3x4 a, __m128 s) { return (v3x4){_mm_mul_ps(a.x, s), _mm_mul_ps(a.y, s), _mm_mul_ps(a.z, s)}; }
+static inline v3x4 v4_splat(rtt_vec3 a) { return (v3x4){_mm_set1_ps(a.x), _mm_set1_ps(a.y), _mm_set1_ps(a.z)}; }
+static inline __m128 v4_dot(v3x4 a, v3x4 b)
+{
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(a.x, b.x), _mm_mul_ps(a.y, b.y)), _mm_mul_ps(a.z, b.z));
+}
+static inline v3x4 v4_cross(v3x4 a, v3x4 b)
+{
+    return (v3x4){_mm_sub_ps(_mm_mul_ps(a.y, b.z), _mm_mul_ps(a.z, b.y)), _mm_sub_ps(_mm_mul_ps(a.z, b.x), _mm_mul_ps(a.x, b.z)),
+                  _mm_sub_ps(_mm_mul_ps(a.x, b.y), _mm_mul_ps(a.y, b.x))};
+}
+
+/* What triangle_setup writes, for four triangles (row k, lane i). */
+typedef struct setup4 {
+    _Alignas(16) float a[4][4], b[4][4], c[4][4], det[4];
+    _Alignas(16) float origin[3][4], m_u[3][4], m_v[3][4];
+    _Alignas(16) float box[4][4];   /* the projected corners' fx lo, hi, fy lo, hi */
+    _Alignas(16) float zmin[4], zmax[4];
+} setup4;
+
+static void setup_four(const projection *p, const rtt_camera_frame *f, const v3x4 rel[3], setup4 *out)
+{
+    /* triangle_rect: depths, and the projection of the corners */
+    __m128 zmin = _mm_set1_ps(INFINITY), zmax = _mm_set1_ps(-INFINITY), z[3];
+    const v3x4 forward = v4_splat(p->forward), du = v4_splat(p->du), dv = v4_splat(p->dv);
+    for (int k = 0; k < 3; k++) {
+        z[k] = v4_dot(rel[k], forward);
+        zmin = _mm_min_ps(z[k], zmin);
+        zmax = _mm_max_ps(z[k], zmax);
+    }
+    _mm_store_ps(out->zmin, zmin);
+    _mm_store_ps(out->zmax, zmax);
+    __m128 box0 = _mm_set1_ps(INFINITY), box1 = _mm_set1_ps(-INFINITY), box2 = box0, box3 = box1;
+    const __m128 corner_du = _mm_set1_ps(p->corner_du), corner_dv = _mm_set1_ps(p->corner_dv);
+    const __m128 inv_du2 = _mm_set1_ps(p->inv_du2), inv_dv2 = _mm_set1_ps(p->inv_dv2);
+    for (int k = 0; k < 3; k++) {
+        const __m128 inv_z = _mm_div_ps(_mm_set1_ps(1.0f), z[k]);
+        const __m128 fx = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(v4_dot(rel[k], du), inv_z), corner_du), inv_du2);
+        const __m128 fy = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(v4_dot(rel[k], dv), inv_z), corner_dv), inv_dv2);
+        box0 = _mm_min_ps(fx, box0);
+        box1 = _mm_max_ps(fx, box1);
+        box2 = _mm_min_ps(fy, box2);
+        box3 = _mm_max_ps(fy, box3);
+    }
+    _mm_store_ps(out->box[0], box0);
+    _mm_store_ps(out->box[1], box1);
+    _mm_store_ps(out->box[2], box2);
+    _mm_store_ps(out->box[3], box3);
+    /* triangle_setup */
+    const v3x4 e1 = v4_sub(rel[1], rel[0]), e2 = v4_sub(rel[2], rel[0]);
+    const v3x4 normal = v4_cross(e1, e2);
+    const __m128 inv_n2 = _mm_div_ps(_mm_set1_ps(1.0f), v4_dot(normal, normal));
+    const v3x4 m_u = v4_scale(v4_cross(e2, normal), inv_n2), m_v = v4_scale(v4_cross(normal, e1), inv_n2);
+    _mm_store_ps(out->origin[0], rel[0].x);
+    _mm_store_ps(out->origin[1], rel[0].y);
+    _mm_store_ps(out->origin[2], rel[0].z);
+    _mm_store_ps(out->m_u[0], m_u.x);
+    _mm_store_ps(out->m_u[1], m_u.y);
+    _mm_store_ps(out->m_u[2], m_u.z);
+    _mm_store_ps(out->m_v[0], m_v.x);
+    _mm_store_ps(out->m_v[1], m_v.y);
+    _mm_store_ps(out->m_v[2], m_v.z);
+    const v3x4 fdu = v4_splat(f->du), fdv = v4_splat(f->dv), fcorner = v4_splat(f->corner);
+    for (int e = 0; e < 4; e++) {
+        const v3x4 n = e < 3 ? v4_cross(rel[(e + 1) % 3], rel[(e + 2) % 3]) : normal;
+        _mm_store_ps(out->a[e], v4_dot(n, fdu));
+        _mm_store_ps(out->b[e], v4_dot(n, fdv));
+        _mm_store_ps(out->c[e], v4_dot(n, fcorner));
+    }
+    _mm_store_ps(out->det, v4_dot(normal, rel[0]));
+}
+
 /* What the set-up's tasks share. */
 typedef struct setup_job {
     pgrid_eye *g;
@@ -234,18 +318,52 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
     const uint32_t first = task * SETUP_CHUNK,
                    end = first + SETUP_CHUNK < scene->triangle_count ? first + SETUP_CHUNK : scene->triangle_count;
     uint32_t kept = first, near_count = 0;
-    for (uint32_t i = first; i < end; i++) {
-        if (job->degenerate && job->degenerate[i]) continue;
-        rtt_vec3 corners[3], rel[3];
-        rtt_scene_triangle(scene, i, corners);
-        for (int k = 0; k < 3; k++) rel[k] = rtt_v3_scale(rtt_v3_sub(corners[k], job->frame->eye), job->p.scale);
-        pgrid_triangle *t = &g->triangles[kept];
-        bool near;
-        if (!triangle_rect(&job->p, rel, g->width, g->height, t, &near)) continue;
-        triangle_setup(t, &g->surfaces[kept], job->frame, rel);
-        t->prim = g->surfaces[kept].prim = i;
-        near_count += near;
-        kept++;
+    const v3x4 eye = v4_splat(job->frame->eye);
+    const __m128 scale = _mm_set1_ps(job->p.scale);
+    for (uint32_t i = first; i < end;) {
+        /* the next four triangles not flagged degenerate */
+        uint32_t prim[4], n = 0;
+        for (; i < end && n < 4; i++)
+            if (!job->degenerate || !job->degenerate[i]) prim[n++] = i;
+        if (n == 0) break;
+        _Alignas(16) float corner[3][3][4] = {{{0}}};   /* [corner][axis][lane] */
+        for (uint32_t l = 0; l < n; l++) {
+            rtt_vec3 c[3];
+            rtt_scene_triangle(scene, prim[l], c);
+            for (int k = 0; k < 3; k++) corner[k][0][l] = c[k].x, corner[k][1][l] = c[k].y, corner[k][2][l] = c[k].z;
+        }
+        v3x4 rel[3];
+        for (int k = 0; k < 3; k++)
+            rel[k] = v4_scale(v4_sub((v3x4){_mm_load_ps(corner[k][0]), _mm_load_ps(corner[k][1]), _mm_load_ps(corner[k][2])}, eye),
+                              scale);
+        setup4 four;
+        setup_four(&job->p, job->frame, rel, &four);
+        for (uint32_t l = 0; l < n; l++) {
+            pgrid_triangle *t = &g->triangles[kept];
+            pgrid_surface *sf = &g->surfaces[kept];
+            if (four.zmin[l] >= job->p.z_near) {
+                /* beyond the near plane: the vector lane's projection and set-up */
+                if (!pixel_range(four.box[0][l], four.box[1][l], g->width, &t->x0, &t->x1) ||
+                    !pixel_range(four.box[2][l], four.box[3][l], g->height, &t->y0, &t->y1))
+                    continue;
+                for (int e = 0; e < 4; e++) t->a[e] = four.a[e][l], t->b[e] = four.b[e][l], t->c[e] = four.c[e][l];
+                t->det = four.det[l];
+                *sf = (pgrid_surface){{four.origin[0][l], four.origin[1][l], four.origin[2][l]},
+                                      {four.m_u[0][l], four.m_u[1][l], four.m_u[2][l]},
+                                      {four.m_v[0][l], four.m_v[1][l], four.m_v[2][l]}, 0, {0}};
+            } else {
+                /* behind the eye or crossing the near plane: the scalar path */
+                rtt_vec3 r[3];
+                for (int k = 0; k < 3; k++) r[k] = rtt_v3(corner[k][0][l], corner[k][1][l], corner[k][2][l]);
+                for (int k = 0; k < 3; k++) r[k] = rtt_v3_scale(rtt_v3_sub(r[k], job->frame->eye), job->p.scale);
+                bool near;
+                if (!triangle_rect(&job->p, r, g->width, g->height, t, &near)) continue;
+                triangle_setup(t, sf, job->frame, r);
+                near_count += near;
+            }
+            t->prim = sf->prim = prim[l];
+            kept++;
+        }
     }
     g->chunk_kept[2 * task] = kept - first;
     g->chunk_kept[2 * task + 1] = near_count;
