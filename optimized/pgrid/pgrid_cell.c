@@ -80,12 +80,22 @@ static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_
         field[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), hit, at, (const float *)surfaces + k, 4);
     return hit;
 }
+/* A mask's 16 bits as an integer, through kmovw into a general register
+ * (which zero-extends).  Not the implicit conversion: GCC 12 at -O3 with
+ * -fsanitize=thread spilled the mask with a 16-bit kmovw and reloaded the
+ * integer with a 32-bit mov, so bits 16..31 held stack garbage and the
+ * wide-range loop below wrote out_t past its end (out_u of other lanes). */
+static inline uint32_t vm_bits(vmask m)
+{
+    uint32_t bits;
+    __asm__("kmovw %1, %0" : "=r"(bits) : "k"(m));
+    return bits;
+}
 /* lanes of m where a is in (lo, hi) */
 static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
 {
-    return m & _mm512_cmp_ps_mask(a, _mm512_set1_ps(lo), _CMP_GT_OQ) & _mm512_cmp_ps_mask(a, _mm512_set1_ps(hi), _CMP_LT_OQ);
+    return vm_bits(m & _mm512_cmp_ps_mask(a, _mm512_set1_ps(lo), _CMP_GT_OQ) & _mm512_cmp_ps_mask(a, _mm512_set1_ps(hi), _CMP_LT_OQ));
 }
-static inline uint32_t vm_bits(vmask m) { return m; }
 #elif defined(__AVX2__)
 #define LANES 8
 typedef __m256 vfloat;
