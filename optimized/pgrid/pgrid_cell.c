@@ -69,27 +69,62 @@ static inline void clear_block(float *depth, uint32_t *triangle)
 static inline vfloat vf_sub(vfloat a, vfloat b) { return _mm512_sub_ps(a, b); }
 static inline vfloat vf_sqrt(vfloat a) { return _mm512_sqrt_ps(a); }
 static inline void vf_store(float *p, vfloat a) { _mm512_store_ps(p, a); }
+/* A mask's 16 bits as an integer, through kmovw into a general register
+ * (which zero-extends).  Not the implicit conversion: GCC 12 at -O3 with
+ * -fsanitize=thread spilled the mask with a 16-bit kmovw and reloaded the
+ * integer with a 32-bit mov, so bits 16..31 held stack garbage and the
+ * wide-range loop of pgrid_resolve_cell wrote out_t past its end (out_u of other lanes). */
+static inline uint32_t vm_bits(vmask m)
+{
+    uint32_t bits;
+    __asm__("kmovw %1, %0" : "=r"(bits) : "k"(m));
+    return bits;
+}
 /* The lanes of a block holding a triangle, and (in those lanes) the
  * fields [0, count) of its surface (pgrid_surface as floats); others 0. */
 static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
 {
     const __m512i index = _mm512_load_si512((const void *)triangle);
     const vmask hit = _mm512_cmpneq_epi32_mask(index, _mm512_set1_epi32(-1));
+    if (!hit) {
+        for (int k = 0; k < count; k++) field[k] = _mm512_setzero_ps();
+        return hit;
+    }
+    /* one triangle behind every hit (most blocks): its record broadcast,
+     * not ten gathers; the lanes' values are the same */
+    const uint32_t first = triangle[__builtin_ctz(vm_bits(hit))];
+    if (!_mm512_mask_cmpneq_epi32_mask(hit, index, _mm512_set1_epi32((int)first))) {
+        const float *f = (const float *)&surfaces[first];
+        for (int k = 0; k < count; k++) field[k] = _mm512_set1_ps(f[k]);
+        return hit;
+    }
     const __m512i at = _mm512_mullo_epi32(index, _mm512_set1_epi32((int)(sizeof(pgrid_surface) / sizeof(float))));
     for (int k = 0; k < count; k++)
         field[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), hit, at, (const float *)surfaces + k, 4);
     return hit;
 }
-/* A mask's 16 bits as an integer, through kmovw into a general register
- * (which zero-extends).  Not the implicit conversion: GCC 12 at -O3 with
- * -fsanitize=thread spilled the mask with a 16-bit kmovw and reloaded the
- * integer with a 32-bit mov, so bits 16..31 held stack garbage and the
- * wide-range loop below wrote out_t past its end (out_u of other lanes). */
-static inline uint32_t vm_bits(vmask m)
+/* A block's hit records (t, u, v, prim of lane i = x + 4 y; the misses'
+ * record where `hit` is clear) into the first `pixels` records of its
+ * first `rows` rows: two 4x4 transposes, one (masked) store per row. */
+static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
+                               vfloat u, vfloat v, vfloat prim)
 {
-    uint32_t bits;
-    __asm__("kmovw %1, %0" : "=r"(bits) : "k"(m));
-    return bits;
+    t = _mm512_mask_blend_ps(hit, _mm512_set1_ps(INFINITY), t);
+    u = _mm512_maskz_mov_ps(hit, u);
+    v = _mm512_maskz_mov_ps(hit, v);
+    prim = _mm512_mask_blend_ps(hit, _mm512_castsi512_ps(_mm512_set1_epi32((int)RTT_MISS)), prim);
+    /* in each 128-bit lane (a row), the records of its four pixels */
+    const __m512 tu_lo = _mm512_unpacklo_ps(t, u), tu_hi = _mm512_unpackhi_ps(t, u);
+    const __m512 vp_lo = _mm512_unpacklo_ps(v, prim), vp_hi = _mm512_unpackhi_ps(v, prim);
+    const __m512 p0 = _mm512_shuffle_ps(tu_lo, vp_lo, 0x44), p1 = _mm512_shuffle_ps(tu_lo, vp_lo, 0xEE);
+    const __m512 p2 = _mm512_shuffle_ps(tu_hi, vp_hi, 0x44), p3 = _mm512_shuffle_ps(tu_hi, vp_hi, 0xEE);
+    /* pixel p's record of row j is 128-bit lane j of p_p: rows from lanes */
+    const __m512 a = _mm512_shuffle_f32x4(p0, p1, 0x44), b = _mm512_shuffle_f32x4(p0, p1, 0xEE);
+    const __m512 c = _mm512_shuffle_f32x4(p2, p3, 0x44), d = _mm512_shuffle_f32x4(p2, p3, 0xEE);
+    const __m512 out[4] = {_mm512_shuffle_f32x4(a, c, 0x88), _mm512_shuffle_f32x4(a, c, 0xDD),
+                           _mm512_shuffle_f32x4(b, d, 0x88), _mm512_shuffle_f32x4(b, d, 0xDD)};
+    const __mmask16 words = (__mmask16)(pixels >= 4u ? 0xFFFFu : (1u << (4u * pixels)) - 1u);
+    for (uint32_t r = 0; r < rows; r++) _mm512_mask_storeu_ps((float *)(row + r * stride), words, out[r]);
 }
 /* lanes of m where a is in (lo, hi) */
 static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
@@ -153,6 +188,30 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
                                                                        _mm256_cmp_ps(a, _mm256_set1_ps(hi), _CMP_LT_OQ))));
 }
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm256_movemask_ps(m); }
+/* the AVX-512 store's transposes for a 4x2 block: a row per 128-bit lane */
+static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
+                               vfloat u, vfloat v, vfloat prim)
+{
+    t = _mm256_blendv_ps(_mm256_set1_ps(INFINITY), t, hit);
+    u = _mm256_and_ps(u, hit);
+    v = _mm256_and_ps(v, hit);
+    prim = _mm256_blendv_ps(_mm256_castsi256_ps(_mm256_set1_epi32((int)RTT_MISS)), prim, hit);
+    const __m256 tu_lo = _mm256_unpacklo_ps(t, u), tu_hi = _mm256_unpackhi_ps(t, u);
+    const __m256 vp_lo = _mm256_unpacklo_ps(v, prim), vp_hi = _mm256_unpackhi_ps(v, prim);
+    const __m256 p0 = _mm256_shuffle_ps(tu_lo, vp_lo, 0x44), p1 = _mm256_shuffle_ps(tu_lo, vp_lo, 0xEE);
+    const __m256 p2 = _mm256_shuffle_ps(tu_hi, vp_hi, 0x44), p3 = _mm256_shuffle_ps(tu_hi, vp_hi, 0xEE);
+    /* row j, pixels 0-1 and 2-3: lane j of p0, p1 and of p2, p3 */
+    const __m256 out[2][2] = {{_mm256_permute2f128_ps(p0, p1, 0x20), _mm256_permute2f128_ps(p2, p3, 0x20)},
+                              {_mm256_permute2f128_ps(p0, p1, 0x31), _mm256_permute2f128_ps(p2, p3, 0x31)}};
+    const __m256i lane = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
+    const __m256i first = _mm256_cmpgt_epi32(_mm256_set1_epi32((int)pixels), lane);
+    const __m256i second = _mm256_cmpgt_epi32(_mm256_set1_epi32((int)pixels - 2), lane);
+    for (uint32_t r = 0; r < rows; r++) {
+        float *p = (float *)(row + r * stride);
+        _mm256_maskstore_ps(p, first, out[r][0]);
+        _mm256_maskstore_ps(p + 8, second, out[r][1]);
+    }
+}
 #else
 #define LANES 4
 typedef __m128 vfloat;
@@ -207,6 +266,19 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
     return (uint32_t)_mm_movemask_ps(_mm_and_ps(m, _mm_and_ps(_mm_cmpgt_ps(a, _mm_set1_ps(lo)), _mm_cmplt_ps(a, _mm_set1_ps(hi)))));
 }
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm_movemask_ps(m); }
+/* a 4x1 block: one 4x4 transpose, a record per pixel */
+static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
+                               vfloat u, vfloat v, vfloat prim)
+{
+    (void)stride, (void)rows;
+    t = _mm_blendv_ps(_mm_set1_ps(INFINITY), t, hit);
+    u = _mm_and_ps(u, hit);
+    v = _mm_and_ps(v, hit);
+    prim = _mm_blendv_ps(_mm_castsi128_ps(_mm_set1_epi32((int)RTT_MISS)), prim, hit);
+    _MM_TRANSPOSE4_PS(t, u, v, prim);
+    const __m128 out[4] = {t, u, v, prim};
+    for (uint32_t p = 0; p < pixels && p < 4u; p++) _mm_storeu_ps((float *)(row + p), out[p]);
+}
 #endif
 
 #define BLOCK_H (LANES / 4)
@@ -319,8 +391,6 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
     const vfloat corner_x = vf_set1(f->corner.x), corner_y = vf_set1(f->corner.y), corner_z = vf_set1(f->corner.z);
     const vfloat du_x = vf_set1(f->du.x), du_y = vf_set1(f->du.y), du_z = vf_set1(f->du.z);
     const vfloat dv_x = vf_set1(f->dv.x), dv_y = vf_set1(f->dv.y), dv_z = vf_set1(f->dv.z);
-    _Alignas(64) float out_t[LANES], out_u[LANES], out_v[LANES];
-    _Alignas(64) uint32_t out_prim[LANES];
     for (uint32_t by = 0; by * BLOCK_H < h; by++) {
         const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
         const vfloat row_x = vf_mul(dv_x, fy), row_y = vf_mul(dv_y, fy), row_z = vf_mul(dv_z, fy);
@@ -329,6 +399,7 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
             vfloat sf[PGRID_SURFACE_FLOATS];
             const vmask hit = gather_surfaces(g->surfaces, triangle + at, PGRID_SURFACE_FLOATS, sf);
             const uint32_t hit_bits = vm_bits(hit);
+            vfloat t = sf[0], u = sf[0], v = sf[0];
             if (hit_bits) {
                 const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x), t_d = vf_load(depth + at);
                 const vfloat d_x = vf_add(corner_x, vf_add(vf_mul(du_x, fx), row_x));
@@ -336,25 +407,27 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
                 const vfloat d_z = vf_add(corner_z, vf_add(vf_mul(du_z, fx), row_z));
                 const vfloat q_x = vf_sub(vf_mul(t_d, d_x), sf[0]), q_y = vf_sub(vf_mul(t_d, d_y), sf[1]),
                              q_z = vf_sub(vf_mul(t_d, d_z), sf[2]);
-                vf_store(out_u, vf_add(vf_add(vf_mul(q_x, sf[3]), vf_mul(q_y, sf[4])), vf_mul(q_z, sf[5])));
-                vf_store(out_v, vf_add(vf_add(vf_mul(q_x, sf[6]), vf_mul(q_y, sf[7])), vf_mul(q_z, sf[8])));
+                u = vf_add(vf_add(vf_mul(q_x, sf[3]), vf_mul(q_y, sf[4])), vf_mul(q_z, sf[5]));
+                v = vf_add(vf_add(vf_mul(q_x, sf[6]), vf_mul(q_y, sf[7])), vf_mul(q_z, sf[8]));
                 const vfloat length = vf_sqrt(vf_add(vf_add(vf_mul(d_x, d_x), vf_mul(d_y, d_y)), vf_mul(d_z, d_z)));
-                vf_store(out_t, vf_mul(vf_mul(t_d, inv_scale), length));
-                vf_store((float *)out_prim, sf[9]);
+                t = vf_mul(vf_mul(t_d, inv_scale), length);
                 /* lanes whose |D| needs rtt_v3_length's wide-range path */
-                for (uint32_t wide = hit_bits & ~vm_bits_inside(hit, length, 1e-18f, 1e18f); wide; wide &= wide - 1) {
-                    const uint32_t i = (uint32_t)__builtin_ctz(wide);
-                    const float px = (float)(X0 + bx * 4u + i % 4u) + 0.5f, py = (float)(Y0 + by * BLOCK_H + i / 4u) + 0.5f;
-                    const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, px), rtt_v3_scale(f->dv, py)));
-                    out_t[i] = depth[at + i] * g->inv_scale * rtt_v3_length(d);
+                const uint32_t wide_bits = hit_bits & ~vm_bits_inside(hit, length, 1e-18f, 1e18f);
+                if (wide_bits) {
+                    _Alignas(64) float out_t[LANES];
+                    vf_store(out_t, t);
+                    for (uint32_t wide = wide_bits; wide; wide &= wide - 1) {
+                        const uint32_t i = (uint32_t)__builtin_ctz(wide);
+                        const float px = (float)(X0 + bx * 4u + i % 4u) + 0.5f, py = (float)(Y0 + by * BLOCK_H + i / 4u) + 0.5f;
+                        const rtt_vec3 d = rtt_v3_add(f->corner, rtt_v3_add(rtt_v3_scale(f->du, px), rtt_v3_scale(f->dv, py)));
+                        out_t[i] = depth[at + i] * g->inv_scale * rtt_v3_length(d);
+                    }
+                    t = vf_load(out_t);
                 }
             }
-            for (uint32_t i = 0; i < LANES; i++) {
-                const uint32_t x = bx * 4u + i % 4u, y = by * BLOCK_H + i / 4u;
-                if (x >= w || y >= h) continue;
-                hits[(size_t)y * stride + x] = hit_bits >> i & 1u ? (rtt_hit){out_t[i], out_u[i], out_v[i], out_prim[i]}
-                                                                 : (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS};
-            }
+            const uint32_t x = bx * 4u, y = by * BLOCK_H;
+            store_block(hits + (size_t)y * stride + x, stride, w - x, h - y < BLOCK_H ? h - y : BLOCK_H, hit, t, u, v,
+                        sf[9]);
         }
     }
 }
