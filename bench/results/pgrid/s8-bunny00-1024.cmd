@@ -1,0 +1,1 @@
+build/cli/rtt bench ~/.cache/rtt-data/meshes/bunny00.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json  # commit 0936571, load before: 0.99 1.44 1.57

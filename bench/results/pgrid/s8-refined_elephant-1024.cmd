@@ -1,0 +1,1 @@
+build/cli/rtt bench ~/.cache/rtt-data/meshes/refined_elephant.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json  # commit 0936571, load before: 1.00 1.39 1.55
