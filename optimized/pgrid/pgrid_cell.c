@@ -72,8 +72,9 @@ static inline void vf_store(float *p, vfloat a) { _mm512_store_ps(p, a); }
 /* A mask's 16 bits as an integer, through kmovw into a general register
  * (which zero-extends).  Not the implicit conversion: GCC 12 at -O3 with
  * -fsanitize=thread spilled the mask with a 16-bit kmovw and reloaded the
- * integer with a 32-bit mov, so bits 16..31 held stack garbage and the
- * wide-range loop of pgrid_resolve_cell wrote out_t past its end (out_u of other lanes). */
+ * integer with a 32-bit mov, so bits 16..31 held stack garbage, and a loop
+ * over a block's lane bits (pgrid_resolve_cell's wide-range lanes) ran past
+ * the vector's 16 lanes and wrote into other lanes' results. */
 static inline uint32_t vm_bits(vmask m)
 {
     uint32_t bits;
@@ -399,7 +400,7 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const float *depth, c
             vfloat sf[PGRID_SURFACE_FLOATS];
             const vmask hit = gather_surfaces(g->surfaces, triangle + at, PGRID_SURFACE_FLOATS, sf);
             const uint32_t hit_bits = vm_bits(hit);
-            vfloat t = sf[0], u = sf[0], v = sf[0];
+            vfloat t = sf[0], u = sf[0], v = sf[0]; /* any value: store_block keeps only the hit lanes */
             if (hit_bits) {
                 const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x), t_d = vf_load(depth + at);
                 const vfloat d_x = vf_add(corner_x, vf_add(vf_mul(du_x, fx), row_x));
