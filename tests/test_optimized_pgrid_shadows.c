@@ -6,7 +6,8 @@
  * a light's centre over (epsilon, distance - epsilon)), from the eye rays'
  * hit points and from points all over the scene's box, lights at the
  * scene's and at random places (inside the geometry too, which fills the
- * near list); the culling on a real closed mesh (the bunny, when cached).
+ * near list); each of those grids rebuilt on 2 and 3 threads equals its
+ * one-thread build; the culling on a real closed mesh (the bunny, when cached).
  * Then the renderer: --shadows pgrid gives hard's image bit for
  * bit (same rays, same visibility), with --accel pgrid and kd; and the
  * method's name, parse and refusal by the reference renderer. */
@@ -77,7 +78,6 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
     const float position[3] = {light.x, light.y, light.z};
     assert_true(pgrid_light_build(&grid, grids, s, position, res));
     one.lights = &grid, one.light_count = 1;
-    check_rebuild(s, grids, &grid, position, res);
     rtt_ray *rays = malloc((size_t)point_count * sizeof *rays);
     uint32_t *prims = malloc(((size_t)point_count + 1) * sizeof *prims);
     uint8_t *expected = malloc(point_count + 1), *engine = malloc(point_count + 1), *ours = malloc(point_count + 1);
@@ -118,9 +118,18 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
     pgrid_light_free(&grid);
 }
 
-static void test_light_grid_rays_match_reference_and_brute_force(void **state)
+/* One light check: the grid of `light` at resolution `res` (0: the
+ * default) over scene s, with the points the rays start from (none for a
+ * check that traces no rays). */
+typedef void light_check(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids, const rtt_vec3 *points,
+                         const uint32_t *point_prims, uint32_t point_count, uint32_t res, rtt_vec3 light,
+                         const char *what);
+
+/* `check` on every light of the light grids' scenes, and on a light at a
+ * random place in each scene's box (near triangles, rays from every side),
+ * at several resolutions; with the rays' origins when `with_points`. */
+static void sweep_lights(light_check *check, int with_points)
 {
-    (void)state;
     static const char *const scenes[] = {"demo.json", "mesh_obj.json", "shadow_thin_plate.json",
                                          "shadow_on_shadow.json", "light_sphere.json", "shadow_occluder_sizes.json"};
     static const uint32_t resolutions[] = {0, 7, 64};
@@ -132,21 +141,22 @@ static void test_light_grid_rays_match_reference_and_brute_force(void **state)
         pgrid_shadows grids;
         assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
         assert_int_equal(grids.light_count, s->light_count);
-        uint32_t count, *prims;
-        rtt_vec3 *points = shadow_origins(s, ref, 48, test_sweep(36), test_sweep(800), &count, 7u + (uint32_t)sc, &prims);
+        uint32_t count = 0, *prims = NULL;
+        rtt_vec3 *points = NULL;
+        if (with_points)
+            points = shadow_origins(s, ref, 48, test_sweep(36), test_sweep(800), &count, 7u + (uint32_t)sc, &prims);
         uint32_t seed = 99u + (uint32_t)sc;
         for (size_t r = 0; r < sizeof resolutions / sizeof resolutions[0]; r++) {
             char what[96];
             for (uint32_t l = 0; l < s->light_count; l++) {
                 snprintf(what, sizeof what, "%s light %u", scenes[sc], l);
-                check_light(s, ref, &grids, points, prims, count, resolutions[r], s->lights[l].position, what);
+                check(s, ref, &grids, points, prims, count, resolutions[r], s->lights[l].position, what);
             }
-            /* a light somewhere in the scene's box: near triangles, rays from every side */
             const rtt_vec3 lo = s->bounds.lo, hi = s->bounds.hi;
             const rtt_vec3 inside = {random_in(&seed, lo.x, hi.x), random_in(&seed, lo.y, hi.y),
                                      random_in(&seed, lo.z, hi.z)};
             snprintf(what, sizeof what, "%s light inside", scenes[sc]);
-            check_light(s, ref, &grids, points, prims, count, resolutions[r], inside, what);
+            check(s, ref, &grids, points, prims, count, resolutions[r], inside, what);
         }
         free(points);
         free(prims);
@@ -154,6 +164,31 @@ static void test_light_grid_rays_match_reference_and_brute_force(void **state)
         rtt_engine_destroy(ref);
         rtt_scene_free(s);
     }
+}
+
+static void test_light_grid_rays_match_reference_and_brute_force(void **state)
+{
+    (void)state;
+    sweep_lights(check_light, 1);
+}
+
+/* The grid of one light built on one thread, then rebuilt on 2 and 3. */
+static void check_light_rebuild(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids,
+                                const rtt_vec3 *points, const uint32_t *point_prims, uint32_t point_count,
+                                uint32_t res, rtt_vec3 light, const char *what)
+{
+    (void)ref, (void)points, (void)point_prims, (void)point_count, (void)what;
+    pgrid_light grid;
+    const float position[3] = {light.x, light.y, light.z};
+    assert_true(pgrid_light_build(&grid, grids, s, position, res));
+    check_rebuild(s, grids, &grid, position, res);
+    pgrid_light_free(&grid);
+}
+
+static void test_light_grid_rebuilt_on_threads_equals_one_thread(void **state)
+{
+    (void)state;
+    sweep_lights(check_light_rebuild, 0);
 }
 
 /* A soup of random triangles, some huge, some tiny, lights among them. */
@@ -350,6 +385,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_light_grid_rays_match_reference_and_brute_force),
+        cmocka_unit_test(test_light_grid_rebuilt_on_threads_equals_one_thread),
         cmocka_unit_test(test_light_grid_on_a_triangle_soup),
         cmocka_unit_test(test_light_grid_culling_on_the_bunny),
         cmocka_unit_test(test_render_pgrid_shadows_equal_hard),

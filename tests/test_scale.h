@@ -18,6 +18,19 @@
 #ifndef TEST_SANITIZED
 #define TEST_SANITIZED 0
 #endif
+/* 1 in a ThreadSanitizer build, which looks for races: a renderer's threads
+ * and tiles are the same at every instruction set, so its sweeps over them
+ * there may run at the one the CPU picks. */
+#if defined(__SANITIZE_THREAD__)
+#define TEST_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define TEST_TSAN 1
+#endif
+#endif
+#ifndef TEST_TSAN
+#define TEST_TSAN 0
+#endif
 
 /* n, or n / 4 (at least 1) in a sanitizer build. */
 static inline uint32_t test_sweep(uint32_t n) { return TEST_SANITIZED ? (n / 4 ? n / 4 : 1) : n; }
