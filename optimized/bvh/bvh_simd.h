@@ -37,7 +37,16 @@ static inline vm vf_ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
 static inline vm vf_eq(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
 static inline vm vm_and(vm a, vm b) { return (vm)(a & b); }
 static inline vm vm_or(vm a, vm b) { return (vm)(a | b); }
-static inline uint32_t vm_bits(vm a) { return (uint32_t)a; }
+/* the 16 bits through kmovw into a general register (which zero-extends),
+ * not the implicit conversion: GCC 12 at -O3 with -fsanitize=thread was seen
+ * to spill a mask with a 16-bit kmovw and reload it as 32 bits, leaving
+ * stack garbage in bits 16..31 (optimized/pgrid/pgrid_cell.c's vm_bits) */
+static inline uint32_t vm_bits(vm a)
+{
+    uint32_t bits;
+    __asm__("kmovw %1, %0" : "=r"(bits) : "k"(a));
+    return bits;
+}
 static inline vm vm_of_bits(uint32_t bits) { return (vm)bits; }
 /* lanes of m take b, the others a */
 static inline vf vf_blend(vm m, vf a, vf b) { return _mm512_mask_blend_ps(m, a, b); }
