@@ -156,6 +156,87 @@ static void test_pgrid_hits_match_reference(void **state)
     }
 }
 
+/* One cell as a plain Z-buffer would fill it: every pixel of every listed
+ * triangle's rectangle, in list order, with the kernel's operations in its
+ * order (pgrid_cell.c: w_e = (c_e + b_e fy) + a_e fx, inside when all three
+ * are >= 0 or all <= 0, t_D = det / ((c_3 + b_3 fy) + a_3 fx), kept when
+ * 0 < t_D < the kept one), no row spans and no hierarchical depth test. */
+static void plain_z_buffer(const pgrid_eye *g, uint32_t cell, uint32_t lanes, float *depth, uint32_t *triangle)
+{
+    const uint32_t side = g->cell, X0 = (cell % g->cells_x) * side, Y0 = (cell / g->cells_x) * side;
+    for (size_t i = 0; i < (size_t)side * side; i++) depth[i] = INFINITY, triangle[i] = PGRID_NO_TRIANGLE;
+    for (uint32_t r = g->cell_first[cell]; r < g->cell_first[cell + 1]; r++) {
+        const pgrid_triangle *t = &g->triangles[g->refs[r]];
+        for (uint32_t y = t->y0 > Y0 ? t->y0 : Y0; y <= t->y1 && y < Y0 + side && y < g->height; y++)
+            for (uint32_t x = t->x0 > X0 ? t->x0 : X0; x <= t->x1 && x < X0 + side && x < g->width; x++) {
+                const float fx = (float)x + 0.5f, fy = (float)y + 0.5f;
+                float w[4];
+                for (int e = 0; e < 4; e++) w[e] = (t->c[e] + t->b[e] * fy) + t->a[e] * fx;
+                const bool inside = (w[0] >= 0.0f && w[1] >= 0.0f && w[2] >= 0.0f) ||
+                                    (w[0] <= 0.0f && w[1] <= 0.0f && w[2] <= 0.0f);
+                const float tv = t->det / w[3];
+                const size_t at = pgrid_cell_offset(side, lanes, x - X0, y - Y0);
+                if (inside && tv > 0.0f && tv < depth[at]) depth[at] = tv, triangle[at] = g->refs[r];
+            }
+    }
+}
+
+/* The kernel's cell buffers (its row spans and hierarchical depth test
+ * skip blocks) bit for bit those of the plain Z-buffer, every cell, at every
+ * instruction set and several cell sizes, on scenes deep in overdraw: the
+ * triangle soup (big triangles at random depths in random order), the demo
+ * room and, when cached, a Quake III map seen from inside. */
+static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
+{
+    (void)state;
+    rtt_scene *scenes[3] = {NULL, load_scene("demo.json"), NULL};
+    uint32_t seed = 5;
+    scenes[0] = triangle_soup(&seed);
+    char path[600];
+    const char *home = getenv("HOME");
+    snprintf(path, sizeof path, "%s/.cache/rtt-data/maps/czest3ctf.bsp", home ? home : "");
+    rtt_error err = {{0}};
+    scenes[2] = rtt_scene_load(path, NULL, &err);
+    if (!scenes[2]) print_message("%s not cached (bench/fetch-scenes.sh): only the soup and the demo\n", path);
+    static const uint32_t cells[] = {8, 32, 0};
+    for (int sc = 0; sc < 3 && scenes[sc]; sc++) {
+        const uint32_t w = 160, h = 120;
+        rtt_camera_frame frame = rtt_camera_frame_make(&scenes[sc]->camera, w, h);
+        for (size_t c = 0; c < sizeof cells / sizeof cells[0]; c++) {
+            pgrid_eye g = {0};
+            g.threads = 1;
+            assert_true(pgrid_eye_build(&g, scenes[sc], NULL, &frame, w, h, cells[c], &err));
+            const size_t entries = (size_t)g.cell * g.cell;
+            float *depth = malloc(entries * sizeof *depth);
+            uint32_t *triangle = malloc(entries * sizeof *triangle);
+            pgrid_cell_buffers b;
+            assert_true(depth && triangle && pgrid_cell_buffers_alloc(&b, g.cell));
+            uint64_t won = 0;
+            for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+                if (!isa_runs(isa)) continue;
+                const pgrid_kernel *k = pgrid_kernel_find("pgrid", isa);
+                for (uint32_t cell = 0; cell < pgrid_eye_cell_count(&g); cell++) {
+                    plain_z_buffer(&g, cell, k->lanes, depth, triangle);
+                    k->trace_cell(&g, cell, &b);
+                    for (size_t i = 0; i < entries; i++) {
+                        if (triangle[i] != b.triangle[i] || memcmp(&depth[i], &b.depth[i], sizeof(float)) != 0)
+                            fail_msg("scene %d cell %u of %u px %s: entry %zu: triangle %u t %.9g, plain %u t %.9g",
+                                     sc, cell, g.cell, rtt_isa_name(isa), i, b.triangle[i], (double)b.depth[i],
+                                     triangle[i], (double)depth[i]);
+                        won += triangle[i] != PGRID_NO_TRIANGLE;
+                    }
+                }
+            }
+            assert_true(won > 0);
+            pgrid_cell_buffers_free(&b);
+            free(depth);
+            free(triangle);
+            pgrid_eye_free(&g);
+        }
+        rtt_scene_free(scenes[sc]);
+    }
+}
+
 /* Every copy gives the SSE4.1 copy's hits bit for bit, for any thread count. */
 static void test_pgrid_isa_bit_identical(void **state)
 {
@@ -300,6 +381,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pgrid_hits_match_reference),
         cmocka_unit_test(test_pgrid_isa_bit_identical),
+        cmocka_unit_test(test_cell_buffers_equal_a_plain_z_buffer),
         cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),
         cmocka_unit_test(test_pgrid_skips_degenerate),
         cmocka_unit_test(test_pgrid_refuses_bad_cells),

@@ -111,15 +111,28 @@ static inline size_t pgrid_cell_offset(uint32_t cell, uint32_t lanes, uint32_t x
     return ((size_t)(y / block_h) * (cell / 4u) + x / 4u) * lanes + (y % block_h) * 4u + x % 4u;
 }
 
+/* One thread's buffers for the cell it traces: per pixel the closest t_D
+ * and its triangle (pgrid_cell_offset's layout), per block the largest t_D
+ * it keeps (the hierarchical depth test of pgrid_cell.c); sized for cells
+ * of `cell` pixels at any width. */
+typedef struct pgrid_cell_buffers {
+    float *depth;           /* cell * cell */
+    uint32_t *triangle;     /* cell * cell */
+    float *block_max;       /* cell * cell / 4: a block per vector, 4 lanes or more */
+} pgrid_cell_buffers;
+/* False (nothing held) when out of memory. */
+bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell);
+void pgrid_cell_buffers_free(pgrid_cell_buffers *b);
+
 
 /* The per-cell kernel (pgrid_cell.c, one copy per instruction set): fills
  * the buffers of cell `cell` with the closest triangle per pixel and its
  * t_D (PGRID_NO_TRIANGLE and +inf where none). */
-typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, float *depth, uint32_t *triangle);
+typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_buffers *buffers);
 /* ...and the hits of the cell's pixels from them: pixel (X0 + x, Y0 + y)
  * of the cell with corner (X0, Y0) into hits[y * stride + x]; t along
  * rtt_camera_ray's normalised direction, u, v, prim (a miss where none). */
-typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, const float *depth, const uint32_t *triangle,
+typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, const pgrid_cell_buffers *buffers,
                                  rtt_hit *hits, size_t stride);
 
 /* The perspective grid's kernel descriptor table (pgrid_table.c): one row

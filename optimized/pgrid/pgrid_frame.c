@@ -13,18 +13,35 @@ typedef struct frame_job {
     const pgrid_eye *grid;
     const pgrid_kernel *kernel;
     rtt_hit *hits;
-    float **depth;
-    uint32_t **triangle;
+    pgrid_cell_buffers *buffers; /* per thread */
 } frame_job;
+
+bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell)
+{
+    const size_t entries = (size_t)cell * cell;
+    b->depth = aligned_alloc(64, entries * sizeof(float));
+    b->triangle = aligned_alloc(64, entries * sizeof(uint32_t));
+    b->block_max = malloc((entries / 4u ? entries / 4u : 1u) * sizeof(float));
+    if (b->depth && b->triangle && b->block_max) return true;
+    pgrid_cell_buffers_free(b);
+    return false;
+}
+
+void pgrid_cell_buffers_free(pgrid_cell_buffers *b)
+{
+    free(b->depth);
+    free(b->triangle);
+    free(b->block_max);
+    b->depth = NULL, b->triangle = NULL, b->block_max = NULL;
+}
 
 static void trace_cell(void *context, uint32_t thread, uint32_t cell)
 {
     const frame_job *job = context;
     const pgrid_eye *g = job->grid;
     const uint32_t X0 = (cell % g->cells_x) * g->cell, Y0 = (cell / g->cells_x) * g->cell;
-    job->kernel->trace_cell(g, cell, job->depth[thread], job->triangle[thread]);
-    job->kernel->resolve_cell(g, cell, job->depth[thread], job->triangle[thread],
-                              job->hits + (size_t)Y0 * g->width + X0, g->width);
+    job->kernel->trace_cell(g, cell, &job->buffers[thread]);
+    job->kernel->resolve_cell(g, cell, &job->buffers[thread], job->hits + (size_t)Y0 * g->width + X0, g->width);
 }
 
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
@@ -37,20 +54,11 @@ bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rt
     if (!pgrid_eye_build(grid, scene, degenerate, frame, width, height, cell, err)) return false;
     if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     threads = rtt_thread_count(threads);
-    const size_t entries = (size_t)grid->cell * grid->cell;
-    frame_job job = {grid, kernel, hits, calloc(threads, sizeof(float *)), calloc(threads, sizeof(uint32_t *))};
-    bool ok = job.depth && job.triangle;
-    for (uint32_t t = 0; ok && t < threads; t++) {
-        job.depth[t] = aligned_alloc(64, entries * sizeof(float));
-        job.triangle[t] = aligned_alloc(64, entries * sizeof(uint32_t));
-        ok = job.depth[t] && job.triangle[t];
-    }
+    frame_job job = {grid, kernel, hits, calloc(threads, sizeof(pgrid_cell_buffers))};
+    bool ok = job.buffers != NULL;
+    for (uint32_t t = 0; ok && t < threads; t++) ok = pgrid_cell_buffers_alloc(&job.buffers[t], grid->cell);
     if (ok) rtt_parallel_run(pgrid_eye_cell_count(grid), threads, trace_cell, &job);
-    for (uint32_t t = 0; t < threads && job.depth && job.triangle; t++) {
-        free(job.depth[t]);
-        free(job.triangle[t]);
-    }
-    free(job.depth);
-    free(job.triangle);
+    for (uint32_t t = 0; t < threads && job.buffers; t++) pgrid_cell_buffers_free(&job.buffers[t]);
+    free(job.buffers);
     return ok || rtt_error_set(err, "%s: out of memory tracing the perspective grid", scene->path);
 }

@@ -17,15 +17,12 @@ bool pgrid_render_begin(pgrid_render *r, const pgrid_kernel *kernel, const rtt_s
     if (!pgrid_eye_build(&r->grid, scene, degenerate, frame, width, height, cell, err)) return false;
     r->build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     const size_t entries = (size_t)r->grid.cell * r->grid.cell;
-    r->depth = calloc(threads, sizeof *r->depth);
-    r->triangle = calloc(threads, sizeof *r->triangle);
+    r->buffers = calloc(threads, sizeof *r->buffers);
     r->hits = calloc(threads, sizeof *r->hits);
-    bool ok = r->depth && r->triangle && r->hits;
+    bool ok = r->buffers && r->hits;
     for (uint32_t t = 0; ok && t < threads; t++) {
-        r->depth[t] = aligned_alloc(64, entries * sizeof(float));
-        r->triangle[t] = aligned_alloc(64, entries * sizeof(uint32_t));
         r->hits[t] = malloc(entries * sizeof(rtt_hit));
-        ok = r->depth[t] && r->triangle[t] && r->hits[t];
+        ok = r->hits[t] && pgrid_cell_buffers_alloc(&r->buffers[t], r->grid.cell);
     }
     return ok || rtt_error_set(err, "%s: out of memory for the perspective grid's cells", scene->path);
 }
@@ -37,8 +34,8 @@ void pgrid_render_cell(const pgrid_render *r, uint32_t thread, sp_scratch *s, ui
     const uint64_t t0 = rtt_clock_ns();
     const uint32_t cell = (y0 / g->cell) * g->cells_x + x0 / g->cell;
     rtt_hit *hits = r->hits[thread];
-    r->kernel->trace_cell(g, cell, r->depth[thread], r->triangle[thread]);
-    r->kernel->resolve_cell(g, cell, r->depth[thread], r->triangle[thread], hits, g->cell);
+    r->kernel->trace_cell(g, cell, &r->buffers[thread]);
+    r->kernel->resolve_cell(g, cell, &r->buffers[thread], hits, g->cell);
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             const rtt_ray ray = rtt_camera_ray(&g->frame, x, y);
@@ -50,12 +47,10 @@ void pgrid_render_cell(const pgrid_render *r, uint32_t thread, sp_scratch *s, ui
 void pgrid_render_end(pgrid_render *r)
 {
     for (uint32_t t = 0; t < r->threads; t++) {
-        if (r->depth) free(r->depth[t]);
-        if (r->triangle) free(r->triangle[t]);
+        if (r->buffers) pgrid_cell_buffers_free(&r->buffers[t]);
         if (r->hits) free(r->hits[t]);
     }
     free(r->hits);
-    free(r->depth);
-    free(r->triangle);
+    free(r->buffers);
     pgrid_eye_free(&r->grid);
 }

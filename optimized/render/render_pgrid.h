@@ -14,8 +14,7 @@ typedef struct pgrid_render {
     pgrid_eye grid;
     const pgrid_kernel *kernel;
     uint32_t threads;
-    float **depth;          /* per thread: a cell's depth buffer */
-    uint32_t **triangle;    /* per thread: the triangle per pixel */
+    pgrid_cell_buffers *buffers; /* per thread: a cell's depth, triangle and block buffers */
     rtt_hit **hits;         /* per thread: the cell's hits, row-major */
     double build_seconds;
 } pgrid_render;
