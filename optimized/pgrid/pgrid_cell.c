@@ -323,25 +323,63 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
  * [y + 0.5, y + BLOCK_H - 0.5] each edge bounds fx on one side; the span
  * is widened by a block each way for the rounding of this bound (the
  * test itself stays the per-lane one), so no block with a pixel inside is
- * skipped.  False when no block of the row can be. */
-static bool row_span(const pgrid_triangle *t, float sign, float y, uint32_t X0, uint32_t *bx0, uint32_t *bx1)
+ * skipped.  False when no block of the row can be.  The three edges go
+ * through one SSE vector, each bound a line in y set up per triangle
+ * (row_edges): the division per edge and row it replaces was a third of
+ * oa_dm4's frame. */
+/* A triangle's three edges (sign * a, b, c; a fourth lane of zeros) for
+ * row_span, set up once per triangle, with each edge's bound as a line in
+ * the row's y: -r / a = p + q y, r = c + b y + max(b / 2, b (BLOCK_H - 1/2))
+ * the largest sign * w_e over the row's pixel centres at fx = 0.  The line
+ * rounds differently from the division, by less than a pixel while
+ * |p| + |q| 2^16 < 2^21 (three roundings of 2^-24 relative each), well
+ * inside the block of slack each way; a triangle outside that range keeps
+ * the division per row (`linear` false). */
+typedef struct row_edges {
+    __m128 a, b, c, p, q;
+    bool linear;
+} row_edges;
+
+static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
+{
+    const __m128 s = _mm_set1_ps(sign);
+    row_edges e = {_mm_mul_ps(s, _mm_setr_ps(t->a[0], t->a[1], t->a[2], 0.0f)),
+                   _mm_mul_ps(s, _mm_setr_ps(t->b[0], t->b[1], t->b[2], 0.0f)),
+                   _mm_mul_ps(s, _mm_setr_ps(t->c[0], t->c[1], t->c[2], 0.0f)), _mm_setzero_ps(), _mm_setzero_ps(),
+                   true};
+    const __m128 k = _mm_max_ps(_mm_mul_ps(e.b, _mm_set1_ps(0.5f)), _mm_mul_ps(e.b, _mm_set1_ps((float)BLOCK_H - 0.5f)));
+    const __m128 neg = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps();
+    const __m128 sloped = _mm_cmpneq_ps(e.a, zero);
+    const __m128 one_a = _mm_blendv_ps(_mm_set1_ps(1.0f), e.a, sloped);
+    e.p = _mm_and_ps(sloped, _mm_div_ps(_mm_xor_ps(_mm_add_ps(e.c, k), neg), one_a));
+    e.q = _mm_and_ps(sloped, _mm_div_ps(_mm_xor_ps(e.b, neg), one_a));
+    const __m128 size = _mm_add_ps(_mm_andnot_ps(neg, e.p), _mm_mul_ps(_mm_andnot_ps(neg, e.q), _mm_set1_ps(65536.0f)));
+    /* NaN sizes fail the comparison too */
+    e.linear = (_mm_movemask_ps(_mm_cmplt_ps(size, _mm_set1_ps(2097152.0f))) & 7) == 7;
+    return e;
+}
+
+static bool row_span(const row_edges *e, float y, uint32_t X0, uint32_t *bx0, uint32_t *bx1)
 {
     float lo = (float)X0 + 4.0f * (float)*bx0, hi = (float)X0 + 4.0f * (float)*bx1 + 4.0f;
-    for (int e = 0; e < 3; e++) {
-        const float a = sign * t->a[e], b = sign * t->b[e], c = sign * t->c[e];
-        /* the largest sign * w_e over the row's fy, at fx = 0 */
-        const float top = c + b * (y + 0.5f), bottom = c + b * (y + (float)BLOCK_H - 0.5f);
-        const float r = top > bottom ? top : bottom;
-        if (a > 0.0f) {
-            const float from = -r / a;
-            if (from > lo) lo = from;
-        } else if (a < 0.0f) {
-            const float to = -r / a;
-            if (to < hi) hi = to;
-        } else if (r < 0.0f) {
-            return false;
-        }
-    }
+    /* per edge, the largest sign * w_e over the row's fy, at fx = 0 */
+    const __m128 top = _mm_add_ps(e->c, _mm_mul_ps(e->b, _mm_set1_ps(y + 0.5f)));
+    const __m128 bottom = _mm_add_ps(e->c, _mm_mul_ps(e->b, _mm_set1_ps(y + (float)BLOCK_H - 0.5f)));
+    const __m128 r = _mm_max_ps(top, bottom); /* top > bottom ? top : bottom */
+    const __m128 zero = _mm_setzero_ps();
+    /* an edge with a = 0 that is negative all along the row: no pixel */
+    if (_mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(e->a, zero), _mm_cmplt_ps(r, zero))) & 7) return false;
+    /* a > 0 bounds fx from below at -r / a, a < 0 from above (NaN bounds nothing) */
+    const __m128 bound = e->linear ? _mm_add_ps(e->p, _mm_mul_ps(e->q, _mm_set1_ps(y)))
+                                   : _mm_div_ps(_mm_xor_ps(r, _mm_set1_ps(-0.0f)), e->a);
+    const __m128 ordered = _mm_cmpord_ps(bound, bound);
+    const __m128 from = _mm_blendv_ps(_mm_set1_ps(-INFINITY), bound, _mm_and_ps(ordered, _mm_cmpgt_ps(e->a, zero)));
+    const __m128 to = _mm_blendv_ps(_mm_set1_ps(INFINITY), bound, _mm_and_ps(ordered, _mm_cmplt_ps(e->a, zero)));
+    __m128 f = _mm_max_ps(from, _mm_movehl_ps(from, from)), g = _mm_min_ps(to, _mm_movehl_ps(to, to));
+    f = _mm_max_ss(f, _mm_shuffle_ps(f, f, 1)), g = _mm_min_ss(g, _mm_shuffle_ps(g, g, 1));
+    const float from_max = _mm_cvtss_f32(f), to_min = _mm_cvtss_f32(g);
+    if (from_max > lo) lo = from_max;
+    if (to_min < hi) hi = to_min;
     const float first = (lo - (float)X0) * 0.25f - 1.0f, last = (hi - (float)X0) * 0.25f + 1.0f;
     if (first > last || first > (float)*bx1 || last < (float)*bx0) return false;
     if (first > (float)*bx0) *bx0 = first < (float)*bx1 ? (uint32_t)first : *bx1;
@@ -399,14 +437,16 @@ static inline __attribute__((always_inline)) bool trace_triangle(const pgrid_tri
     const vfloat c0 = vf_set1(t->c[0]), c1 = vf_set1(t->c[1]), c2 = vf_set1(t->c[2]);
     const vfloat a3 = vf_set1(t->a[3]), b3 = vf_set1(t->b[3]), c3 = vf_set1(t->c[3]);
     const vfloat det = vf_set1(t->det);
-    const float sign = t->det < 0.0f ? -1.0f : 1.0f;
+    /* rows of 5 blocks or more are cut to their span (row_span) */
+    const bool wide = (x1 - X0) / 4u - (x0 - X0) / 4u >= 4u;
+    const row_edges edges = wide ? row_edges_make(t, t->det < 0.0f ? -1.0f : 1.0f) : (row_edges){0};
     bool won = false;
     for (uint32_t by = (y0 - Y0) / BLOCK_H; by <= (y1 - Y0) / BLOCK_H; by++) {
         const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
         const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
                      r2 = vf_add(c2, vf_mul(b2, fy)), r3 = vf_add(c3, vf_mul(b3, fy));
         uint32_t bx0 = (x0 - X0) / 4u, bx1 = (x1 - X0) / 4u;
-        if (bx1 - bx0 >= 4u && !row_span(t, sign, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) continue;
+        if (wide && !row_span(&edges, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) continue;
         for (uint32_t bx = bx0; bx <= bx1; bx++) {
             const uint32_t block = by * blocks_x + bx;
             if (hiz && block_max[block] <= tri_min) continue;
