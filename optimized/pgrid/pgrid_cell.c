@@ -359,7 +359,8 @@ static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
     return e;
 }
 
-static bool row_span(const row_edges *e, float y, uint32_t X0, uint32_t *bx0, uint32_t *bx1)
+static inline __attribute__((always_inline)) bool row_span(const row_edges *e, float y, uint32_t X0, uint32_t *bx0,
+                                                           uint32_t *bx1)
 {
     float lo = (float)X0 + 4.0f * (float)*bx0, hi = (float)X0 + 4.0f * (float)*bx1 + 4.0f;
     /* per edge, the largest sign * w_e over the row's fy, at fx = 0 */
@@ -381,9 +382,13 @@ static bool row_span(const row_edges *e, float y, uint32_t X0, uint32_t *bx0, ui
     if (from_max > lo) lo = from_max;
     if (to_min < hi) hi = to_min;
     const float first = (lo - (float)X0) * 0.25f - 1.0f, last = (hi - (float)X0) * 0.25f + 1.0f;
-    if (first > last || first > (float)*bx1 || last < (float)*bx0) return false;
-    if (first > (float)*bx0) *bx0 = first < (float)*bx1 ? (uint32_t)first : *bx1;
-    if (last < (float)*bx1) *bx1 = last > (float)*bx0 ? (uint32_t)last : *bx0;
+    const float b0 = (float)*bx0, b1 = (float)*bx1;
+    if (first > last || first > b1 || last < b0) return false;
+    /* first clamped to [bx0, bx1], then last to [that, bx1] (a NaN keeps
+     * the old end), without branches */
+    const float start = first > b0 ? first : b0, lo_block = start < b1 ? start : b1;
+    const float end = last < b1 ? last : b1, hi_block = end > lo_block ? end : lo_block;
+    *bx0 = (uint32_t)lo_block, *bx1 = (uint32_t)hi_block;
     return true;
 }
 
