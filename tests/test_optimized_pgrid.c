@@ -1,8 +1,10 @@
 /* The perspective grid's eye rays (optimized/pgrid/) against the reference
  * engine and a double-precision brute force, at every instruction set this
  * CPU runs and at several cell sizes; every copy bit for bit equal to the
- * SSE4.1 one; the renderer's --accel pgrid images against the reference
- * renderer's; bad cell sizes refused.  demo.json's camera stands inside the
+ * SSE4.1 one; every cell's depth and triangle buffers bit for bit a plain
+ * Z-buffer's (no row spans, no hierarchical depth test); the renderer's
+ * --accel pgrid images against the reference renderer's; bad cell sizes
+ * refused.  demo.json's camera stands inside the
  * room, so its floor, walls and ceiling cross the eye's plane: the build's
  * near-plane clipping is checked there.
  *
