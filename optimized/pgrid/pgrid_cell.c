@@ -82,6 +82,15 @@ static inline vfloat vf_sqrt(vfloat a) { return _mm512_sqrt_ps(a); }
 static inline void vf_store(float *p, vfloat a) { _mm512_store_ps(p, a); }
 static inline float vf_hmax(vfloat a) { return _mm512_reduce_max_ps(a); }
 static inline vfloat vf_blend(vmask m, vfloat a, vfloat b) { return _mm512_mask_blend_ps(m, a, b); }
+static inline vfloat vf_max(vfloat a, vfloat b) { return _mm512_max_ps(a, b); }
+static inline vfloat vf_min(vfloat a, vfloat b) { return _mm512_min_ps(a, b); }
+static inline vmask vm_lt(vfloat a, vfloat b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+static inline vmask vm_or(vmask a, vmask b) { return a | b; }
+static inline vfloat vf_lane_index(void)
+{
+    return _mm512_setr_ps(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.0f, 9.0f, 10.0f, 11.0f, 12.0f, 13.0f, 14.0f, 15.0f);
+}
+static inline void vf_store_i32(int32_t *p, vfloat a) { _mm512_storeu_si512((void *)p, _mm512_cvttps_epi32(a)); }
 /* A mask's 16 bits as an integer, through kmovw into a general register
  * (which zero-extends).  Not the implicit conversion: GCC 12 at -O3 with
  * -fsanitize=thread spilled the mask with a 16-bit kmovw and reloaded the
@@ -193,6 +202,12 @@ static inline float vf_hmax(vfloat a)
     return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
 static inline vfloat vf_blend(vmask m, vfloat a, vfloat b) { return _mm256_blendv_ps(a, b, m); }
+static inline vfloat vf_max(vfloat a, vfloat b) { return _mm256_max_ps(a, b); }
+static inline vfloat vf_min(vfloat a, vfloat b) { return _mm256_min_ps(a, b); }
+static inline vmask vm_lt(vfloat a, vfloat b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+static inline vmask vm_or(vmask a, vmask b) { return _mm256_or_ps(a, b); }
+static inline vfloat vf_lane_index(void) { return _mm256_setr_ps(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f); }
+static inline void vf_store_i32(int32_t *p, vfloat a) { _mm256_storeu_si256((__m256i *)p, _mm256_cvttps_epi32(a)); }
 static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
 {
     const __m256i index = _mm256_load_si256((const __m256i *)triangle);
@@ -276,6 +291,12 @@ static inline float vf_hmax(vfloat a)
     return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
 static inline vfloat vf_blend(vmask m, vfloat a, vfloat b) { return _mm_blendv_ps(a, b, m); }
+static inline vfloat vf_max(vfloat a, vfloat b) { return _mm_max_ps(a, b); }
+static inline vfloat vf_min(vfloat a, vfloat b) { return _mm_min_ps(a, b); }
+static inline vmask vm_lt(vfloat a, vfloat b) { return _mm_cmplt_ps(a, b); }
+static inline vmask vm_or(vmask a, vmask b) { return _mm_or_ps(a, b); }
+static inline vfloat vf_lane_index(void) { return _mm_setr_ps(0.0f, 1.0f, 2.0f, 3.0f); }
+static inline void vf_store_i32(int32_t *p, vfloat a) { _mm_storeu_si128((__m128i *)p, _mm_cvttps_epi32(a)); }
 static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_t *triangle, int count, vfloat *field)
 {
     _Alignas(16) float lane[PGRID_SURFACE_FLOATS][4] = {{0}};
@@ -326,7 +347,9 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
  * skipped.  False when no block of the row can be.  The three edges go
  * through one SSE vector, each bound a line in y set up per triangle
  * (row_edges): the division per edge and row it replaces was a third of
- * oa_dm4's frame. */
+ * oa_dm4's frame.  When every edge slopes and every bound is a line,
+ * row_spans gives all the rectangle's rows at once instead, LANES rows a
+ * vector, the same spans. */
 /* A triangle's three edges (sign * a, b, c; a fourth lane of zeros) for
  * row_span, set up once per triangle, with each edge's bound as a line in
  * the row's y: -r / a = p + q y, r = c + b y + max(b / 2, b (BLOCK_H - 1/2))
@@ -337,16 +360,16 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
  * the division per row (`linear` false). */
 typedef struct row_edges {
     __m128 a, b, c, p, q;
-    bool linear;
+    float a_of[4], p_of[4], q_of[4]; /* the same, per edge */
+    bool linear, sloped;             /* sloped: no edge has a = 0 */
 } row_edges;
 
 static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
 {
     const __m128 s = _mm_set1_ps(sign);
-    row_edges e = {_mm_mul_ps(s, _mm_setr_ps(t->a[0], t->a[1], t->a[2], 0.0f)),
-                   _mm_mul_ps(s, _mm_setr_ps(t->b[0], t->b[1], t->b[2], 0.0f)),
-                   _mm_mul_ps(s, _mm_setr_ps(t->c[0], t->c[1], t->c[2], 0.0f)), _mm_setzero_ps(), _mm_setzero_ps(),
-                   true};
+    row_edges e = {.a = _mm_mul_ps(s, _mm_setr_ps(t->a[0], t->a[1], t->a[2], 0.0f)),
+                   .b = _mm_mul_ps(s, _mm_setr_ps(t->b[0], t->b[1], t->b[2], 0.0f)),
+                   .c = _mm_mul_ps(s, _mm_setr_ps(t->c[0], t->c[1], t->c[2], 0.0f))};
     const __m128 k = _mm_max_ps(_mm_mul_ps(e.b, _mm_set1_ps(0.5f)), _mm_mul_ps(e.b, _mm_set1_ps((float)BLOCK_H - 0.5f)));
     const __m128 neg = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps();
     const __m128 sloped = _mm_cmpneq_ps(e.a, zero);
@@ -356,6 +379,8 @@ static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
     const __m128 size = _mm_add_ps(_mm_andnot_ps(neg, e.p), _mm_mul_ps(_mm_andnot_ps(neg, e.q), _mm_set1_ps(65536.0f)));
     /* NaN sizes fail the comparison too */
     e.linear = (_mm_movemask_ps(_mm_cmplt_ps(size, _mm_set1_ps(2097152.0f))) & 7) == 7;
+    e.sloped = (_mm_movemask_ps(sloped) & 7) == 7;
+    _mm_storeu_ps(e.a_of, e.a), _mm_storeu_ps(e.p_of, e.p), _mm_storeu_ps(e.q_of, e.q);
     return e;
 }
 
@@ -422,6 +447,34 @@ static float t_lower_bound(const pgrid_triangle *t, float fx0, float fx1, float 
     return 0.0f;
 }
 
+/* Block rows at a time: the spans of rows [by0, by0 + rows) of a rectangle
+ * of blocks [bx0, bx1], LANES rows a vector, for edges that all slope and
+ * whose bounds are lines (row_edges): row_span's arithmetic on the line,
+ * each row's ends clamped the same way, first[i] > last[i] for a row with
+ * no block.  `first` and `last` hold rows rounded up to LANES. */
+static inline __attribute__((always_inline)) void row_spans(const row_edges *e, uint32_t Y0, uint32_t by0,
+                                                            uint32_t rows, uint32_t X0, uint32_t bx0, uint32_t bx1,
+                                                            int32_t *first, int32_t *last)
+{
+    const vfloat lane = vf_lane_index(), row_h = vf_set1((float)BLOCK_H), x0 = vf_set1((float)X0);
+    const vfloat b0 = vf_set1((float)bx0), b1 = vf_set1((float)bx1), quarter = vf_set1(0.25f), one = vf_set1(1.0f);
+    for (uint32_t i = 0; i < rows; i += LANES) {
+        /* each row's y, as row_span's: (float)(Y0 + by * BLOCK_H), exact */
+        const vfloat y = vf_add(vf_set1((float)(Y0 + (by0 + i) * BLOCK_H)), vf_mul(lane, row_h));
+        vfloat lo = vf_set1((float)X0 + 4.0f * (float)bx0), hi = vf_set1((float)X0 + 4.0f * (float)bx1 + 4.0f);
+        for (int k = 0; k < 3; k++) {
+            const vfloat bound = vf_add(vf_set1(e->p_of[k]), vf_mul(vf_set1(e->q_of[k]), y));
+            if (e->a_of[k] > 0.0f) lo = vf_max(bound, lo); /* bound > lo ? bound : lo */
+            else hi = vf_min(bound, hi);                     /* bound < hi ? bound : hi */
+        }
+        const vfloat f = vf_sub(vf_mul(vf_sub(lo, x0), quarter), one), l = vf_add(vf_mul(vf_sub(hi, x0), quarter), one);
+        const vmask none = vm_or(vm_or(vm_lt(l, f), vm_lt(b1, f)), vm_lt(l, b0));
+        const vfloat lo_block = vf_min(vf_max(f, b0), b1), hi_block = vf_max(vf_min(l, b1), lo_block);
+        vf_store_i32(first + i, vf_blend(none, lo_block, vf_add(b1, one)));
+        vf_store_i32(last + i, vf_blend(none, hi_block, b1));
+    }
+}
+
 /* One triangle's rectangle [x0, x1] x [y0, y1] (pixels, inside the cell
  * with corner (X0, Y0)) against the cell's buffers; true when it won a
  * pixel.  With `hiz` (a constant: two copies) a block is skipped when its
@@ -444,14 +497,26 @@ static inline __attribute__((always_inline)) bool trace_triangle(const pgrid_tri
     const vfloat det = vf_set1(t->det);
     /* rows of 5 blocks or more are cut to their span (row_span) */
     const bool wide = (x1 - X0) / 4u - (x0 - X0) / 4u >= 4u;
-    const row_edges edges = wide ? row_edges_make(t, t->det < 0.0f ? -1.0f : 1.0f) : (row_edges){0};
+    const row_edges edges = wide ? row_edges_make(t, t->det < 0.0f ? -1.0f : 1.0f) : (row_edges){.linear = false};
+    /* all rows' spans at once when the bounds are lines of sloped edges */
+    const uint32_t by_first = (y0 - Y0) / BLOCK_H, by_last = (y1 - Y0) / BLOCK_H;
+    const bool spans_at_once = wide && edges.linear && edges.sloped;
+    _Alignas(64) int32_t span_first[PGRID_EYE_CELL_MAX / BLOCK_H + LANES], span_last[PGRID_EYE_CELL_MAX / BLOCK_H + LANES];
+    if (spans_at_once)
+        row_spans(&edges, Y0, by_first, by_last - by_first + 1u, X0, (x0 - X0) / 4u, (x1 - X0) / 4u, span_first,
+                  span_last);
     bool won = false;
-    for (uint32_t by = (y0 - Y0) / BLOCK_H; by <= (y1 - Y0) / BLOCK_H; by++) {
+    for (uint32_t by = by_first; by <= by_last; by++) {
+        uint32_t bx0 = (x0 - X0) / 4u, bx1 = (x1 - X0) / 4u;
+        if (spans_at_once) {
+            if (span_first[by - by_first] > span_last[by - by_first]) continue;
+            bx0 = (uint32_t)span_first[by - by_first], bx1 = (uint32_t)span_last[by - by_first];
+        } else if (wide && !row_span(&edges, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) {
+            continue;
+        }
         const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
         const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
                      r2 = vf_add(c2, vf_mul(b2, fy)), r3 = vf_add(c3, vf_mul(b3, fy));
-        uint32_t bx0 = (x0 - X0) / 4u, bx1 = (x1 - X0) / 4u;
-        if (wide && !row_span(&edges, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) continue;
         for (uint32_t bx = bx0; bx <= bx1; bx++) {
             const uint32_t block = by * blocks_x + bx;
             if (hiz && block_max[block] <= tri_min) continue;
