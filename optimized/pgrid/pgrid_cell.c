@@ -524,7 +524,9 @@ static inline __attribute__((always_inline)) bool trace_triangle(const pgrid_tri
             const vfloat w0 = vf_add(r0, vf_mul(a0, fx)), w1 = vf_add(r1, vf_mul(a1, fx)),
                          w2 = vf_add(r2, vf_mul(a2, fx));
             const vmask inside = vm_inside(w0, w1, w2);
-            if (!vm_any(inside)) continue;
+            /* small triangles' blocks go on without the branch: inside or
+             * not is data there (bunny00 -7%, the elephant -10%) */
+            if (hiz && !vm_any(inside)) continue;
             const size_t at = (size_t)block * LANES;
             const vfloat tv = vf_div(det, vf_add(r3, vf_mul(a3, fx)));
             const vfloat kept = vf_load(depth + at);
