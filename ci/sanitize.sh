@@ -53,7 +53,7 @@ for step in "${steps[@]}"; do
     tsan)
       # only what the selected tests run: each cmocka test's own executable,
       # and rtt for a script (mpi_render)
-      # a skipped case that no longer exists would leave nothing skipped unseen
+      # every listed case must exist: a renamed one would silently run again
       for c in ${tsan_skip_cases//,/ }; do
         grep -q "^static void $c(void \*\*state)" "$root"/tests/test_*.c ||
           { echo "sanitize: TSAN_SKIP_CASES names $c, which no test defines" >&2; exit 2; }

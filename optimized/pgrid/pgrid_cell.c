@@ -338,18 +338,6 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
 /* how many references ahead the cell loop prefetches a triangle */
 #define PREFETCH_AHEAD 6u
 
-/* Edge stepping for wide rectangles: the blocks of one block row that can
- * hold a pixel inside the triangle.  A hit at t > 0 has every w_e of the
- * sign of det (their sum is N . D), so on the row's pixel centres fy in
- * [y + 0.5, y + BLOCK_H - 0.5] each edge bounds fx on one side; the span
- * is widened by a block each way for the rounding of this bound (the
- * test itself stays the per-lane one), so no block with a pixel inside is
- * skipped.  False when no block of the row can be.  The three edges go
- * through one SSE vector, each bound a line in y set up per triangle
- * (row_edges): the division per edge and row it replaces was a third of
- * oa_dm4's frame.  When every edge slopes and every bound is a line,
- * row_spans gives all the rectangle's rows at once instead, LANES rows a
- * vector, the same spans. */
 /* A triangle's three edges (sign * a, b, c; a fourth lane of zeros) for
  * row_span, set up once per triangle, with each edge's bound as a line in
  * the row's y: -r / a = p + q y, r = c + b y + max(b / 2, b (BLOCK_H - 1/2))
@@ -360,8 +348,7 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
  * the division per row (`linear` false). */
 typedef struct row_edges {
     __m128 a, b, c, p, q;
-    float a_of[4], p_of[4], q_of[4]; /* the same, per edge */
-    bool linear, sloped;             /* sloped: no edge has a = 0 */
+    bool linear, sloped; /* sloped: no edge has a = 0 */
 } row_edges;
 
 static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
@@ -380,10 +367,21 @@ static inline row_edges row_edges_make(const pgrid_triangle *t, float sign)
     /* NaN sizes fail the comparison too */
     e.linear = (_mm_movemask_ps(_mm_cmplt_ps(size, _mm_set1_ps(2097152.0f))) & 7) == 7;
     e.sloped = (_mm_movemask_ps(sloped) & 7) == 7;
-    _mm_storeu_ps(e.a_of, e.a), _mm_storeu_ps(e.p_of, e.p), _mm_storeu_ps(e.q_of, e.q);
     return e;
 }
 
+/* Edge stepping for wide rectangles: the blocks of one block row that can
+ * hold a pixel inside the triangle.  A hit at t > 0 has every w_e of the
+ * sign of det (their sum is N . D), so on the row's pixel centres fy in
+ * [y + 0.5, y + BLOCK_H - 0.5] each edge bounds fx on one side; the span
+ * is widened by a block each way for the rounding of this bound (the
+ * test itself stays the per-lane one), so no block with a pixel inside is
+ * skipped.  False when no block of the row can be.  The three edges go
+ * through one SSE vector, each bound a line in y set up per triangle
+ * (row_edges): the division per edge and row it replaces was a third of
+ * oa_dm4's frame.  When every edge slopes and every bound is a line,
+ * row_spans gives all the rectangle's rows at once instead, LANES rows a
+ * vector, the same spans. */
 static inline __attribute__((always_inline)) bool row_span(const row_edges *e, float y, uint32_t X0, uint32_t *bx0,
                                                            uint32_t *bx1)
 {
@@ -458,13 +456,15 @@ static inline __attribute__((always_inline)) void row_spans(const row_edges *e, 
 {
     const vfloat lane = vf_lane_index(), row_h = vf_set1((float)BLOCK_H), x0 = vf_set1((float)X0);
     const vfloat b0 = vf_set1((float)bx0), b1 = vf_set1((float)bx1), quarter = vf_set1(0.25f), one = vf_set1(1.0f);
+    float a[4], p[4], q[4];
+    _mm_storeu_ps(a, e->a), _mm_storeu_ps(p, e->p), _mm_storeu_ps(q, e->q);
     for (uint32_t i = 0; i < rows; i += LANES) {
         /* each row's y, as row_span's: (float)(Y0 + by * BLOCK_H), exact */
         const vfloat y = vf_add(vf_set1((float)(Y0 + (by0 + i) * BLOCK_H)), vf_mul(lane, row_h));
         vfloat lo = vf_set1((float)X0 + 4.0f * (float)bx0), hi = vf_set1((float)X0 + 4.0f * (float)bx1 + 4.0f);
         for (int k = 0; k < 3; k++) {
-            const vfloat bound = vf_add(vf_set1(e->p_of[k]), vf_mul(vf_set1(e->q_of[k]), y));
-            if (e->a_of[k] > 0.0f) lo = vf_max(bound, lo); /* bound > lo ? bound : lo */
+            const vfloat bound = vf_add(vf_set1(p[k]), vf_mul(vf_set1(q[k]), y));
+            if (a[k] > 0.0f) lo = vf_max(bound, lo); /* bound > lo ? bound : lo */
             else hi = vf_min(bound, hi);                     /* bound < hi ? bound : hi */
         }
         const vfloat f = vf_sub(vf_mul(vf_sub(lo, x0), quarter), one), l = vf_add(vf_mul(vf_sub(hi, x0), quarter), one);
@@ -475,16 +475,16 @@ static inline __attribute__((always_inline)) void row_spans(const row_edges *e, 
     }
 }
 
-/* One triangle's rectangle [x0, x1] x [y0, y1] (pixels, inside the cell
- * with corner (X0, Y0)) against the cell's buffers; true when it won a
- * pixel.  With `hiz` (a constant: two copies) a block is skipped when its
+/* One triangle's rectangle of blocks [bx0, bx1] x [by0, by1] (inside the
+ * cell with corner (X0, Y0)) against the cell's buffers; true when it won
+ * a pixel.  With `hiz` (a constant: two copies) a block is skipped when its
  * kept depths are all at or below tri_min, and a block it wins has its
  * maximum refreshed; without, the maxima are left as they are, which keeps
  * them upper bounds (depths only decrease).  Always inlined, so each copy
  * is the loop alone (a per-block flag test cost the meshes 5%). */
 static inline __attribute__((always_inline)) bool trace_triangle(const pgrid_triangle *t, uint32_t index, uint32_t X0,
-                                                                 uint32_t Y0, uint32_t x0, uint32_t x1, uint32_t y0,
-                                                                 uint32_t y1, uint32_t blocks_x, float *restrict depth,
+                                                                 uint32_t Y0, uint32_t bx0, uint32_t bx1, uint32_t by0,
+                                                                 uint32_t by1, uint32_t blocks_x, float *restrict depth,
                                                                  uint32_t *restrict triangle,
                                                                  float *restrict block_max, const bool hiz,
                                                                  float tri_min)
@@ -496,28 +496,25 @@ static inline __attribute__((always_inline)) bool trace_triangle(const pgrid_tri
     const vfloat a3 = vf_set1(t->a[3]), b3 = vf_set1(t->b[3]), c3 = vf_set1(t->c[3]);
     const vfloat det = vf_set1(t->det);
     /* rows of 5 blocks or more are cut to their span (row_span) */
-    const bool wide = (x1 - X0) / 4u - (x0 - X0) / 4u >= 4u;
+    const bool wide = bx1 - bx0 >= 4u;
     const row_edges edges = wide ? row_edges_make(t, t->det < 0.0f ? -1.0f : 1.0f) : (row_edges){.linear = false};
     /* all rows' spans at once when the bounds are lines of sloped edges */
-    const uint32_t by_first = (y0 - Y0) / BLOCK_H, by_last = (y1 - Y0) / BLOCK_H;
     const bool spans_at_once = wide && edges.linear && edges.sloped;
     _Alignas(64) int32_t span_first[PGRID_EYE_CELL_MAX / BLOCK_H + LANES], span_last[PGRID_EYE_CELL_MAX / BLOCK_H + LANES];
-    if (spans_at_once)
-        row_spans(&edges, Y0, by_first, by_last - by_first + 1u, X0, (x0 - X0) / 4u, (x1 - X0) / 4u, span_first,
-                  span_last);
+    if (spans_at_once) row_spans(&edges, Y0, by0, by1 - by0 + 1u, X0, bx0, bx1, span_first, span_last);
     bool won = false;
-    for (uint32_t by = by_first; by <= by_last; by++) {
-        uint32_t bx0 = (x0 - X0) / 4u, bx1 = (x1 - X0) / 4u;
+    for (uint32_t by = by0; by <= by1; by++) {
+        uint32_t first = bx0, last = bx1;
         if (spans_at_once) {
-            if (span_first[by - by_first] > span_last[by - by_first]) continue;
-            bx0 = (uint32_t)span_first[by - by_first], bx1 = (uint32_t)span_last[by - by_first];
-        } else if (wide && !row_span(&edges, (float)(Y0 + by * BLOCK_H), X0, &bx0, &bx1)) {
+            if (span_first[by - by0] > span_last[by - by0]) continue;
+            first = (uint32_t)span_first[by - by0], last = (uint32_t)span_last[by - by0];
+        } else if (wide && !row_span(&edges, (float)(Y0 + by * BLOCK_H), X0, &first, &last)) {
             continue;
         }
         const vfloat fy = vf_add(vf_set1((float)(Y0 + by * BLOCK_H)), lane_y);
         const vfloat r0 = vf_add(c0, vf_mul(b0, fy)), r1 = vf_add(c1, vf_mul(b1, fy)),
                      r2 = vf_add(c2, vf_mul(b2, fy)), r3 = vf_add(c3, vf_mul(b3, fy));
-        for (uint32_t bx = bx0; bx <= bx1; bx++) {
+        for (uint32_t bx = first; bx <= last; bx++) {
             const uint32_t block = by * blocks_x + bx;
             if (hiz && block_max[block] <= tri_min) continue;
             const vfloat fx = vf_add(vf_set1((float)(X0 + bx * 4u)), lane_x);
@@ -571,10 +568,10 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buf
             const float tri_min = t_lower_bound(t, (float)(X0 + 4u * bx0) + 0.5f, (float)(X0 + 4u * bx1) + 3.5f,
                                                 (float)(Y0 + by0 * BLOCK_H) + 0.5f,
                                                 (float)(Y0 + by1 * BLOCK_H) + ((float)BLOCK_H - 0.5f));
-            won = trace_triangle(t, index, X0, Y0, x0, x1, y0, y1, blocks_x, depth, triangle, block_max, true,
+            won = trace_triangle(t, index, X0, Y0, bx0, bx1, by0, by1, blocks_x, depth, triangle, block_max, true,
                                  tri_min);
         } else {
-            won = trace_triangle(t, index, X0, Y0, x0, x1, y0, y1, blocks_x, depth, triangle, block_max, false,
+            won = trace_triangle(t, index, X0, Y0, bx0, bx1, by0, by1, blocks_x, depth, triangle, block_max, false,
                                  0.0f);
         }
         /* the resolve reads the surface of every triangle left in the

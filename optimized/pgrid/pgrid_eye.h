@@ -124,7 +124,6 @@ typedef struct pgrid_cell_buffers {
 bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell);
 void pgrid_cell_buffers_free(pgrid_cell_buffers *b);
 
-
 /* The per-cell kernel (pgrid_cell.c, one copy per instruction set): fills
  * the buffers of cell `cell` with the closest triangle per pixel and its
  * t_D (PGRID_NO_TRIANGLE and +inf where none). */
