@@ -133,6 +133,20 @@ bool bench_frusta_row(const bvh_tree *tree, const bench_soft *soft, const bench_
 bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t width, uint32_t height,
                      uint32_t cell, const bench_trace_spec *spec, rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result);
 
+/* The shadow rays as the light grid's kernel takes them (bench_pgrid.c),
+ * made once before any timed frame: every eye-ray cell's (side pixels
+ * square) active rays in pixel order, the cells one after the other, with
+ * their origins' triangles and pixels; first[c] .. first[c + 1] are cell
+ * c's, first[cells] all of them. */
+typedef struct bench_shadow_batches {
+    rtt_ray *rays;
+    uint32_t *prim, *pixel, *first;
+    uint32_t cells;
+} bench_shadow_batches;
+bool bench_shadow_batches_make(bench_shadow_batches *b, const bench_rays *rays, const uint32_t *origin_prim,
+                               uint32_t side);
+void bench_shadow_batches_free(bench_shadow_batches *b);
+
 /* Times hard shadows through the light grid (bench_pgrid.c): each frame
  * the grid of light 0 and every pixel's shadow ray, batched per eye-ray
  * cell; origin_prim: per pixel the triangle its ray starts on; light_res

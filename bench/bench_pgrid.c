@@ -83,44 +83,66 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
  * rays bench_rays_shadow makes; the scene's half, corners and culled
  * meshes, is built once, as the kd-tree) plus the shadow rays of every pixel,
  * batched per eye-ray cell (PGRID_EYE_CELL_DEFAULT pixels square, in
- * pixel order within), each batch through the kernel on the thread pool. */
+ * pixel order within; the batches made before the frames, as every racer's
+ * rays are), each batch through the kernel on the thread pool. */
 
 typedef struct pgrid_shadow_frame {
     pgrid_shadows grids;
     const pgrid_kernel *kernel;
     const rtt_scene *scene;
-    const uint8_t *degenerate;
-    const bench_rays *rays;
-    const uint32_t *origin_prim;
-    uint32_t cells_x, cells_y, threads;
-    rtt_ray **batch;            /* per thread: one cell's active rays */
-    uint32_t **pixel;           /* per thread: their pixels */
-    uint8_t *occluded;          /* per pixel */
+    uint32_t threads;
+    bench_shadow_batches batches; /* made once before the frames, as every racer's rays */
+    uint8_t *answers;             /* per ray of the batches */
     double *build_seconds;
     uint32_t runs, light_res;   /* light_res 0: pgrid_light_res_rule */
     _Atomic bool failed;
 } pgrid_shadow_frame;
 
+bool bench_shadow_batches_make(bench_shadow_batches *b, const bench_rays *rays, const uint32_t *origin_prim,
+                               uint32_t side)
+{
+    memset(b, 0, sizeof *b);
+    const uint32_t w = rays->width, h = rays->height;
+    const size_t pixels = (size_t)w * h;
+    b->cells = ((w + side - 1) / side) * ((h + side - 1) / side);
+    b->rays = malloc(pixels * sizeof *b->rays);
+    b->prim = malloc(pixels * sizeof *b->prim);
+    b->pixel = malloc(pixels * sizeof *b->pixel);
+    b->first = malloc(((size_t)b->cells + 1) * sizeof *b->first);
+    if (!b->rays || !b->prim || !b->pixel || !b->first) return false;
+    uint32_t n = 0, cell = 0;
+    for (uint32_t y0 = 0; y0 < h; y0 += side)
+        for (uint32_t x0 = 0; x0 < w; x0 += side) {
+            const uint32_t x1 = x0 + side < w ? x0 + side : w, y1 = y0 + side < h ? y0 + side : h;
+            b->first[cell++] = n;
+            for (uint32_t y = y0; y < y1; y++)
+                for (uint32_t x = x0; x < x1; x++) {
+                    const uint32_t i = y * w + x;
+                    if (!bench_ray_active(&rays->rays[i])) continue;
+                    b->rays[n] = rays->rays[i];
+                    b->prim[n] = origin_prim[i];
+                    b->pixel[n++] = i;
+                }
+        }
+    b->first[cell] = n;
+    return true;
+}
+
+void bench_shadow_batches_free(bench_shadow_batches *b)
+{
+    free(b->rays), free(b->prim), free(b->pixel), free(b->first);
+    memset(b, 0, sizeof *b);
+}
+
 static void trace_shadow_cell(void *context, uint32_t thread, uint32_t cell)
 {
+    (void)thread;
     pgrid_shadow_frame *f = context;
-    const uint32_t side = PGRID_EYE_CELL_DEFAULT, w = f->rays->width, h = f->rays->height;
-    const uint32_t x0 = (cell % f->cells_x) * side, y0 = (cell / f->cells_x) * side;
-    const uint32_t x1 = x0 + side < w ? x0 + side : w, y1 = y0 + side < h ? y0 + side : h;
-    rtt_ray *batch = f->batch[thread];
-    uint32_t *pixel = f->pixel[thread], *prim = pixel + side * side, n = 0;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = x0; x < x1; x++) {
-            const uint32_t i = y * w + x;
-            f->occluded[i] = 0;
-            if (!bench_ray_active(&f->rays->rays[i])) continue;
-            batch[n] = f->rays->rays[i];
-            prim[n] = f->origin_prim[i];
-            pixel[n++] = i;
-        }
-    uint8_t *out = (uint8_t *)(prim + side * side);
-    if (!f->kernel->shadow_occluded(&f->grids, 0, batch, prim, n, out)) f->failed = true;
-    for (uint32_t k = 0; k < n; k++) f->occluded[pixel[k]] = out[k];
+    const bench_shadow_batches *b = &f->batches;
+    const uint32_t first = b->first[cell];
+    if (!f->kernel->shadow_occluded(&f->grids, 0, b->rays + first, b->prim + first, b->first[cell + 1] - first,
+                                    f->answers + first))
+        f->failed = true;
 }
 
 static void run_shadow_frame(void *context)
@@ -136,28 +158,21 @@ static void run_shadow_frame(void *context)
     }
     f->grids.light_count = 1;
     f->build_seconds[f->runs++] = 1e-9 * (double)(rtt_clock_ns() - t0);
-    rtt_parallel_run(f->cells_x * f->cells_y, f->threads, trace_shadow_cell, f);
+    rtt_parallel_run(f->batches.cells, f->threads, trace_shadow_cell, f);
 }
 
 bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,
                             const uint32_t *origin_prim, uint32_t light_res, const bench_trace_spec *spec,
                             rtt_bench_row *row, rtt_bench_row *build_row, uint32_t *result)
 {
-    const uint32_t side = PGRID_EYE_CELL_DEFAULT, threads = rtt_thread_count(spec->threads);
+    const uint32_t threads = rtt_thread_count(spec->threads);
     pgrid_shadow_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
-                            .degenerate = degenerate, .rays = rays, .origin_prim = origin_prim, .threads = threads, .light_res = light_res,
-                            .cells_x = (rays->width + side - 1) / side, .cells_y = (rays->height + side - 1) / side};
-    f.batch = calloc(threads, sizeof *f.batch);
-    f.pixel = calloc(threads, sizeof *f.pixel);
-    f.occluded = malloc((size_t)rays->width * rays->height + 1);
+                            .threads = threads, .light_res = light_res};
     f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
     rtt_error err;
-    bool ok = f.batch && f.pixel && f.occluded && f.build_seconds && pgrid_shadows_prepare(&f.grids, scene, degenerate, &err);
-    for (uint32_t t = 0; ok && t < threads; t++) {
-        f.batch[t] = malloc((size_t)side * side * sizeof **f.batch);
-        f.pixel[t] = malloc((size_t)side * side * (2 * sizeof **f.pixel + 1)); /* pixels, prims, answers */
-        ok = f.batch[t] && f.pixel[t];
-    }
+    bool ok = f.build_seconds && bench_shadow_batches_make(&f.batches, rays, origin_prim, PGRID_EYE_CELL_DEFAULT) &&
+              (f.answers = malloc((size_t)f.batches.first[f.batches.cells] + 1)) != NULL &&
+              pgrid_shadows_prepare(&f.grids, scene, degenerate, &err);
     if (ok) {
         bench_time_frames(run_shadow_frame, &f, spec->warmup, spec->frames, row);
         snprintf(row->variant, sizeof row->variant, "%s/%s light %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
@@ -174,17 +189,14 @@ bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, c
                                            ((size_t)PGRID_LIGHT_FACES * L->res * L->res) * 2 * sizeof(uint32_t)
                                      : 0);
         snprintf(build_row->variant, sizeof build_row->variant, "%s", row->variant);
-        if (result)
-            for (size_t i = 0; i < (size_t)rays->width * rays->height; i++) result[i] = f.occluded[i];
-    }
-    for (uint32_t t = 0; t < threads && f.batch && f.pixel; t++) {
-        free(f.batch[t]);
-        free(f.pixel[t]);
+        if (result) {
+            for (size_t i = 0; i < (size_t)rays->width * rays->height; i++) result[i] = 0;
+            for (uint32_t k = 0; k < f.batches.first[f.batches.cells]; k++) result[f.batches.pixel[k]] = f.answers[k];
+        }
     }
     pgrid_shadows_free(&f.grids);
-    free(f.batch);
-    free(f.pixel);
-    free(f.occluded);
+    bench_shadow_batches_free(&f.batches);
+    free(f.answers);
     free(f.build_seconds);
     return ok;
 }

@@ -26,16 +26,9 @@
 #include "bench_internal.h"
 #include "bvh_build.h"
 #include "bvh_kernels.h"
-#include "rtt/views.h"
+#include "kerneltime.h"
 
 #define TILE 16u
-
-static double thread_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* The checksum of answers: order-dependent, over prim and t's bits. */
 static uint64_t checksum_hits(const rtt_hit *hits, size_t n)
@@ -123,34 +116,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "bvh_kernel_time: SIZE 8..16384, LEAF and DEPTH >= 0, FRAMES >= 1\n");
         return 2;
     }
-    rtt_isa isa = RTT_ISA_AVX512;
-    const char *isa_name = getenv("RTT_ISA");
-    if (isa_name && isa_name[0] && !rtt_isa_parse(isa_name, &isa)) {
-        fprintf(stderr, "bvh_kernel_time: RTT_ISA=%s: not an instruction set\n", isa_name);
-        return 2;
-    }
-    isa = rtt_isa_resolve(isa);
-    rtt_error err = {{0}};
-    rtt_scene *scene = rtt_scene_load(path, NULL, &err);
-    if (!scene) {
-        fprintf(stderr, "bvh_kernel_time: %s\n", err.message);
-        return 1;
-    }
-    rtt_view_list views;
-    if (!rtt_views_load(views_path, &views, &err)) {
-        fprintf(stderr, "bvh_kernel_time: %s\n", err.message);
-        return 1;
-    }
+    rtt_isa isa;
+    if (!kerneltime_isa("bvh_kernel_time", &isa)) return 2;
     char scene_name[256];
-    const char *base = strrchr(path, '/');
-    snprintf(scene_name, sizeof scene_name, "%s", base ? base + 1 : path);
-    char *dot = strchr(scene_name, '.');
-    if (dot) *dot = '\0';
-    const rtt_view *view = rtt_views_find(&views, scene_name);
-    if (view && !rtt_bench_apply_view(scene, view, &err)) {
-        fprintf(stderr, "bvh_kernel_time: %s\n", err.message);
-        return 1;
-    }
+    rtt_scene *scene = kerneltime_scene("bvh_kernel_time", path, views_path, scene_name);
+    if (!scene) return 1;
+    rtt_error err = {{0}};
     bench_rays primary;
     if (!bench_rays_primary(scene, (uint32_t)size, (uint32_t)size, &primary)) {
         fprintf(stderr, "bvh_kernel_time: out of memory\n");
@@ -159,12 +130,12 @@ int main(int argc, char **argv)
     bvh_tree tree;
     memset(&tree, 0, sizeof tree);
     const bvh_build_options build = {.leaf_size = (uint32_t)leaf, .max_depth = (uint32_t)depth, .threads = 1};
-    const double build_start = thread_seconds();
+    const double build_start = kerneltime_thread_seconds();
     if (!bvh_build_sah(scene, &build, &tree, &err)) {
         fprintf(stderr, "bvh_kernel_time: %s\n", err.message);
         return 1;
     }
-    const double build_seconds = thread_seconds() - build_start;
+    const double build_seconds = kerneltime_thread_seconds() - build_start;
     tree.watertight = true; /* the engine's default test */
 
     kernel_run run = {.tree = &tree, .primary = &primary, .tiles_x = ((uint32_t)size + TILE - 1) / TILE,
@@ -250,9 +221,9 @@ int main(int argc, char **argv)
     }
     double best = INFINITY;
     for (int f = 0; f < frames; f++) {
-        const double start = thread_seconds();
+        const double start = kerneltime_thread_seconds();
         run_pass(&run, NULL);
-        const double seconds = thread_seconds() - start;
+        const double seconds = kerneltime_thread_seconds() - start;
         best = seconds < best ? seconds : best;
     }
     /* per 2x2 packet of rays, as the bench's kd rows count N and I */
@@ -267,7 +238,6 @@ int main(int argc, char **argv)
     bench_soft_free(&soft);
     bench_rays_free(&primary);
     bvh_tree_free(&tree);
-    rtt_views_free(&views);
     rtt_scene_free(scene);
     return 0;
 }

@@ -17,15 +17,8 @@
 #include <time.h>
 
 #include "bench_internal.h"
+#include "kerneltime.h"
 #include "pgrid_eye.h"
-#include "rtt/views.h"
-
-static double thread_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {
@@ -39,37 +32,17 @@ int main(int argc, char **argv)
         fprintf(stderr, "pgrid_frame_time: WIDTH and HEIGHT 8..16384, CELL >= 0, FRAMES >= 1\n");
         return 2;
     }
-    rtt_isa isa = RTT_ISA_AVX512;
-    const char *isa_name = getenv("RTT_ISA");
-    if (isa_name && isa_name[0] && !rtt_isa_parse(isa_name, &isa)) {
-        fprintf(stderr, "pgrid_frame_time: RTT_ISA=%s: not an instruction set\n", isa_name);
-        return 2;
-    }
-    const pgrid_kernel *kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(isa));
-    rtt_error err = {{0}};
-    rtt_scene *scene = rtt_scene_load(path, NULL, &err);
-    if (!scene) {
-        fprintf(stderr, "pgrid_frame_time: %s\n", err.message);
-        return 1;
-    }
-    rtt_view_list views;
-    if (!rtt_views_load(views_path, &views, &err)) {
-        fprintf(stderr, "pgrid_frame_time: %s\n", err.message);
-        rtt_scene_free(scene);
-        return 1;
-    }
+    rtt_isa isa;
+    if (!kerneltime_isa("pgrid_frame_time", &isa)) return 2;
+    const pgrid_kernel *kernel = pgrid_kernel_find("pgrid", isa);
     char scene_name[256];
-    const char *base = strrchr(path, '/');
-    snprintf(scene_name, sizeof scene_name, "%s", base ? base + 1 : path);
-    char *dot = strchr(scene_name, '.');
-    if (dot) *dot = '\0';
-    const rtt_view *view = rtt_views_find(&views, scene_name);
+    rtt_scene *scene = kerneltime_scene("pgrid_frame_time", path, views_path, scene_name);
+    if (!scene) return 1;
+    rtt_error err = {{0}};
     int status = 1;
     rtt_hit *hits = malloc((size_t)width * (size_t)height * sizeof *hits);
     pgrid_eye grid = {0};
-    if (view && !rtt_bench_apply_view(scene, view, &err)) {
-        fprintf(stderr, "pgrid_frame_time: %s\n", err.message);
-    } else if (!hits) {
+    if (!hits) {
         fprintf(stderr, "pgrid_frame_time: out of memory\n");
     } else {
         const rtt_camera_frame camera = rtt_camera_frame_make(&scene->camera, (uint32_t)width, (uint32_t)height);
@@ -77,13 +50,13 @@ int main(int argc, char **argv)
         status = 0;
         for (int f = 0; f < frames && status == 0; f++) {
             double build = 0.0;
-            const double t0 = thread_seconds();
+            const double t0 = kerneltime_thread_seconds();
             if (!pgrid_eye_trace_frame(&grid, kernel, scene, NULL, &camera, (uint32_t)width, (uint32_t)height,
                                        (uint32_t)cell, 1, hits, &build, &err)) {
                 fprintf(stderr, "pgrid_frame_time: %s\n", err.message);
                 status = 1;
             }
-            const double frame = thread_seconds() - t0;
+            const double frame = kerneltime_thread_seconds() - t0;
             if (frame < best_frame) best_frame = frame;
             if (build < best_build) best_build = build;
         }
@@ -102,7 +75,6 @@ int main(int argc, char **argv)
     }
     pgrid_eye_free(&grid);
     free(hits);
-    rtt_views_free(&views);
     rtt_scene_free(scene);
     return status;
 }

@@ -40,14 +40,52 @@ typedef struct shadow_packet {
     uint32_t kx, ky, kz;
 } shadow_packet;
 
+/* A packet's vectors for its run through a list, loaded once (kept in
+ * registers across the list's triangles). */
+typedef struct packet_regs {
+    vf ox, oy, oz, sx, sy, sz, tnear, tfar;
+    uint32_t kx, ky, kz;
+} packet_regs;
+
+static inline packet_regs packet_regs_load(const shadow_packet *p)
+{
+    return (packet_regs){vf_load(p->org[p->kx]), vf_load(p->org[p->ky]), vf_load(p->org[p->kz]),
+                         vf_load(p->sx), vf_load(p->sy), vf_load(p->sz), vf_load(p->tnear), vf_load(p->tfar),
+                         p->kx, p->ky, p->kz};
+}
+
+/* The lanes of `slow` decided by the reference's own decision (double when
+ * a value is not a normal float), from the lanes' transformed corners
+ * (parts: ax, ay, az, bx, by, bz, cx, cy, cz): `hit` with those lanes set
+ * or cleared; `entering` as occluded_lanes'.  Rare: out of line. */
+static __attribute__((noinline)) uint32_t decide_slow(const float (*parts)[LANES], const shadow_packet *p, uint32_t slow,
+                                                      uint32_t hit, uint32_t *entering)
+{
+    for (uint32_t l = 0; l < LANES; l++) {
+        if (!(slow >> l & 1u)) continue;
+        const wt_lane one = {parts[0][l], parts[1][l], parts[2][l], parts[3][l], parts[4][l],
+                             parts[5][l], parts[6][l], parts[7][l], parts[8][l]};
+        float tl, ul, vl;
+        if (wt_decide1(&one, p->tnear[l], p->tfar[l], &tl, &ul, &vl))
+            hit |= 1u << l;
+        else
+            hit &= ~(1u << l);
+        if (entering && wt_decide1(&one, -p->tnear[l], nextafterf(p->tnear[l], INFINITY), &tl, &ul, &vl))
+            *entering |= 1u << l;
+    }
+    return hit;
+}
+
 /* The lanes of `active` that `tri` occludes (tnear < t < tfar); with
  * `entering` non-NULL, the lanes that cross it at -tnear < t <= tnear are
- * added there (the ray may start inside a culled solid, pgrid_light.h). */
-static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, uint32_t active, uint32_t *entering)
+ * added there (the ray may start inside a culled solid, pgrid_light.h).
+ * Inlined into the list's loop, the packet's vectors in registers. */
+static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_corners *tri, const packet_regs *r,
+                                                                     const shadow_packet *p, uint32_t active,
+                                                                     uint32_t *entering)
 {
-    const uint32_t kx = p->kx, ky = p->ky, kz = p->kz;
-    const vf ox = vf_load(p->org[kx]), oy = vf_load(p->org[ky]), oz = vf_load(p->org[kz]);
-    const vf sx = vf_load(p->sx), sy = vf_load(p->sy);
+    const uint32_t kx = r->kx, ky = r->ky, kz = r->kz;
+    const vf ox = r->ox, oy = r->oy, oz = r->oz, sx = r->sx, sy = r->sy;
     const vf akz = vf_sub(vf_set1(tri->a[kz]), oz), bkz = vf_sub(vf_set1(tri->b[kz]), oz),
              ckz = vf_sub(vf_set1(tri->c[kz]), oz);
     const vf ax = vf_sub(vf_sub(vf_set1(tri->a[kx]), ox), vf_mul(sx, akz));
@@ -67,36 +105,33 @@ static uint32_t occluded_lanes(const kd_corners *tri, const shadow_packet *p, ui
     const uint32_t inside = vm_bits(vm_and(act, vm_or(positive, negative)));
     const uint32_t odd = active & ~vm_bits(edges_normal);
     if (!(inside | odd)) return 0;
-    const vf sz = vf_load(p->sz);
+    const vf sz = r->sz, tnear = r->tnear;
     const vf az = vf_mul(sz, akz), bz = vf_mul(sz, bkz), cz = vf_mul(sz, ckz);
     const vf det = vf_add(vf_add(u, v), w);
     const vf t_scaled = vf_add(vf_add(vf_mul(u, az), vf_mul(v, bz)), vf_mul(w, cz));
     const vm normal = vm_and(edges_normal, vm_and(vm_normal(det), vm_normal(t_scaled)));
     const vf t = vf_div(t_scaled, det);
-    const vf tnear = vf_load(p->tnear);
-    const vm in_range = vm_and(vf_gt(t, tnear), vf_lt(t, vf_load(p->tfar)));
+    const vm in_range = vm_and(vf_gt(t, tnear), vf_lt(t, r->tfar));
     uint32_t hit = inside & vm_bits(vm_and(normal, in_range));
     if (entering) {
         const vm window = vm_and(vf_gt(t, vf_sub(vf_set1(0.0f), tnear)), vf_lt(vf_sub(t, tnear), vf_set1(FLT_MIN)));
         *entering |= inside & vm_bits(vm_and(normal, window));
     }
-    const uint32_t slow = active & ~vm_bits(normal);
+    uint32_t slow = active & ~vm_bits(normal);
+    /* A lane whose three corners lie in its origin's kz plane (az = bz = cz
+     * = 0: the axis-aligned floor of a map under the ray's own origin, the
+     * common case of the double path) has T = 0 in double too, so t = +-0,
+     * never above a tnear >= 0: the reference's answer is no, without asking
+     * it (unless `entering` wants the window around 0). */
+    if (slow && !entering) {
+        const vm flat = vm_and(vm_and(vf_eq(az, zero), vf_eq(bz, zero)), vm_and(vf_eq(cz, zero), vf_ge(tnear, zero)));
+        slow &= ~vm_bits(flat);
+    }
     if (slow) {
-        _Alignas(64) float lane[9][LANES];
-        const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
-        for (int i = 0; i < 9; i++) vf_store(lane[i], parts[i]);
-        for (uint32_t l = 0; l < LANES; l++) {
-            if (!(slow >> l & 1u)) continue;
-            const wt_lane one = {lane[0][l], lane[1][l], lane[2][l], lane[3][l], lane[4][l],
-                                 lane[5][l], lane[6][l], lane[7][l], lane[8][l]};
-            float tl, ul, vl;
-            if (wt_decide1(&one, p->tnear[l], p->tfar[l], &tl, &ul, &vl))
-                hit |= 1u << l;
-            else
-                hit &= ~(1u << l);
-            if (entering && wt_decide1(&one, -p->tnear[l], nextafterf(p->tnear[l], INFINITY), &tl, &ul, &vl))
-                *entering |= 1u << l;
-        }
+        _Alignas(64) float parts[9][LANES];
+        const vf values[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
+        for (int i = 0; i < 9; i++) vf_store(parts[i], values[i]);
+        hit = decide_slow((const float (*)[LANES])parts, p, slow, hit, entering);
     }
     return hit;
 }
@@ -107,12 +142,12 @@ static uint32_t occluded_list(const pgrid_shadows *g, const pgrid_light *L, cons
                               const shadow_packet *p, uint32_t active, uint32_t *entering)
 {
     /* the farthest any lane reaches from the light: triangles beyond it are skipped (the per-cell test, per triangle) */
-    float reach = 0.0f;
-    for (uint32_t l = 0; l < LANES; l++)
-        if (active >> l & 1u && p->reach[l] > reach) reach = p->reach[l];
+    const vf zero = vf_set1(0.0f), lanes = vf_load(p->reach);
+    const float reach = vf_hmax(vf_blend(vm_and(vm_of_bits(active), vf_gt(lanes, zero)), zero, lanes)); /* NaN: none */
+    const packet_regs r = packet_regs_load(p);
     uint32_t hit = 0;
     for (uint32_t i = 0; i < count && (hit & active) != active; i++)
-        if (!(L->bound[list[i]] > reach)) hit |= occluded_lanes(&g->corners[list[i]], p, active & ~hit, entering);
+        if (!(L->bound[list[i]] > reach)) hit |= occluded_lanes(&g->corners[list[i]], &r, p, active & ~hit, entering);
     return hit;
 }
 
@@ -141,78 +176,171 @@ static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, cons
     return false;
 }
 
-/* Sorts keys (cell * 3 + kz in the high word, the ray's index in the low)
+/* Sorts keys (cell * 3 + kz in the high word, a run's index in the low)
  * by their high word, stably (a batch in pixel order stays so within a
- * cell): least-significant-digit radix, 11 bits a pass, as many passes as
- * the largest key needs.  The result is in keys. */
-static void sort_keys(uint64_t *keys, uint64_t *spare, uint32_t count, uint32_t largest)
+ * cell): least-significant-digit radix on the high word less `lo`, the
+ * batch's smallest, in as few passes of at most 11 bits as its range
+ * (hi - lo) needs, the digits as even as they go (an eye-ray cell's rays
+ * see a band of the light's cells: one or two passes of a few hundred
+ * buckets).  The sorted keys are in keys or in spare: the pointer returned. */
+static uint64_t *sort_keys(uint64_t *keys, uint64_t *spare, uint32_t count, uint32_t lo, uint32_t hi)
 {
-    enum { BITS = 11, BUCKETS = 1 << BITS };
-    uint32_t histogram[BUCKETS];
-    for (uint32_t shift = 32; shift < 64 && (largest >> (shift - 32)) != 0; shift += BITS) {
-        memset(histogram, 0, sizeof histogram);
-        for (uint32_t i = 0; i < count; i++) histogram[(keys[i] >> shift) & (BUCKETS - 1)]++;
-        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
+    enum { MOST_BITS = 11 };
+    const uint32_t range = hi - lo, bits = range ? 32u - (uint32_t)__builtin_clz(range) : 0u;
+    const uint32_t passes = (bits + MOST_BITS - 1) / MOST_BITS, digit = passes ? (bits + passes - 1) / passes : 0u;
+    const uint32_t mask = (1u << digit) - 1u;
+    uint32_t histogram[1u << MOST_BITS];
+    for (uint32_t pass = 0, shift = 0; pass < passes; pass++, shift += digit) {
+        memset(histogram, 0, (mask + 1u) * sizeof *histogram);
+        for (uint32_t i = 0; i < count; i++) histogram[((uint32_t)(keys[i] >> 32) - lo) >> shift & mask]++;
+        for (uint32_t b = 0, sum = 0; b <= mask; b++) {
             const uint32_t n = histogram[b];
             histogram[b] = sum, sum += n;
         }
-        for (uint32_t i = 0; i < count; i++) spare[histogram[(keys[i] >> shift) & (BUCKETS - 1)]++] = keys[i];
-        memcpy(keys, spare, (size_t)count * sizeof *keys);
+        for (uint32_t i = 0; i < count; i++) spare[histogram[((uint32_t)(keys[i] >> 32) - lo) >> shift & mask]++] = keys[i];
+        uint64_t *sorted = spare;
+        spare = keys, keys = sorted;
+    }
+    return keys;
+}
+
+/* The dominant axis of (x, y, z) per lane, by the reference's tie rule
+ * (|x| >= |y|, |x| >= |z| → 0, else |y| >= |z| → 1, else 2): the masks of
+ * axes 0 and 1 (the latter meaningful outside the former's lanes). */
+static inline void major_axis(vf x, vf y, vf z, vm *axis0, vm *axis1)
+{
+    const vf ax = vf_abs(x), ay = vf_abs(y), az = vf_abs(z);
+    *axis0 = vm_and(vf_ge(ax, ay), vf_ge(ax, az));
+    *axis1 = vf_ge(ay, az);
+}
+
+/* The keys of rays[first .. first + n) (n <= LANES): cell * 3 + kz, with
+ * pgrid_light_cell_of's cell of the origin's direction from the light (the
+ * same arithmetic a lane at a time: the divisions in one vector) and the
+ * direction's dominant axis kz. */
+static void make_keys(const pgrid_light *L, const rtt_ray *rays, uint32_t first, uint32_t n, uint32_t *keys)
+{
+    _Alignas(64) float face[LANES], sx[LANES], sy[LANES], kz[LANES];
+    _Alignas(64) rtt_ray tail[LANES];
+    const rtt_ray *lanes = rays + first;
+    if (n < LANES) { /* the batch's last rays: no reading past them */
+        for (uint32_t l = 0; l < LANES; l++) tail[l] = rays[first + (l < n ? l : 0)];
+        lanes = tail;
+    }
+    vf ray[8];
+    vf_load_records8((const float *)lanes, ray);
+    const vf dx = vf_sub(ray[0], vf_set1(L->position[0])), dy = vf_sub(ray[1], vf_set1(L->position[1])),
+             dz = vf_sub(ray[2], vf_set1(L->position[2]));
+    vm x_major, y_major;
+    major_axis(dx, dy, dz, &x_major, &y_major);
+    const vf zero = vf_set1(0.0f), one = vf_set1(1.0f), two = vf_set1(2.0f), minus_one = vf_set1(-1.0f);
+    const vf along = vf_blend(x_major, vf_blend(y_major, dz, dy), dx), major = vf_abs(along);
+    const vf s_num = vf_blend(x_major, vf_blend(y_major, dx, dz), dy);
+    const vf t_num = vf_blend(x_major, vf_blend(y_major, dy, dx), dz);
+    const vf axis = vf_blend(x_major, vf_blend(y_major, two, one), zero);
+    vf_store(face, vf_add(vf_add(axis, axis), vf_blend(vf_lt(along, zero), zero, one)));
+    const vf half = vf_set1(0.5f * (float)L->res);
+    vf s = vf_div(s_num, major), t = vf_div(t_num, major);
+    s = vf_blend(vf_ge(s, minus_one), minus_one, s); /* also NaN: any cell, the test decides */
+    t = vf_blend(vf_ge(t, minus_one), minus_one, t);
+    vf_store(sx, vf_mul(vf_add(s, one), half));
+    vf_store(sy, vf_mul(vf_add(t, one), half));
+    vm dir_x, dir_y;
+    major_axis(ray[3], ray[4], ray[5], &dir_x, &dir_y);
+    vf_store(kz, vf_blend(dir_x, vf_blend(dir_y, two, one), zero));
+    const uint32_t res = L->res;
+    for (uint32_t l = 0; l < n; l++) {
+        uint32_t x = (uint32_t)sx[l], y = (uint32_t)sy[l];
+        if (x >= res) x = res - 1;
+        if (y >= res) y = res - 1;
+        keys[first + l] = (((uint32_t)face[l] * res + y) * res + x) * 3u + (uint32_t)kz[l];
     }
 }
 
-bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
-                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);
+/* The rays sorted at once: a chunk of the batch (an eye-ray cell of
+ * 128 x 128 pixels is four), its scratch on the stack, nothing allocated. */
+enum { CHUNK_RAYS = 4096 };
+typedef struct chunk_scratch {
+    uint32_t keys[CHUNK_RAYS];          /* per ray */
+    uint32_t run_first[CHUNK_RAYS + 1]; /* per run of equal keys: its first ray */
+    uint64_t records[CHUNK_RAYS], spare[CHUNK_RAYS];
+} chunk_scratch;
 
-bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
-                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded)
+/* pgrid_shadow_occluded on at most CHUNK_RAYS rays. */
+static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, const rtt_ray *rays,
+                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded, chunk_scratch *scratch)
 {
-    if (!count) return true;
-    const pgrid_light *L = &grids->lights[light];
-    uint64_t *keys = malloc(2 * (size_t)count * sizeof *keys);
-    if (!keys) return false;
-    uint32_t largest = 0;
+    /* per ray its key; per run of equal keys in batch order (a coherent
+     * batch's neighbours mostly share a cell) a record and its first ray;
+     * the records sorted, so the packets read runs of one key in order */
+    uint32_t *keys = scratch->keys, *run_first = scratch->run_first;
+    uint64_t *records = scratch->records;
+    for (uint32_t first = 0; first < count; first += LANES)
+        make_keys(L, rays, first, count - first < LANES ? count - first : LANES, keys);
+    uint32_t runs = 0, lo = UINT32_MAX, hi = 0;
     for (uint32_t i = 0; i < count; i++) {
-        const rtt_ray *r = &rays[i];
-        const uint32_t cell = pgrid_light_cell_of(L->res, r->org[0] - L->position[0], r->org[1] - L->position[1],
-                                                  r->org[2] - L->position[2]);
-        const float ax = fabsf(r->dir[0]), ay = fabsf(r->dir[1]), az = fabsf(r->dir[2]);
-        const uint32_t kz = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
-        keys[i] = (uint64_t)(cell * 3u + kz) << 32 | i;
-        if (cell * 3u + kz > largest) largest = cell * 3u + kz;
+        const uint32_t key = keys[i];
+        if (i && key == keys[i - 1]) continue;
+        run_first[runs] = i;
+        records[runs] = (uint64_t)key << 32 | runs;
+        runs++;
+        if (key < lo) lo = key;
+        if (key > hi) hi = key;
     }
-    sort_keys(keys, keys + count, count, largest);
+    run_first[runs] = count;
+    const uint64_t *sorted = sort_keys(records, scratch->spare, runs, lo, hi);
+    /* the largest float at most 2M: |org| (a float) <= 2M iff |org| <= it */
+    float magnitude = (float)L->magnitude;
+    if ((double)magnitude > L->magnitude) magnitude = nextafterf(magnitude, 0.0f);
+    const vf within = vf_set1(magnitude), slack = vf_set1(L->reach);
     shadow_packet p;
-    for (uint32_t first = 0; first < count;) {
-        const uint32_t key = (uint32_t)(keys[first] >> 32);
+    _Alignas(64) rtt_ray lane_rays[LANES];
+    uint32_t index[LANES];
+    for (uint32_t next = 0, taken = 0; next < runs;) {
+        /* the next LANES rays of this key, run after run */
+        const uint32_t key = (uint32_t)(sorted[next] >> 32);
         uint32_t n = 0;
-        while (n < LANES && first + n < count && (uint32_t)(keys[first + n] >> 32) == key) n++;
+        while (n < LANES && next < runs && (uint32_t)(sorted[next] >> 32) == key) {
+            const uint32_t run = (uint32_t)sorted[next], start = run_first[run] + taken, end = run_first[run + 1];
+            const uint32_t take = end - start < LANES - n ? end - start : LANES - n;
+            for (uint32_t k = 0; k < take; k++) index[n++] = start + k;
+            taken += take;
+            if (start + take == end) next++, taken = 0;
+        }
         const uint32_t cell = key / 3u, kz = key % 3u;
         p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
-        const float cell_min = L->cell_min[cell];
-        uint32_t active = 0, reaching = 0, full = 0, wild = 0;
-        for (uint32_t l = 0; l < LANES; l++) {
-            const uint32_t index = (uint32_t)keys[first + (l < n ? l : 0)];
-            const rtt_ray *r = &rays[index];
-            for (int a = 0; a < 3; a++) p.org[a][l] = r->org[a];
-            p.sx[l] = r->dir[p.kx] / r->dir[kz];
-            p.sy[l] = r->dir[p.ky] / r->dir[kz];
-            p.sz[l] = 1.0f / r->dir[kz];
-            p.tnear[l] = r->tnear, p.tfar[l] = r->tfar;
-            if (l >= n) continue;
-            active |= 1u << l;
-            /* an origin beyond 2M: every triangle (pgrid_light.h) */
-            for (int a = 0; a < 3; a++)
-                if (!(fabs((double)r->org[a]) <= L->magnitude)) wild |= 1u << l;
-            /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
-            p.reach[l] = r->tnear + r->tfar + L->reach;
-            if (!(p.reach[l] < cell_min)) reaching |= 1u << l;
-            if (grids->culled_count && needs_front_faces(grids, L, r, origin_prim ? origin_prim[index] : RTT_MISS))
-                full |= 1u << l;
-        }
+        /* the lanes' rays as structure of arrays (lanes past n repeat the first) */
+        for (uint32_t l = 0; l < LANES; l++) lane_rays[l] = rays[index[l < n ? l : 0]];
+        vf ray[8];
+        vf_load_records8((const float *)lane_rays, ray);
+        for (int a = 0; a < 3; a++) vf_store(p.org[a], ray[a]);
+        vf_store(p.tnear, ray[6]), vf_store(p.tfar, ray[7]);
+        const vf dkz = ray[3 + kz];
+        vf_store(p.sx, vf_div(ray[3 + p.kx], dkz));
+        vf_store(p.sy, vf_div(ray[3 + p.ky], dkz));
+        vf_store(p.sz, vf_div(vf_set1(1.0f), dkz));
+        /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
+        const vf reach = vf_add(vf_add(ray[6], ray[7]), slack);
+        vf_store(p.reach, reach);
+        uint32_t active = n == 32 ? UINT32_MAX : (1u << n) - 1u;
+        uint32_t reaching = active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell])));
+        /* an origin beyond 2M: every triangle (pgrid_light.h) */
+        const vm tame = vm_and(vm_and(vf_le(vf_abs(ray[0]), within), vf_le(vf_abs(ray[1]), within)),
+                               vf_le(vf_abs(ray[2]), within));
+        const uint32_t wild = active & ~vm_bits(tame);
+        uint32_t full = 0;
+        if (grids->culled_count)
+            for (uint32_t l = 0; l < n; l++) {
+                const uint32_t i = index[l];
+                if (needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS))
+                    full |= 1u << l;
+            }
         uint32_t hit = 0, entering = 0;
-        for (uint32_t t = 0; wild & ~hit && t < grids->corner_count; t++)
-            hit |= occluded_lanes(&grids->corners[t], &p, wild & ~hit, NULL);
+        if (wild) {
+            const packet_regs regs = packet_regs_load(&p);
+            for (uint32_t t = 0; wild & ~hit && t < grids->corner_count; t++)
+                hit |= occluded_lanes(&grids->corners[t], &regs, &p, wild & ~hit, NULL);
+        }
         active &= ~wild, reaching &= ~wild, full &= ~wild;
         uint32_t *watch = grids->culled_count ? &entering : NULL;
         if (reaching)
@@ -225,9 +353,19 @@ bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt
         if (front)
             hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
                                  &p, front, NULL);
-        for (uint32_t l = 0; l < n; l++) occluded[(uint32_t)keys[first + l]] = (uint8_t)(hit >> l & 1u);
-        first += n;
+        for (uint32_t l = 0; l < n; l++) occluded[index[l]] = (uint8_t)(hit >> l & 1u);
     }
-    free(keys);
+}
+
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);
+
+bool pgrid_shadow_occluded(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
+                           const uint32_t *origin_prim, uint32_t count, uint8_t *occluded)
+{
+    chunk_scratch scratch;
+    for (uint32_t first = 0; first < count; first += CHUNK_RAYS)
+        occluded_chunk(grids, &grids->lights[light], rays + first, origin_prim ? origin_prim + first : NULL,
+                       count - first < CHUNK_RAYS ? count - first : CHUNK_RAYS, occluded + first, &scratch);
     return true;
 }
