@@ -32,6 +32,7 @@
 #include "rtt/shade.h"
 #include "test_fixtures_pgrid.h"
 #include "test_isa.h"
+#include "test_tempdir.h"
 
 #define EDGE_MARGIN 1e-4
 #define MAX_TIE_SHARE 0.01
@@ -154,6 +155,113 @@ static void test_pgrid_hits_match_reference(void **state)
             free(expect);
         }
         rtt_engine_destroy(ref);
+        rtt_scene_free(s);
+    }
+}
+
+static int setup_scratch(void **state) { return scratch_create(state, "pgrid"); }
+
+/* An indexed UV sphere (shared vertices: closed), its corners and
+ * triangles (OFF's, vertices numbered from `base`) appended to the two
+ * files, its winding reversed when `inverted`. */
+enum { SPHERE_SEGMENTS = 24, SPHERE_RINGS = 12 };
+enum { SPHERE_VERTICES = 2 + (SPHERE_RINGS - 1) * SPHERE_SEGMENTS, SPHERE_TRIANGLES = 2 * SPHERE_SEGMENTS * (SPHERE_RINGS - 1) };
+static void off_sphere(FILE *corners, FILE *faces, uint32_t base, const double centre[3], double radius, double scale,
+                       bool inverted)
+{
+    const double pi = 3.14159265358979323846;
+    fprintf(corners, "%.9g %.9g %.9g\n", scale * centre[0], scale * (centre[1] + radius), scale * centre[2]);
+    for (int r = 1; r < SPHERE_RINGS; r++)
+        for (int k = 0; k < SPHERE_SEGMENTS; k++) {
+            const double phi = pi * r / SPHERE_RINGS, theta = 2.0 * pi * k / SPHERE_SEGMENTS;
+            fprintf(corners, "%.9g %.9g %.9g\n", scale * (centre[0] + radius * sin(phi) * cos(theta)),
+                    scale * (centre[1] + radius * cos(phi)), scale * (centre[2] + radius * sin(phi) * sin(theta)));
+        }
+    fprintf(corners, "%.9g %.9g %.9g\n", scale * centre[0], scale * (centre[1] - radius), scale * centre[2]);
+    const uint32_t south = SPHERE_VERTICES - 1;
+#define RING(r, k) (1 + (uint32_t)(r) * SPHERE_SEGMENTS + (uint32_t)((k) % SPHERE_SEGMENTS))
+    for (int k = 0; k < SPHERE_SEGMENTS; k++) {
+        uint32_t tri[2 * SPHERE_RINGS][3], n = 0;
+        tri[n][0] = 0, tri[n][1] = RING(0, k + 1), tri[n][2] = RING(0, k), n++;
+        for (int r = 0; r + 1 < SPHERE_RINGS - 1; r++) {
+            tri[n][0] = RING(r, k), tri[n][1] = RING(r, k + 1), tri[n][2] = RING(r + 1, k + 1), n++;
+            tri[n][0] = RING(r, k), tri[n][1] = RING(r + 1, k + 1), tri[n][2] = RING(r + 1, k), n++;
+        }
+        tri[n][0] = RING(SPHERE_RINGS - 2, k), tri[n][1] = RING(SPHERE_RINGS - 2, k + 1), tri[n][2] = south, n++;
+        for (uint32_t i = 0; i < n; i++)
+            fprintf(faces, "3 %u %u %u\n", base + tri[i][0], base + tri[i][inverted ? 2 : 1], base + tri[i][inverted ? 1 : 2]);
+    }
+#undef RING
+}
+
+/* Back faces: one mesh of two parts, a sphere and a smaller one wound
+ * inside out beside it (each part's own outward side must be used), at
+ * scales 1 (the float test) and 1e15 and 1e-15 (the double path), seen from
+ * outside both (back faces dropped) and from inside the big one (its box
+ * holds the eye: none dropped), every instruction set against the
+ * reference. */
+static void test_back_faces_dropped_only_where_no_eye_ray_meets_them_first(void **state)
+{
+    static const double scales[] = {1.0, 1e15, 1e-15};
+    for (size_t z = 0; z < sizeof scales / sizeof scales[0]; z++) {
+        const char *path = scratch_path(state, "spheres.off");
+        FILE *corners = tmpfile(), *faces = tmpfile(), *f = fopen(path, "w");
+        assert_true(corners && faces && f);
+        const double big[3] = {0.0, 0.0, 0.0}, small[3] = {2.2, 0.3, -0.4};
+        off_sphere(corners, faces, 0, big, 1.0, scales[z], false);
+        off_sphere(corners, faces, SPHERE_VERTICES, small, 0.6, scales[z], true);
+        fprintf(f, "OFF\n%d %d 0\n", 2 * SPHERE_VERTICES, 2 * SPHERE_TRIANGLES);
+        for (FILE *part = corners; part; part = part == corners ? faces : NULL) {
+            rewind(part);
+            for (int c; (c = fgetc(part)) != EOF;) fputc(c, f);
+            fclose(part);
+        }
+        assert_int_equal(fclose(f), 0);
+        rtt_error err = {{0}};
+        rtt_scene *s = rtt_scene_load(path, NULL, &err);
+        if (!s) fail_msg("%s: %s", path, err.message);
+        assert_int_equal(s->mesh_count, 1);
+        assert_true(s->meshes[0].closed);
+        static const double eyes[][3] = {{0.6, 1.9, 4.5}, {3.5, -1.0, 2.0}, {0.1, 0.2, 0.3}};
+        for (size_t e = 0; e < sizeof eyes / sizeof eyes[0]; e++) {
+            const float k = (float)scales[z];
+            s->camera = (rtt_camera){rtt_v3((float)eyes[e][0] * k, (float)eyes[e][1] * k, (float)eyes[e][2] * k),
+                                     rtt_v3(1.0f * k, 0.0f, 0.0f), rtt_v3(0.0f, 1.0f, 0.0f), e == 2 ? 100.0f : 50.0f};
+            const uint32_t w = 96, h = 80;
+            rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+            assert_non_null(ref);
+            const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+            rtt_ray *rays = malloc((size_t)w * h * sizeof *rays);
+            rtt_hit *expect = malloc((size_t)w * h * sizeof *expect);
+            assert_true(rays && expect);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) rays[y * w + x] = rtt_camera_ray(&frame, x, y);
+            rtt_engine_intersect(ref, rays, expect, (size_t)w * h);
+            uint32_t seen = 0;
+            for (uint32_t i = 0; i < w * h; i++) seen += expect[i].prim != RTT_MISS;
+            assert_true(seen > w * h / 10);
+            /* dropped from outside, kept from within the big sphere's box */
+            pgrid_eye grid = {0};
+            assert_true(pgrid_eye_build(&grid, s, NULL, &frame, w, h, 16, &err));
+            if (e < 2)
+                assert_true(grid.culled_count > s->triangle_count / 4);
+            else
+                assert_int_equal(grid.culled_count, 0);
+            pgrid_eye_free(&grid);
+            const float extent = scene_extent(s);
+            for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+                if (!isa_runs(isa)) continue;
+                rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 16, 2);
+                uint32_t ties = 0;
+                for (uint32_t i = 0; i < w * h; i++) ties += check_hit(s, &rays[i], &expect[i], &hits[i], extent, i);
+                if (ties > MAX_TIE_SHARE * w * h)
+                    fail_msg("scale %g eye %zu %s: %u ties", scales[z], e, rtt_isa_name(isa), ties);
+                free(hits);
+            }
+            free(rays);
+            free(expect);
+            rtt_engine_destroy(ref);
+        }
         rtt_scene_free(s);
     }
 }
@@ -383,6 +491,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pgrid_hits_match_reference),
         cmocka_unit_test(test_pgrid_isa_bit_identical),
+        cmocka_unit_test_setup_teardown(test_back_faces_dropped_only_where_no_eye_ray_meets_them_first, setup_scratch,
+                                        remove_scratch),
         cmocka_unit_test(test_cell_buffers_equal_a_plain_z_buffer),
         cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),
         cmocka_unit_test(test_pgrid_skips_degenerate),

@@ -68,9 +68,9 @@ int main(int argc, char **argv)
         }
         if (status == 0)
             printf("%s %dx%d %s cell %u: frame %.3f ms (%.1f Mrays/s), build %.3f ms (wall, best), "
-                   "%u triangles kept, %zu refs, checksum %016llx\n",
+                   "%u triangles kept, %u back faces dropped, %zu refs, checksum %016llx\n",
                    scene_name, width, height, rtt_isa_name(kernel->isa), grid.cell, 1e3 * best_frame,
-                   1e-6 * width * height / best_frame, 1e3 * best_build, grid.triangle_count, grid.ref_count,
+                   1e-6 * width * height / best_frame, 1e3 * best_build, grid.triangle_count, grid.culled_count, grid.ref_count,
                    (unsigned long long)sum);
     }
     pgrid_eye_free(&grid);

@@ -55,6 +55,8 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->cell_first);
     free(grid->refs);
     free(grid->chunk_kept);
+    free(grid->mesh_culled);
+    pgrid_solids_free(&grid->solids);
     memset(grid, 0, sizeof *grid);
 }
 
@@ -309,11 +311,67 @@ typedef struct setup_job {
     const uint8_t *degenerate;
     const rtt_camera_frame *frame;
     projection p;
+    const int8_t *outward;      /* NULL: no back face is dropped this frame */
 } setup_job;
+
+/* ---- back faces ----
+ * A triangle of a solid (pgrid_eye.h) is dropped when the eye lies on the
+ * inner side of its plane: s det > 0 for det = ((B - A) x (C - A)) . (A - E)
+ * and s its outward side, by a margin that covers det's rounding.  From the
+ * float corners, e1 = B - A, e2 = C - A, w = A - E and det each carry a
+ * relative error of 2^-24 per operation; the cross product and the dot then
+ * err by at most about 17 2^-24 |e1| |e2| |w| < 2^-19 |e1| |e2| |w|, so
+ * s det > 2^-16 |e1| |e2| |w| (compared squared: det^2 > 2^-32 |e1|^2
+ * |e2|^2 |w|^2) has the exact sign.  Those squares stay normal floats while
+ * each lies in [2^-30, 2^30]; a triangle outside that range is decided in
+ * double (margin 2^-40: double's own rounding is 2^-29 times float's). */
+static bool facing_away1(const rtt_vec3 c[3], rtt_vec3 eye, int8_t side)
+{
+    double e1[3], e2[3], w[3];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = (double)rtt_v3_get(c[1], a) - rtt_v3_get(c[0], a);
+        e2[a] = (double)rtt_v3_get(c[2], a) - rtt_v3_get(c[0], a);
+        w[a] = (double)rtt_v3_get(c[0], a) - rtt_v3_get(eye, a);
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double det = (n[0] * w[0] + n[1] * w[1] + n[2] * w[2]) * side;
+    const double bound = (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) * (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]) *
+                         (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    return det > 0.0 && det * det > 0x1p-80 * bound && isfinite(bound);
+}
+
+/* The lanes of four triangles (corner k's axis a in corner[k][a], outward
+ * sides in `side`, 0: never) that face away from the eye; the lanes whose
+ * squares leave float's safe range are decided by facing_away1. */
+static uint32_t facing_away4(const float (*corner)[3][4], rtt_vec3 eye, const int8_t side[4], uint32_t n)
+{
+    v3x4 c[3];
+    for (int k = 0; k < 3; k++) c[k] = (v3x4){_mm_load_ps(corner[k][0]), _mm_load_ps(corner[k][1]), _mm_load_ps(corner[k][2])};
+    const v3x4 e1 = v4_sub(c[1], c[0]), e2 = v4_sub(c[2], c[0]), w = v4_sub(c[0], v4_splat(eye));
+    const __m128 sign = _mm_setr_ps(side[0], side[1], side[2], side[3]);
+    const __m128 det = _mm_mul_ps(v4_dot(v4_cross(e1, e2), w), sign);
+    const __m128 a = v4_dot(e1, e1), b = v4_dot(e2, e2), q = v4_dot(w, w);
+    const __m128 lo = _mm_set1_ps(0x1p-30f), hi = _mm_set1_ps(0x1p30f);
+    const __m128 safe = _mm_and_ps(_mm_and_ps(_mm_and_ps(_mm_cmpge_ps(a, lo), _mm_cmple_ps(a, hi)),
+                                              _mm_and_ps(_mm_cmpge_ps(b, lo), _mm_cmple_ps(b, hi))),
+                                   _mm_and_ps(_mm_cmpge_ps(q, lo), _mm_cmple_ps(q, hi)));
+    const __m128 away = _mm_and_ps(_mm_cmpgt_ps(det, _mm_setzero_ps()),
+                                   _mm_cmpgt_ps(_mm_mul_ps(det, det),
+                                                _mm_mul_ps(_mm_set1_ps(0x1p-32f), _mm_mul_ps(_mm_mul_ps(a, b), q))));
+    const uint32_t lanes = (1u << n) - 1u, sided = lanes & (uint32_t)_mm_movemask_ps(_mm_cmpneq_ps(sign, _mm_setzero_ps()));
+    uint32_t result = sided & (uint32_t)_mm_movemask_ps(_mm_and_ps(safe, away));
+    for (uint32_t odd = sided & ~(uint32_t)_mm_movemask_ps(safe); odd; odd &= odd - 1) {
+        const uint32_t l = (uint32_t)__builtin_ctz(odd);
+        rtt_vec3 one[3];
+        for (int k = 0; k < 3; k++) one[k] = rtt_v3(corner[k][0][l], corner[k][1][l], corner[k][2][l]);
+        if (facing_away1(one, eye, side[l])) result |= 1u << l;
+    }
+    return result;
+}
 
 /* Task: the triangles of chunk `task` transformed, clipped and set up, the
  * kept ones packed from the chunk's first slot in global order; the
- * chunk's kept and near counts in chunk_kept[2 task], [2 task + 1]. */
+ * chunk's kept, near and dropped counts in chunk_kept[3 task] .. [3 task + 2]. */
 static void setup_chunk(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
@@ -322,7 +380,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
     const rtt_scene *scene = job->scene;
     const uint32_t first = task * SETUP_CHUNK,
                    end = first + SETUP_CHUNK < scene->triangle_count ? first + SETUP_CHUNK : scene->triangle_count;
-    uint32_t kept = first, near_count = 0;
+    uint32_t kept = first, near_count = 0, culled = 0;
     const v3x4 eye = v4_splat(job->frame->eye);
     const __m128 scale = _mm_set1_ps(job->p.scale);
     for (uint32_t i = first; i < end;) {
@@ -337,6 +395,12 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
             rtt_scene_triangle(scene, prim[l], c);
             for (int k = 0; k < 3; k++) corner[k][0][l] = c[k].x, corner[k][1][l] = c[k].y, corner[k][2][l] = c[k].z;
         }
+        uint32_t away = 0;
+        if (job->outward) {
+            int8_t side[4] = {0, 0, 0, 0};
+            for (uint32_t l = 0; l < n; l++) side[l] = job->outward[prim[l]];
+            if (side[0] | side[1] | side[2] | side[3]) away = facing_away4((const float(*)[3][4])corner, job->frame->eye, side, n);
+        }
         v3x4 rel[3];
         for (int k = 0; k < 3; k++)
             rel[k] = v4_scale(v4_sub((v3x4){_mm_load_ps(corner[k][0]), _mm_load_ps(corner[k][1]), _mm_load_ps(corner[k][2])}, eye),
@@ -344,6 +408,10 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
         setup4 four;
         setup_four(&job->p, job->frame, rel, &four);
         for (uint32_t l = 0; l < n; l++) {
+            if (away >> l & 1u) {
+                culled++;
+                continue;
+            }
             pgrid_triangle *t = &g->triangles[kept];
             pgrid_surface *sf = &g->surfaces[kept];
             if (four.zmin[l] >= job->p.z_near) {
@@ -370,8 +438,39 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
             kept++;
         }
     }
-    g->chunk_kept[2 * task] = kept - first;
-    g->chunk_kept[2 * task + 1] = near_count;
+    g->chunk_kept[3 * task] = kept - first;
+    g->chunk_kept[3 * task + 1] = near_count;
+    g->chunk_kept[3 * task + 2] = culled;
+}
+
+/* The frame's side of the culling: the scene's solids (worked out once per
+ * scene) and the meshes whose box the eye is outside; NULL when no
+ * triangle can be dropped.  False when out of memory. */
+static bool frame_outward(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate, rtt_vec3 eye,
+                          const int8_t **outward)
+{
+    *outward = NULL;
+    if (g->solids_scene != scene || g->solids_degenerate != degenerate || g->solids_triangles != scene->triangle_count ||
+        g->solids_vertices != scene->vertex_count || g->solids_meshes != scene->mesh_count) {
+        pgrid_solids_free(&g->solids);
+        free(g->mesh_culled);
+        g->mesh_culled = calloc((size_t)scene->mesh_count + 1, 1);
+        g->solids_scene = NULL;
+        if (!g->mesh_culled || !pgrid_solids_find(&g->solids, scene, degenerate)) return false;
+        g->solids_scene = scene, g->solids_degenerate = degenerate, g->solids_triangles = scene->triangle_count;
+        g->solids_vertices = scene->vertex_count, g->solids_meshes = scene->mesh_count;
+    }
+    if (!g->solids.solid_count || !scene->triangle_mesh) return true;
+    /* a mesh whose box holds the eye keeps both faces (the eye may be inside its solid) */
+    bool any = false;
+    for (uint32_t m = 0; m < scene->mesh_count; m++) {
+        const float *box = g->solids.mesh_box[m];
+        g->mesh_culled[m] = g->solids.mesh_solid[m] && (eye.x < box[0] || eye.y < box[1] || eye.z < box[2] ||
+                                                         eye.x > box[3] || eye.y > box[4] || eye.z > box[5]);
+        any |= g->mesh_culled[m];
+    }
+    if (any) *outward = g->solids.triangle_outward;
+    return true;
 }
 
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
@@ -404,26 +503,30 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
      * thread pool, each chunk's kept triangles packed at its own start),
      * then the chunks moved together in order and each cell's references counted */
     const uint32_t chunks = (scene->triangle_count + SETUP_CHUNK - 1) / SETUP_CHUNK;
-    if (2 * chunks + 1 > g->chunk_capacity) {
-        uint32_t *bigger = realloc(g->chunk_kept, (2 * (size_t)chunks + 1) * sizeof *bigger);
+    if (3 * chunks + 1 > g->chunk_capacity) {
+        uint32_t *bigger = realloc(g->chunk_kept, (3 * (size_t)chunks + 1) * sizeof *bigger);
         if (!bigger) return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
         g->chunk_kept = bigger;
-        g->chunk_capacity = 2 * chunks + 1;
+        g->chunk_capacity = 3 * chunks + 1;
     }
-    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene)};
+    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL};
+    if (!frame_outward(g, scene, degenerate, frame->eye, &job.outward))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
     const projection p = job.p;
     memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
     const uint64_t inv_cell = cell_reciprocal(cell);
     uint32_t kept = 0, near_count = 0;
     size_t refs = 0;
+    g->culled_count = 0;
     for (uint32_t c = 0; c < chunks; c++) {
-        const uint32_t n = g->chunk_kept[2 * c], from = c * SETUP_CHUNK;
+        const uint32_t n = g->chunk_kept[3 * c], from = c * SETUP_CHUNK;
+        g->culled_count += g->chunk_kept[3 * c + 2];
         if (from != kept) {
             memmove(&g->triangles[kept], &g->triangles[from], n * sizeof *g->triangles);
             memmove(&g->surfaces[kept], &g->surfaces[from], n * sizeof *g->surfaces);
         }
-        near_count += g->chunk_kept[2 * c + 1];
+        near_count += g->chunk_kept[3 * c + 1];
         for (uint32_t k = kept; k < kept + n; k++) {
             const pgrid_triangle *t = &g->triangles[k];
             const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);

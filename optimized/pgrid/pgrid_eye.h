@@ -1,7 +1,8 @@
 /* Hunt & Mark 2008, sections 4 and 5.1: the perspective grid of the eye
  * rays, rebuilt every frame.  A 2D grid over the image with no depth
  * splits: cell (cx, cy) holds every triangle whose projected bounds meet
- * its cell-by-cell pixel square, in the global triangle order.  The eye
+ * its cell-by-cell pixel square, in the global triangle order, but the back
+ * faces of the solids the eye is outside (pgrid_eye.solids, below).  The eye
  * rays are never stored: a cell's rays are the pixel formula of
  * rtt_camera_ray (scene/shade.c), so a cell is processed like a tiled
  * Z-buffer, in object order (pgrid_cell.c).
@@ -42,6 +43,7 @@
 
 #include "pgrid_light.h"
 #include "pgrid_soft.h"
+#include "pgrid_solids.h"
 
 #define PGRID_NO_TRIANGLE UINT32_MAX
 /* The cell side in pixels when the caller gives none (bench/results/pgrid.md,
@@ -87,8 +89,21 @@ typedef struct pgrid_eye {
     uint32_t near_count;       /* triangles reaching in front of the near plane: every cell holds them */
     float inv_scale;           /* the build works on corners scaled by 1 / inv_scale (a power of two) */
     uint32_t threads;          /* the build's threads, set by the caller (0 or 1: the caller's alone) */
-    uint32_t *chunk_kept;      /* the build's: per chunk of triangles, how many it kept and how many are near */
+    uint32_t *chunk_kept;      /* the build's: per chunk of triangles, how many it kept, how many are near
+                                * and how many it dropped as back faces */
     uint32_t chunk_capacity;
+    /* Back-face culling (pgrid_solids.h): a triangle of a solid whose
+     * mesh's box the eye is outside, with the eye on the inner side of its
+     * plane by a margin, is dropped: an eye ray meets an entering face of
+     * that solid first (or ties with one at a silhouette).  The solids are
+     * the scene's last built for (worked out again when the scene, its
+     * counts or the degenerate flags differ); mesh_culled is the frame's. */
+    pgrid_solids solids;
+    const rtt_scene *solids_scene;
+    const uint8_t *solids_degenerate;
+    uint32_t solids_triangles, solids_vertices, solids_meshes;
+    uint8_t *mesh_culled;      /* per mesh: 1 when this frame drops its back faces */
+    uint32_t culled_count;     /* back faces dropped this frame */
 } pgrid_eye;
 
 /* Builds the grid of `frame` at width x height in cells of `cell` pixels

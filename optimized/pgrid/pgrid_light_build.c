@@ -11,6 +11,7 @@
 #include "engine/clock.h"
 #include "engine/threads.h"
 #include "pgrid_light.h"
+#include "pgrid_solids.h"
 
 #define NEAR_FACTOR 256.0
 #define MU_MAX 4e-2
@@ -345,68 +346,6 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     return true;
 }
 
-/* Sorts 64-bit keys (least-significant-digit radix, 16 bits a pass, as
- * many passes as `largest` needs); the result is in keys.  False when out
- * of memory. */
-static bool sort_u64(uint64_t *keys, uint64_t *spare, size_t count, uint64_t largest)
-{
-    enum { BITS = 16, BUCKETS = 1 << BITS };
-    uint32_t *histogram = malloc(BUCKETS * sizeof *histogram);
-    if (!histogram) return false;
-    for (uint32_t shift = 0; shift < 64 && (largest >> shift) != 0; shift += BITS) {
-        memset(histogram, 0, BUCKETS * sizeof *histogram);
-        for (size_t i = 0; i < count; i++) histogram[(keys[i] >> shift) & (BUCKETS - 1)]++;
-        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
-            const uint32_t k = histogram[b];
-            histogram[b] = sum, sum += k;
-        }
-        for (size_t i = 0; i < count; i++) spare[histogram[(keys[i] >> shift) & (BUCKETS - 1)]++] = keys[i];
-        memcpy(keys, spare, count * sizeof *keys);
-    }
-    free(histogram);
-    return true;
-}
-
-/* Whether closed mesh m is consistently oriented (every directed edge, by
- * vertex index, used once and its reverse once) with a non-zero volume,
- * and its outward side.  Vertices split at seams make a mesh fail: it is
- * then not culled, which costs speed, never exactness. */
-static bool mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward)
-{
-    const size_t most = (size_t)mesh->triangle_count * 3;
-    uint64_t *edges = malloc(4 * most * sizeof *edges + 8);
-    if (!edges) return false;
-    uint64_t *reverse = edges + most, *spare = edges + 2 * most;
-    size_t count = 0;
-    uint64_t largest = 0;
-    double volume = 0.0;
-    const rtt_vec3 o = scene->vertices[scene->triangles[mesh->first_triangle].v[0]];
-    for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
-        if (degenerate && degenerate[t]) continue;
-        const uint32_t *v = scene->triangles[t].v;
-        for (int k = 0; k < 3; k++) {
-            const uint64_t a = v[k], b = v[(k + 1) % 3];
-            edges[count] = a << 32 | b, reverse[count] = b << 32 | a;
-            if (edges[count] > largest) largest = edges[count];
-            if (reverse[count] > largest) largest = reverse[count];
-            count++;
-        }
-        double p[3][3];
-        for (int k = 0; k < 3; k++) {
-            const rtt_vec3 q = scene->vertices[v[k]];
-            p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
-        }
-        volume += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-                  p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
-    }
-    bool ok = sort_u64(edges, spare, count, largest) && sort_u64(reverse, spare, count, largest) && count > 0 &&
-              volume != 0.0 && isfinite(volume);
-    for (size_t i = 0; ok && i < count; i++) ok = edges[i] == reverse[i] && (i == 0 || edges[i] != edges[i - 1]);
-    free(edges);
-    *outward = volume > 0.0 ? 1 : -1;
-    return ok;
-}
-
 void pgrid_shadows_free(pgrid_shadows *grids)
 {
     pgrid_shadows_free_lights(grids);
@@ -440,15 +379,10 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
     const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
     for (uint32_t m = 0; ok && m < scene->mesh_count; m++) {
         const rtt_mesh *mesh = &scene->meshes[m];
-        if (!mesh->closed || !mesh->triangle_count || !mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
+        if (!mesh->closed || !mesh->triangle_count || !pgrid_mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
             continue;
         float *box = grids->mesh_box[m];
-        for (int a = 0; a < 3; a++) box[a] = INFINITY, box[3 + a] = -INFINITY;
-        for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++)
-            for (int k = 0; k < 3; k++) {
-                const float *q = &scene->vertices[scene->triangles[t].v[k]].x;
-                for (int a = 0; a < 3; a++) box[a] = fminf(box[a], q[a]), box[3 + a] = fmaxf(box[3 + a], q[a]);
-            }
+        pgrid_mesh_box(scene, mesh, box);
         for (int a = 0; a < 3; a++) box[a] -= grow + fabsf(box[a]) * 1e-5f, box[3 + a] += grow + fabsf(box[3 + a]) * 1e-5f;
         for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
             rtt_vec3 c[3];
