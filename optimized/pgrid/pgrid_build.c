@@ -340,13 +340,12 @@ static bool facing_away1(const rtt_vec3 c[3], rtt_vec3 eye, int8_t side)
     return det > 0.0 && det * det > 0x1p-80 * bound && isfinite(bound);
 }
 
-/* The lanes of four triangles (corner k's axis a in corner[k][a], outward
- * sides in `side`, 0: never) that face away from the eye; the lanes whose
- * squares leave float's safe range are decided by facing_away1. */
-static uint32_t facing_away4(const float (*corner)[3][4], rtt_vec3 eye, const int8_t side[4], uint32_t n)
+/* The lanes of four triangles (corners c, one per lane; lane l's also in
+ * tri[l]; outward sides in `side`, 0: never) that face away from the eye;
+ * the lanes whose squares leave float's safe range are decided by
+ * facing_away1. */
+static uint32_t facing_away4(const v3x4 c[3], const rtt_vec3 (*tri)[3], rtt_vec3 eye, const int8_t side[4], uint32_t n)
 {
-    v3x4 c[3];
-    for (int k = 0; k < 3; k++) c[k] = (v3x4){_mm_load_ps(corner[k][0]), _mm_load_ps(corner[k][1]), _mm_load_ps(corner[k][2])};
     const v3x4 e1 = v4_sub(c[1], c[0]), e2 = v4_sub(c[2], c[0]), w = v4_sub(c[0], v4_splat(eye));
     const __m128 sign = _mm_setr_ps(side[0], side[1], side[2], side[3]);
     const __m128 det = _mm_mul_ps(v4_dot(v4_cross(e1, e2), w), sign);
@@ -362,9 +361,7 @@ static uint32_t facing_away4(const float (*corner)[3][4], rtt_vec3 eye, const in
     uint32_t result = sided & (uint32_t)_mm_movemask_ps(_mm_and_ps(safe, away));
     for (uint32_t odd = sided & ~(uint32_t)_mm_movemask_ps(safe); odd; odd &= odd - 1) {
         const uint32_t l = (uint32_t)__builtin_ctz(odd);
-        rtt_vec3 one[3];
-        for (int k = 0; k < 3; k++) one[k] = rtt_v3(corner[k][0][l], corner[k][1][l], corner[k][2][l]);
-        if (facing_away1(one, eye, side[l])) result |= 1u << l;
+        if (facing_away1(tri[l], eye, side[l])) result |= 1u << l;
     }
     return result;
 }
@@ -389,22 +386,25 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
         for (; i < end && n < 4; i++)
             if (!job->degenerate || !job->degenerate[i]) prim[n++] = i;
         if (n == 0) break;
-        _Alignas(16) float corner[3][3][4] = {{{0}}};   /* [corner][axis][lane] */
-        for (uint32_t l = 0; l < n; l++) {
-            rtt_vec3 c[3];
-            rtt_scene_triangle(scene, prim[l], c);
-            for (int k = 0; k < 3; k++) corner[k][0][l] = c[k].x, corner[k][1][l] = c[k].y, corner[k][2][l] = c[k].z;
-        }
+        /* the corners, a triangle per lane (lanes past n zero), put together
+         * in registers: no vector load of scalar stores */
+        rtt_vec3 tri[4][3] = {{{0}}};
+        for (uint32_t l = 0; l < n; l++) rtt_scene_triangle(scene, prim[l], tri[l]);
+        v3x4 corners[3];
+        for (int k = 0; k < 3; k++)
+            corners[k] = (v3x4){_mm_setr_ps(tri[0][k].x, tri[1][k].x, tri[2][k].x, tri[3][k].x),
+                                _mm_setr_ps(tri[0][k].y, tri[1][k].y, tri[2][k].y, tri[3][k].y),
+                                _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
         uint32_t away = 0;
         if (job->outward) {
             int8_t side[4] = {0, 0, 0, 0};
             for (uint32_t l = 0; l < n; l++) side[l] = job->outward[prim[l]];
-            if (side[0] | side[1] | side[2] | side[3]) away = facing_away4((const float(*)[3][4])corner, job->frame->eye, side, n);
+            if (side[0] | side[1] | side[2] | side[3])
+                away = facing_away4(corners, (const rtt_vec3(*)[3])tri, job->frame->eye, side, n);
         }
         v3x4 rel[3];
         for (int k = 0; k < 3; k++)
-            rel[k] = v4_scale(v4_sub((v3x4){_mm_load_ps(corner[k][0]), _mm_load_ps(corner[k][1]), _mm_load_ps(corner[k][2])}, eye),
-                              scale);
+            rel[k] = v4_scale(v4_sub(corners[k], eye), scale);
         setup4 four;
         setup_four(&job->p, job->frame, rel, &four);
         for (uint32_t l = 0; l < n; l++) {
@@ -427,8 +427,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
             } else {
                 /* behind the eye or crossing the near plane: the scalar path */
                 rtt_vec3 r[3];
-                for (int k = 0; k < 3; k++) r[k] = rtt_v3(corner[k][0][l], corner[k][1][l], corner[k][2][l]);
-                for (int k = 0; k < 3; k++) r[k] = rtt_v3_scale(rtt_v3_sub(r[k], job->frame->eye), job->p.scale);
+                for (int k = 0; k < 3; k++) r[k] = rtt_v3_scale(rtt_v3_sub(tri[l][k], job->frame->eye), job->p.scale);
                 bool near;
                 if (!triangle_rect(&job->p, r, g->width, g->height, t, &near)) continue;
                 triangle_setup(t, sf, job->frame, r);
