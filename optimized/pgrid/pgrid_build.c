@@ -56,6 +56,9 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->refs);
     free(grid->chunk_kept);
     free(grid->mesh_culled);
+    free(grid->nearest);
+    free(grid->order);
+    free(grid->order_keys);
     pgrid_solids_free(&grid->solids);
     memset(grid, 0, sizeof *grid);
 }
@@ -421,6 +424,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
                     continue;
                 for (int e = 0; e < 4; e++) t->a[e] = four.a[e][l], t->b[e] = four.b[e][l], t->c[e] = four.c[e][l];
                 t->det = four.det[l];
+                g->nearest[kept] = four.zmin[l];
                 *sf = (pgrid_surface){{four.origin[0][l], four.origin[1][l], four.origin[2][l]},
                                       {four.m_u[0][l], four.m_u[1][l], four.m_u[2][l]},
                                       {four.m_v[0][l], four.m_v[1][l], four.m_v[2][l]}, 0, {0}};
@@ -432,6 +436,9 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
                 if (!triangle_rect(&job->p, r, g->width, g->height, t, &near)) continue;
                 triangle_setup(t, sf, job->frame, r);
                 near_count += near;
+                float nearest = INFINITY;
+                for (int k = 0; k < 3; k++) nearest = min_float(nearest, rtt_v3_dot(r[k], job->p.forward));
+                g->nearest[kept] = nearest;
             }
             t->prim = sf->prim = prim[l];
             kept++;
@@ -472,6 +479,46 @@ static bool frame_outward(pgrid_eye *g, const rtt_scene *scene, const uint8_t *d
     return true;
 }
 
+/* The order the cells draw the kept triangles in (g->order).  Nearest
+ * first (by their nearest corner's depth, ties by index: a stable radix
+ * sort on the float's bits made monotone) when the frame dropped no back
+ * face: open surfaces overlap deeply (a map's depth complexity is 2 to 10),
+ * and near ones drawn first let the hierarchical depth test skip the
+ * blocks of those behind (czest3ctf -20%, ctf_inyard -10% a frame's
+ * cells).  Otherwise the global order: solids seen from outside overlap
+ * little once their back faces are gone, and neighbours in a mesh's order
+ * are neighbours on screen (the bunny's cells took 18% longer sorted).
+ * The same order at any thread count. */
+static void drawing_order(pgrid_eye *g)
+{
+    const uint32_t n = g->triangle_count;
+    if (g->culled_count || n < 2) {
+        for (uint32_t k = 0; k < n; k++) g->order[k] = k;
+        return;
+    }
+    enum { BITS = 11, BUCKETS = 1 << BITS };
+    uint64_t *keys = g->order_keys, *spare = keys + n;
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t bits;
+        memcpy(&bits, &g->nearest[k], sizeof bits);
+        bits ^= (bits >> 31) ? 0xFFFFFFFFu : 0x80000000u; /* NaN sorts last */
+        keys[k] = (uint64_t)bits << 32 | k;
+    }
+    uint32_t histogram[BUCKETS];
+    for (uint32_t shift = 32; shift < 64; shift += BITS) {
+        memset(histogram, 0, sizeof histogram);
+        for (uint32_t k = 0; k < n; k++) histogram[(keys[k] >> shift) & (BUCKETS - 1)]++;
+        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
+            const uint32_t count = histogram[b];
+            histogram[b] = sum, sum += count;
+        }
+        for (uint32_t k = 0; k < n; k++) spare[histogram[(keys[k] >> shift) & (BUCKETS - 1)]++] = keys[k];
+        uint64_t *sorted = spare;
+        spare = keys, keys = sorted;
+    }
+    for (uint32_t k = 0; k < n; k++) g->order[k] = (uint32_t)keys[k];
+}
+
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
                      const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
 {
@@ -495,6 +542,12 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         !grow((void **)&g->triangles, &tcap, triangles, sizeof(pgrid_triangle)) ||
         !grow((void **)&g->surfaces, &scap, triangles, sizeof(pgrid_surface)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    size_t ncap = g->order_capacity, ocap = g->order_capacity, kcap = g->order_capacity;
+    if (!grow((void **)&g->nearest, &ncap, triangles, sizeof(float)) ||
+        !grow((void **)&g->order, &ocap, triangles, sizeof(uint32_t)) ||
+        !grow((void **)&g->order_keys, &kcap, 2 * triangles, sizeof(uint64_t)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->order_capacity = (uint32_t)triangles;
     g->cell_capacity = (uint32_t)cap;
     g->triangle_capacity = (uint32_t)tcap;
 
@@ -524,6 +577,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         if (from != kept) {
             memmove(&g->triangles[kept], &g->triangles[from], n * sizeof *g->triangles);
             memmove(&g->surfaces[kept], &g->surfaces[from], n * sizeof *g->surfaces);
+            memmove(&g->nearest[kept], &g->nearest[from], n * sizeof *g->nearest);
         }
         near_count += g->chunk_kept[3 * c + 1];
         for (uint32_t k = kept; k < kept + n; k++) {
@@ -543,9 +597,11 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     g->ref_count = refs;
 
-    /* counting sort: each cell's references in triangle order */
+    /* counting sort: each cell's references in the drawing order */
+    drawing_order(g);
     for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
-    for (uint32_t k = 0; k < kept; k++) {
+    for (uint32_t i = 0; i < kept; i++) {
+        const uint32_t k = g->order[i];
         const pgrid_triangle *t = &g->triangles[k];
         const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
         const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);

@@ -1,8 +1,9 @@
 /* Hunt & Mark 2008, sections 4 and 5.1: the perspective grid of the eye
  * rays, rebuilt every frame.  A 2D grid over the image with no depth
  * splits: cell (cx, cy) holds every triangle whose projected bounds meet
- * its cell-by-cell pixel square, in the global triangle order, but the back
- * faces of the solids the eye is outside (pgrid_eye.solids, below).  The eye
+ * its cell-by-cell pixel square, but the back faces of the solids the eye
+ * is outside (pgrid_eye.solids, below), in the frame's drawing order (the
+ * global triangle order, or nearest first when no back face is dropped).  The eye
  * rays are never stored: a cell's rays are the pixel formula of
  * rtt_camera_ray (scene/shade.c), so a cell is processed like a tiled
  * Z-buffer, in object order (pgrid_cell.c).
@@ -104,6 +105,13 @@ typedef struct pgrid_eye {
     uint32_t solids_triangles, solids_vertices, solids_meshes;
     uint8_t *mesh_culled;      /* per mesh: 1 when this frame drops its back faces */
     uint32_t culled_count;     /* back faces dropped this frame */
+    /* the drawing order (pgrid_build.c, drawing_order): per kept triangle
+     * its nearest corner's depth, the order (each cell's list follows it)
+     * and its sort's keys */
+    float *nearest;
+    uint32_t *order;
+    uint64_t *order_keys;
+    uint32_t order_capacity;
 } pgrid_eye;
 
 /* Builds the grid of `frame` at width x height in cells of `cell` pixels
