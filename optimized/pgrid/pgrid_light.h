@@ -105,6 +105,9 @@ typedef struct pgrid_light {
      * cursors, and what the arrays hold */
     pgrid_footprint *prints;
     uint8_t *record_front;     /* per corner record: front[its prim] */
+    uint8_t *face_mask;        /* per corner record: bit f when it has a footprint on face f */
+    uint32_t *face_records;    /* per face the records with a footprint on it, ascending: */
+    uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* face f's are face_records[face_first[f] ..) */
     uint32_t *fill;
     size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity;
 } pgrid_light;

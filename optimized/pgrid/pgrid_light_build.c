@@ -143,6 +143,8 @@ void pgrid_light_free(pgrid_light *light)
     free(light->prints);
     free(light->fill);
     free(light->record_front);
+    free(light->face_mask);
+    free(light->face_records);
     memset(light, 0, sizeof *light);
 }
 
@@ -203,16 +205,20 @@ static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
             /* a near one: no footprint, y0 marks it for the near list */
             for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
                 light->prints[(size_t)face * n + i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
+            light->face_mask[i] = 0;
             continue;
         }
         const uint32_t only = single_face((const double(*)[3])c, mu);
+        uint8_t mask = 0;
         for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
             pgrid_footprint *f = &light->prints[(size_t)face * n + i];
             if (only != PGRID_LIGHT_FACES && face != only)
                 f->x0 = PGRID_FOOTPRINT_NONE, f->y0 = 0;
             else
                 *f = face_footprint((const double(*)[3])c, face, mu, b->res);
+            if (f->x0 != PGRID_FOOTPRINT_NONE) mask |= (uint8_t)(1u << face);
         }
+        light->face_mask[i] = mask;
     }
 }
 
@@ -246,9 +252,10 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
         for (size_t c = first; c < last; c++) light->cell_min[c] = INFINITY;
     }
     const size_t face_first = (size_t)face * b->n; /* face-major; no pointer into an empty (NULL) array */
-    for (uint32_t i = 0; i < b->n; i++) {
+    for (uint32_t k = light->face_first[face]; k < light->face_first[face + 1]; k++) {
+        const uint32_t i = light->face_records[k];
         const pgrid_footprint f = light->prints[face_first + i];
-        if (f.x0 == PGRID_FOOTPRINT_NONE || f.y1 < r0 || f.y0 >= r1) continue;
+        if (f.y1 < r0 || f.y0 >= r1) continue;
         const bool front = light->record_front[i];
         const float bound = light->bound[i];
         const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
@@ -312,10 +319,12 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         if (ok) light->cell_capacity = cells;
     }
     if (ok && n > light->corner_capacity) {
-        size_t c1 = 0, c2 = 0, c3 = 0, c4 = 0;
+        size_t c1 = 0, c2 = 0, c3 = 0, c4 = 0, c5 = 0, c6 = 0;
         ok = grow(&light->record_front, &c4, (size_t)n + 1, 1) && grow(&light->near, &c1, (size_t)n + 1, sizeof *light->near) &&
              grow(&light->bound, &c2, (size_t)n + 1, sizeof *light->bound) &&
-             grow(&light->prints, &c3, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->prints);
+             grow(&light->prints, &c3, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->prints) &&
+             grow(&light->face_mask, &c5, (size_t)n + 1, 1) &&
+             grow(&light->face_records, &c6, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->face_records);
         if (ok) light->corner_capacity = n;
     }
     ok = ok && grow(&light->front, &light->triangle_capacity, (size_t)scene->triangle_count + 1, 1);
@@ -327,6 +336,16 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     light_build b = {.light = light, .grids = grids, .E = E, .res = res, .n = n, .cells = cells,
                      .bands = threads > 1 ? 2 : 1};
     rtt_parallel_run((n + CHUNK - 1) / CHUNK, threads, footprint_chunk, &b);
+    /* per face the records with a footprint on it, in record order: the
+     * bands read those, not every record (most triangles meet one face) */
+    uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += light->face_mask[i] >> face & 1u;
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
+    memcpy(light->face_first, at, sizeof at);
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1)
+            light->face_records[at[__builtin_ctz(mask)]++] = i;
     light->near_count = 0;
     for (uint32_t i = 0; i < n; i++)
         if (light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)

@@ -1,3 +1,3 @@
-commit 043722f load 1.82 1.70 1.17
+commit dae789a load 1.88 1.39 1.16
 build/cli/rtt bench ~/.cache/rtt-data/meshes/armadillo.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.69 1.68 1.17
+load after 1.81 1.39 1.16
