@@ -1,3 +1,3 @@
-commit dae789a load 1.75 1.40 1.17
+commit acecdfa load 1.42 1.46 1.31
 build/cli/rtt bench ~/.cache/rtt-data/maps/ctf_inyard.bsp --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.65 1.40 1.17
+load after 1.33 1.44 1.30

@@ -1,3 +1,3 @@
-commit dae789a load 1.65 1.40 1.17
+commit acecdfa load 1.23 1.41 1.29
 build/cli/rtt bench ~/.cache/rtt-data/maps/czest3ctf.bsp --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.47 1.37 1.17
+load after 1.16 1.38 1.28

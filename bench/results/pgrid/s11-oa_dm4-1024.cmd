@@ -1,3 +1,3 @@
-commit dae789a load 1.77 1.39 1.16
+commit acecdfa load 1.27 1.44 1.29
 build/cli/rtt bench ~/.cache/rtt-data/maps/oa_dm4.bsp --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.75 1.40 1.17
+load after 1.44 1.47 1.31

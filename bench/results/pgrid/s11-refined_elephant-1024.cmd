@@ -1,3 +1,3 @@
-commit dae789a load 1.81 1.39 1.16
+commit acecdfa load 1.29 1.45 1.30
 build/cli/rtt bench ~/.cache/rtt-data/meshes/refined_elephant.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.77 1.39 1.16
+load after 1.33 1.46 1.30

@@ -1,3 +1,3 @@
-commit dae789a load 0.88 1.21 1.12
+commit acecdfa load 2.12 1.61 1.30
 build/cli/rtt bench ~/.cache/rtt-data/meshes/bunny00.off --views bench/views.json --size 1024 --only shadow,build --frames 5 --threads 1,2 --json
-load after 0.98 1.22 1.13
+load after 1.95 1.60 1.30

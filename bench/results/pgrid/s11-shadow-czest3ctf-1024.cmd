@@ -1,3 +1,3 @@
-commit dae789a load 1.21 1.25 1.15
+commit acecdfa load 1.47 1.53 1.30
 build/cli/rtt bench ~/.cache/rtt-data/maps/czest3ctf.bsp --views bench/views.json --size 1024 --only shadow,build --frames 5 --threads 1,2 --json
-load after 1.23 1.25 1.15
+load after 1.46 1.52 1.31

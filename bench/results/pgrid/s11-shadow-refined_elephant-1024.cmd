@@ -1,3 +1,3 @@
-commit dae789a load 1.06 1.23 1.13
+commit acecdfa load 1.66 1.56 1.29
 build/cli/rtt bench ~/.cache/rtt-data/meshes/refined_elephant.off --views bench/views.json --size 1024 --only shadow,build --frames 5 --threads 1,2 --json
-load after 1.28 1.27 1.15
+load after 1.64 1.56 1.29
