@@ -50,7 +50,8 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
     pgrid_frame f = {.kernel = pgrid_kernel_find("pgrid", rtt_isa_resolve(spec->isa)), .scene = scene,
                      .degenerate = degenerate, .camera = rtt_camera_frame_make(&scene->camera, width, height),
                      .width = width, .height = height, .cell = cell, .threads = spec->threads};
-    f.hits = malloc((size_t)width * height * sizeof *f.hits);
+    /* 64-byte aligned: a row of four hits is one line, streamed (pgrid_eye_trace_frame) */
+    f.hits = aligned_alloc(64, ((size_t)width * height * sizeof *f.hits + 63) & ~(size_t)63);
     f.build_seconds = calloc((size_t)spec->warmup + spec->frames, sizeof *f.build_seconds);
     if (!f.hits || !f.build_seconds) {
         free(f.hits);

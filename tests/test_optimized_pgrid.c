@@ -100,17 +100,26 @@ static int check_hit(const rtt_scene *s, const rtt_ray *ray, const rtt_hit *ref,
     return 1;
 }
 
-static rtt_hit *trace_pgrid(const rtt_scene *s, const uint8_t *degenerate, const pgrid_kernel *k, uint32_t w,
-                            uint32_t h, uint32_t cell, uint32_t threads)
+/* One frame into hits (w x h records). */
+static void trace_pgrid_into(const rtt_scene *s, const uint8_t *degenerate, const pgrid_kernel *k, uint32_t w,
+                             uint32_t h, uint32_t cell, uint32_t threads, rtt_hit *hits)
 {
-    rtt_hit *hits = malloc((size_t)w * h * sizeof *hits);
-    assert_non_null(hits);
     rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
     pgrid_eye grid = {0};
     rtt_error err = {{0}};
     if (!pgrid_eye_trace_frame(&grid, k, s, degenerate, &frame, w, h, cell, threads, hits, NULL, &err))
         fail_msg("pgrid: %s", err.message);
     pgrid_eye_free(&grid);
+}
+
+/* ...into a new 64-byte aligned buffer (where the frame's rows of four
+ * start on a line, they are streamed: pgrid_resolve_fn). */
+static rtt_hit *trace_pgrid(const rtt_scene *s, const uint8_t *degenerate, const pgrid_kernel *k, uint32_t w,
+                            uint32_t h, uint32_t cell, uint32_t threads)
+{
+    rtt_hit *hits = aligned_alloc(64, ((size_t)w * h * sizeof *hits + 63) & ~(size_t)63);
+    assert_non_null(hits);
+    trace_pgrid_into(s, degenerate, k, w, h, cell, threads, hits);
     return hits;
 }
 
@@ -347,20 +356,27 @@ static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
     }
 }
 
-/* Every copy gives the SSE4.1 copy's hits bit for bit, for any thread count. */
+/* Every copy gives the SSE4.1 copy's hits bit for bit, for any thread count, its rows streamed (a
+ * 64-byte aligned buffer, rows of a multiple of four) or not. */
 static void test_pgrid_isa_bit_identical(void **state)
 {
     (void)state;
     rtt_scene *s = load_scene("demo.json");
-    const uint32_t w = 150, h = 90;
-    rtt_hit *base = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", RTT_ISA_SSE4), w, h, 32, 1);
-    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
-        if (!isa_runs(isa)) continue;
-        rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 32, 2);
-        assert_memory_equal(hits, base, (size_t)w * h * sizeof *hits);
-        free(hits);
+    const uint32_t sizes[][2] = {{150, 90}, {152, 90}}; /* 152: every row of four starts on a line */
+    for (size_t z = 0; z < 2; z++) {
+        const uint32_t w = sizes[z][0], h = sizes[z][1];
+        /* the SSE4.1 copy into a buffer 16 bytes off a line (plain stores everywhere) */
+        rtt_hit *block = aligned_alloc(64, ((size_t)w * h * sizeof *block + 16 + 63) & ~(size_t)63), *base = block + 1;
+        assert_non_null(block);
+        trace_pgrid_into(s, NULL, pgrid_kernel_find("pgrid", RTT_ISA_SSE4), w, h, 32, 1, base);
+        for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+            if (!isa_runs(isa)) continue;
+            rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 32, 2);
+            assert_memory_equal(hits, base, (size_t)w * h * sizeof *hits);
+            free(hits);
+        }
+        free(block);
     }
-    free(base);
     rtt_scene_free(s);
 }
 

@@ -40,7 +40,7 @@ int main(int argc, char **argv)
     if (!scene) return 1;
     rtt_error err = {{0}};
     int status = 1;
-    rtt_hit *hits = malloc((size_t)width * (size_t)height * sizeof *hits);
+    rtt_hit *hits = aligned_alloc(64, ((size_t)width * (size_t)height * sizeof *hits + 63) & ~(size_t)63); /* as the bench's */
     pgrid_eye grid = {0};
     if (!hits) {
         fprintf(stderr, "pgrid_frame_time: out of memory\n");

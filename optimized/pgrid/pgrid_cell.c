@@ -128,9 +128,10 @@ static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_
 }
 /* A block's hit records (t, u, v, prim of lane i = x + 4 y; the misses'
  * record where `hit` is clear) into the first `pixels` records of its
- * first `rows` rows: two 4x4 transposes, one (masked) store per row. */
+ * first `rows` rows: two 4x4 transposes, one (masked) store per row, or
+ * with `stream` a non-temporal one per whole row on a 64-byte boundary. */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
-                               vfloat u, vfloat v, vfloat prim)
+                               vfloat u, vfloat v, vfloat prim, bool stream)
 {
     t = _mm512_mask_blend_ps(hit, _mm512_set1_ps(INFINITY), t);
     u = _mm512_maskz_mov_ps(hit, u);
@@ -146,6 +147,10 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     const __m512 c = _mm512_shuffle_f32x4(p2, p3, 0x44), d = _mm512_shuffle_f32x4(p2, p3, 0xEE);
     const __m512 out[4] = {_mm512_shuffle_f32x4(a, c, 0x88), _mm512_shuffle_f32x4(a, c, 0xDD),
                            _mm512_shuffle_f32x4(b, d, 0x88), _mm512_shuffle_f32x4(b, d, 0xDD)};
+    if (stream && pixels >= 4u && !(((uintptr_t)row | (stride * sizeof *row)) & 63u)) {
+        for (uint32_t r = 0; r < rows; r++) _mm512_stream_ps((float *)(row + r * stride), out[r]);
+        return;
+    }
     const __mmask16 words = (__mmask16)(pixels >= 4u ? 0xFFFFu : (1u << (4u * pixels)) - 1u);
     for (uint32_t r = 0; r < rows; r++) _mm512_mask_storeu_ps((float *)(row + r * stride), words, out[r]);
 }
@@ -226,7 +231,7 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm256_movemask_ps(m); }
 /* the AVX-512 store's transposes for a 4x2 block: a row per 128-bit lane */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
-                               vfloat u, vfloat v, vfloat prim)
+                               vfloat u, vfloat v, vfloat prim, bool stream)
 {
     t = _mm256_blendv_ps(_mm256_set1_ps(INFINITY), t, hit);
     u = _mm256_and_ps(u, hit);
@@ -239,6 +244,14 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     /* row j, pixels 0-1 and 2-3: lane j of p0, p1 and of p2, p3 */
     const __m256 out[2][2] = {{_mm256_permute2f128_ps(p0, p1, 0x20), _mm256_permute2f128_ps(p2, p3, 0x20)},
                               {_mm256_permute2f128_ps(p0, p1, 0x31), _mm256_permute2f128_ps(p2, p3, 0x31)}};
+    if (stream && pixels >= 4u && !(((uintptr_t)row | (stride * sizeof *row)) & 63u)) {
+        for (uint32_t r = 0; r < rows; r++) {
+            float *p = (float *)(row + r * stride);
+            _mm256_stream_ps(p, out[r][0]);
+            _mm256_stream_ps(p + 8, out[r][1]);
+        }
+        return;
+    }
     const __m256i lane = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
     const __m256i first = _mm256_cmpgt_epi32(_mm256_set1_epi32((int)pixels), lane);
     const __m256i second = _mm256_cmpgt_epi32(_mm256_set1_epi32((int)pixels - 2), lane);
@@ -316,7 +329,7 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm_movemask_ps(m); }
 /* a 4x1 block: one 4x4 transpose, a record per pixel */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
-                               vfloat u, vfloat v, vfloat prim)
+                               vfloat u, vfloat v, vfloat prim, bool stream)
 {
     (void)stride, (void)rows;
     t = _mm_blendv_ps(_mm_set1_ps(INFINITY), t, hit);
@@ -325,6 +338,10 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     prim = _mm_blendv_ps(_mm_castsi128_ps(_mm_set1_epi32((int)RTT_MISS)), prim, hit);
     _MM_TRANSPOSE4_PS(t, u, v, prim);
     const __m128 out[4] = {t, u, v, prim};
+    if (stream && pixels >= 4u && !((uintptr_t)row & 63u)) {
+        for (uint32_t p = 0; p < 4u; p++) _mm_stream_ps((float *)(row + p), out[p]);
+        return;
+    }
     for (uint32_t p = 0; p < pixels && p < 4u; p++) _mm_storeu_ps((float *)(row + p), out[p]);
 }
 #endif
@@ -581,7 +598,7 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buf
 }
 
 void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buffers *buffers, rtt_hit *hits,
-                        size_t stride);
+                        size_t stride, bool stream);
 
 /* The hits of the cell's pixels from its buffers, a block (one vector)
  * at a time: t along the normalised direction is t_D |D| (|D| in
@@ -590,7 +607,7 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buff
  * t_D D (pgrid_eye.h); each lane's operations are the scalar formula's, in
  * its order, so every width gives the same bits. */
 void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buffers *buffers, rtt_hit *hits,
-                        size_t stride)
+                        size_t stride, bool stream)
 {
     const float *depth = buffers->depth;
     const uint32_t *triangle = buffers->triangle;
@@ -639,7 +656,8 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buff
             }
             const uint32_t x = bx * 4u, y = by * BLOCK_H;
             store_block(hits + (size_t)y * stride + x, stride, w - x, h - y < BLOCK_H ? h - y : BLOCK_H, hit, t, u, v,
-                        sf[9]);
+                        sf[9], stream);
         }
     }
+    if (stream) _mm_sfence(); /* the streamed rows ordered before whatever tells a reader they are there */
 }

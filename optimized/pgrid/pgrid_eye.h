@@ -153,9 +153,14 @@ void pgrid_cell_buffers_free(pgrid_cell_buffers *b);
 typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_buffers *buffers);
 /* ...and the hits of the cell's pixels from them: pixel (X0 + x, Y0 + y)
  * of the cell with corner (X0, Y0) into hits[y * stride + x]; t along
- * rtt_camera_ray's normalised direction, u, v, prim (a miss where none). */
+ * rtt_camera_ray's normalised direction, u, v, prim (a miss where none).
+ * With `stream`, the rows of 4 pixels that start on a 64-byte boundary are
+ * written with non-temporal stores (past the caches, without reading the
+ * lines first): for a whole frame of hits, many times the caches, that no
+ * one reads before it has left them; a tile about to be shaded wants
+ * plain stores. */
 typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, const pgrid_cell_buffers *buffers,
-                                 rtt_hit *hits, size_t stride);
+                                 rtt_hit *hits, size_t stride, bool stream);
 
 /* The perspective grid's kernel descriptor table (pgrid_table.c): one row
  * per instruction set. */
@@ -178,7 +183,9 @@ const pgrid_kernel *pgrid_kernel_row_at(uint32_t i);
 
 /* One frame of eye rays alone (the bench and the tests): build, every cell
  * through `kernel` on `threads` threads, each pixel's hit into hits[py *
- * width + px].  build_seconds (may be NULL) gets the build's share. */
+ * width + px], streamed (pgrid_resolve_fn: a whole frame of hits; give a
+ * 64-byte aligned buffer to get it).  build_seconds (may be NULL) gets the
+ * build's share. */
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
                            const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
                            uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,

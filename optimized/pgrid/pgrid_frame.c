@@ -41,7 +41,7 @@ static void trace_cell(void *context, uint32_t thread, uint32_t cell)
     const pgrid_eye *g = job->grid;
     const uint32_t X0 = (cell % g->cells_x) * g->cell, Y0 = (cell / g->cells_x) * g->cell;
     job->kernel->trace_cell(g, cell, &job->buffers[thread]);
-    job->kernel->resolve_cell(g, cell, &job->buffers[thread], job->hits + (size_t)Y0 * g->width + X0, g->width);
+    job->kernel->resolve_cell(g, cell, &job->buffers[thread], job->hits + (size_t)Y0 * g->width + X0, g->width, true);
 }
 
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,

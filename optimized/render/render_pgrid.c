@@ -35,7 +35,7 @@ void pgrid_render_cell(const pgrid_render *r, uint32_t thread, sp_scratch *s, ui
     const uint32_t cell = (y0 / g->cell) * g->cells_x + x0 / g->cell;
     rtt_hit *hits = r->hits[thread];
     r->kernel->trace_cell(g, cell, &r->buffers[thread]);
-    r->kernel->resolve_cell(g, cell, &r->buffers[thread], hits, g->cell);
+    r->kernel->resolve_cell(g, cell, &r->buffers[thread], hits, g->cell, false); /* shaded next: kept in cache */
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             const rtt_ray ray = rtt_camera_ray(&g->frame, x, y);
