@@ -1,3 +1,3 @@
-commit acecdfa load 1.32 1.47 1.30
+commit 3a76d89 load 1.23 1.14 1.18
 build/cli/rtt bench ~/.cache/rtt-data/meshes/armadillo.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.34 1.47 1.30
+load after 1.19 1.14 1.18

@@ -1,3 +1,3 @@
-commit acecdfa load 0.83 1.29 1.26
+commit 3a76d89 load 1.13 1.13 1.17
 build/cli/rtt bench ~/.cache/rtt-data/meshes/bunny00.off --views bench/views.json --size 1920 --height 1200 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.02 1.31 1.26
+load after 1.17 1.14 1.17

@@ -1,3 +1,3 @@
-commit acecdfa load 1.09 1.30 1.26
+commit 3a76d89 load 1.17 1.14 1.17
 build/cli/rtt bench ~/.cache/rtt-data/maps/oa_dm4.bsp --views bench/views.json --size 1920 --height 1200 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.21 1.30 1.26
+load after 1.18 1.14 1.18

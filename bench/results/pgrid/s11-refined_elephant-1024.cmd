@@ -1,3 +1,3 @@
-commit acecdfa load 1.29 1.45 1.30
+commit 3a76d89 load 1.19 1.14 1.18
 build/cli/rtt bench ~/.cache/rtt-data/meshes/refined_elephant.off --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
-load after 1.33 1.46 1.30
+load after 1.16 1.13 1.18

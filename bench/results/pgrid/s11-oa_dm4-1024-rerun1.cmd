@@ -1,0 +1,3 @@
+commit 3a76d89 load 1.17 1.16 1.18
+build/cli/rtt bench ~/.cache/rtt-data/maps/oa_dm4.bsp --views bench/views.json --size 1024 --accel pgrid --only primary,build --frames 5 --threads 1,2 --json
+load after 1.14 1.15 1.18
