@@ -121,6 +121,15 @@ static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_
         for (int k = 0; k < count; k++) field[k] = _mm512_set1_ps(f[k]);
         return hit;
     }
+    /* two triangles (a block across a big triangle's edge): both records
+     * broadcast into their lanes; more (a mesh's small triangles): gathered */
+    const vmask lanes = _mm512_mask_cmpeq_epi32_mask(hit, index, _mm512_set1_epi32((int)first)), rest = hit & (vmask)~lanes;
+    const uint32_t second = triangle[__builtin_ctz(vm_bits(rest))];
+    if (!_mm512_mask_cmpneq_epi32_mask(rest, index, _mm512_set1_epi32((int)second))) {
+        const float *f = (const float *)&surfaces[first], *f2 = (const float *)&surfaces[second];
+        for (int k = 0; k < count; k++) field[k] = _mm512_mask_blend_ps(rest, _mm512_set1_ps(f[k]), _mm512_set1_ps(f2[k]));
+        return hit;
+    }
     const __m512i at = _mm512_mullo_epi32(index, _mm512_set1_epi32((int)(sizeof(pgrid_surface) / sizeof(float))));
     for (int k = 0; k < count; k++)
         field[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), hit, at, (const float *)surfaces + k, 4);
