@@ -203,6 +203,43 @@ static void off_sphere(FILE *corners, FILE *faces, uint32_t base, const double c
 #undef RING
 }
 
+/* The back faces the grid of s's camera (96 x 80, cells of 16) drops, after
+ * checking every instruction set's hits against the reference's. */
+static uint32_t back_faces_checked(const rtt_scene *s)
+{
+    const uint32_t w = 96, h = 80;
+    rtt_error err = {{0}};
+    rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+    assert_non_null(ref);
+    const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    rtt_ray *rays = malloc((size_t)w * h * sizeof *rays);
+    rtt_hit *expect = malloc((size_t)w * h * sizeof *expect);
+    assert_true(rays && expect);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) rays[y * w + x] = rtt_camera_ray(&frame, x, y);
+    rtt_engine_intersect(ref, rays, expect, (size_t)w * h);
+    uint32_t seen = 0;
+    for (uint32_t i = 0; i < w * h; i++) seen += expect[i].prim != RTT_MISS;
+    assert_true(seen > w * h / 10);
+    pgrid_eye grid = {0};
+    assert_true(pgrid_eye_build(&grid, s, NULL, &frame, w, h, 16, &err));
+    const uint32_t culled = grid.culled_count;
+    pgrid_eye_free(&grid);
+    const float extent = scene_extent(s);
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 16, 2);
+        uint32_t ties = 0;
+        for (uint32_t i = 0; i < w * h; i++) ties += check_hit(s, &rays[i], &expect[i], &hits[i], extent, i);
+        if (ties > MAX_TIE_SHARE * w * h) fail_msg("%s: %u ties", rtt_isa_name(isa), ties);
+        free(hits);
+    }
+    free(rays);
+    free(expect);
+    rtt_engine_destroy(ref);
+    return culled;
+}
+
 /* Back faces: one mesh of two parts, a sphere and a smaller one wound
  * inside out beside it (each part's own outward side must be used), at
  * scales 1 (the float test) and 1e15 and 1e-15 (the double path), seen from
@@ -236,43 +273,42 @@ static void test_back_faces_dropped_only_where_no_eye_ray_meets_them_first(void 
             const float k = (float)scales[z];
             s->camera = (rtt_camera){rtt_v3((float)eyes[e][0] * k, (float)eyes[e][1] * k, (float)eyes[e][2] * k),
                                      rtt_v3(1.0f * k, 0.0f, 0.0f), rtt_v3(0.0f, 1.0f, 0.0f), e == 2 ? 100.0f : 50.0f};
-            const uint32_t w = 96, h = 80;
-            rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
-            assert_non_null(ref);
-            const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
-            rtt_ray *rays = malloc((size_t)w * h * sizeof *rays);
-            rtt_hit *expect = malloc((size_t)w * h * sizeof *expect);
-            assert_true(rays && expect);
-            for (uint32_t y = 0; y < h; y++)
-                for (uint32_t x = 0; x < w; x++) rays[y * w + x] = rtt_camera_ray(&frame, x, y);
-            rtt_engine_intersect(ref, rays, expect, (size_t)w * h);
-            uint32_t seen = 0;
-            for (uint32_t i = 0; i < w * h; i++) seen += expect[i].prim != RTT_MISS;
-            assert_true(seen > w * h / 10);
+            const uint32_t culled = back_faces_checked(s);
             /* dropped from outside, kept from within the big sphere's box */
-            pgrid_eye grid = {0};
-            assert_true(pgrid_eye_build(&grid, s, NULL, &frame, w, h, 16, &err));
             if (e < 2)
-                assert_true(grid.culled_count > s->triangle_count / 4);
+                assert_true(culled > s->triangle_count / 4);
             else
-                assert_int_equal(grid.culled_count, 0);
-            pgrid_eye_free(&grid);
-            const float extent = scene_extent(s);
-            for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
-                if (!isa_runs(isa)) continue;
-                rtt_hit *hits = trace_pgrid(s, NULL, pgrid_kernel_find("pgrid", isa), w, h, 16, 2);
-                uint32_t ties = 0;
-                for (uint32_t i = 0; i < w * h; i++) ties += check_hit(s, &rays[i], &expect[i], &hits[i], extent, i);
-                if (ties > MAX_TIE_SHARE * w * h)
-                    fail_msg("scale %g eye %zu %s: %u ties", scales[z], e, rtt_isa_name(isa), ties);
-                free(hits);
-            }
-            free(rays);
-            free(expect);
-            rtt_engine_destroy(ref);
+                assert_int_equal(culled, 0);
         }
         rtt_scene_free(s);
     }
+}
+
+/* Back faces, mesh by mesh: two solid spheres (two meshes of one scene),
+ * the eye inside the first one's box (which keeps both faces: the eye sees
+ * its inner side) and outside the second's (whose back faces are dropped). */
+static void test_back_faces_kept_for_the_mesh_whose_box_holds_the_eye(void **state)
+{
+    const char *path = scratch_path(state, "two_spheres.json");
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("{\"camera\": {\"eye\": [0.1, 0.2, 0.3], \"look_at\": [2.5, 0, 0], \"fov\": 100},\n"
+          " \"meshes\": [\n"
+          "  {\"name\": \"around\", \"shape\": {\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1.5, \"subdivisions\": 3}},\n"
+          "  {\"name\": \"ahead\", \"shape\": {\"type\": \"sphere\", \"center\": [0.9, 0, 0], \"radius\": 0.3, \"subdivisions\": 3}}\n"
+          " ]}\n",
+          f);
+    assert_int_equal(fclose(f), 0);
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_load(path, NULL, &err);
+    if (!s) fail_msg("%s: %s", path, err.message);
+    assert_int_equal(s->mesh_count, 2);
+    assert_true(s->meshes[0].closed && s->meshes[1].closed);
+    /* the small sphere's back faces only: about half of its triangles */
+    const uint32_t culled = back_faces_checked(s);
+    assert_true(culled > s->meshes[1].triangle_count / 4);
+    assert_true(culled < s->meshes[1].triangle_count);
+    rtt_scene_free(s);
 }
 
 /* One cell as a plain Z-buffer would fill it: every pixel of every listed
@@ -508,6 +544,8 @@ int main(void)
         cmocka_unit_test(test_pgrid_hits_match_reference),
         cmocka_unit_test(test_pgrid_isa_bit_identical),
         cmocka_unit_test_setup_teardown(test_back_faces_dropped_only_where_no_eye_ray_meets_them_first, setup_scratch,
+                                        remove_scratch),
+        cmocka_unit_test_setup_teardown(test_back_faces_kept_for_the_mesh_whose_box_holds_the_eye, setup_scratch,
                                         remove_scratch),
         cmocka_unit_test(test_cell_buffers_equal_a_plain_z_buffer),
         cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),

@@ -314,7 +314,11 @@ typedef struct setup_job {
     const uint8_t *degenerate;
     const rtt_camera_frame *frame;
     projection p;
-    const int8_t *outward;      /* NULL: no back face is dropped this frame */
+    /* the solids' outward sides per triangle and, per mesh, whether this
+     * frame drops its back faces (the eye outside its box); outward NULL:
+     * no back face is dropped this frame */
+    const int8_t *outward;
+    const uint8_t *mesh_culled;
 } setup_job;
 
 /* ---- back faces ----
@@ -401,7 +405,8 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
         uint32_t away = 0;
         if (job->outward) {
             int8_t side[4] = {0, 0, 0, 0};
-            for (uint32_t l = 0; l < n; l++) side[l] = job->outward[prim[l]];
+            for (uint32_t l = 0; l < n; l++)
+                side[l] = job->mesh_culled[scene->triangle_mesh[prim[l]]] ? job->outward[prim[l]] : 0;
             if (side[0] | side[1] | side[2] | side[3])
                 away = facing_away4(corners, (const rtt_vec3(*)[3])tri, job->frame->eye, side, n);
         }
@@ -450,8 +455,8 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
 }
 
 /* The frame's side of the culling: the scene's solids (worked out once per
- * scene) and the meshes whose box the eye is outside; NULL when no
- * triangle can be dropped.  False when out of memory. */
+ * scene) and the meshes whose box the eye is outside (g->mesh_culled);
+ * outward NULL when no triangle can be dropped.  False when out of memory. */
 static bool frame_outward(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate, rtt_vec3 eye,
                           const int8_t **outward)
 {
@@ -561,9 +566,10 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         g->chunk_kept = bigger;
         g->chunk_capacity = 3 * chunks + 1;
     }
-    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL};
+    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL, NULL};
     if (!frame_outward(g, scene, degenerate, frame->eye, &job.outward))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    job.mesh_culled = g->mesh_culled; /* allocated there for a new scene */
     rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
     const projection p = job.p;
     memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
