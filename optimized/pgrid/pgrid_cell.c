@@ -138,7 +138,8 @@ static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_
 /* A block's hit records (t, u, v, prim of lane i = x + 4 y; the misses'
  * record where `hit` is clear) into the first `pixels` records of its
  * first `rows` rows: two 4x4 transposes, one (masked) store per row, or
- * with `stream` a non-temporal one per whole row on a 64-byte boundary. */
+ * with `stream` (every row starts on a 64-byte line) a non-temporal one
+ * per whole row. */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
                                vfloat u, vfloat v, vfloat prim, bool stream)
 {
@@ -156,7 +157,7 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     const __m512 c = _mm512_shuffle_f32x4(p2, p3, 0x44), d = _mm512_shuffle_f32x4(p2, p3, 0xEE);
     const __m512 out[4] = {_mm512_shuffle_f32x4(a, c, 0x88), _mm512_shuffle_f32x4(a, c, 0xDD),
                            _mm512_shuffle_f32x4(b, d, 0x88), _mm512_shuffle_f32x4(b, d, 0xDD)};
-    if (stream && pixels >= 4u && !(((uintptr_t)row | (stride * sizeof *row)) & 63u)) {
+    if (stream && pixels >= 4u) {
         for (uint32_t r = 0; r < rows; r++) _mm512_stream_ps((float *)(row + r * stride), out[r]);
         return;
     }
@@ -253,7 +254,7 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     /* row j, pixels 0-1 and 2-3: lane j of p0, p1 and of p2, p3 */
     const __m256 out[2][2] = {{_mm256_permute2f128_ps(p0, p1, 0x20), _mm256_permute2f128_ps(p2, p3, 0x20)},
                               {_mm256_permute2f128_ps(p0, p1, 0x31), _mm256_permute2f128_ps(p2, p3, 0x31)}};
-    if (stream && pixels >= 4u && !(((uintptr_t)row | (stride * sizeof *row)) & 63u)) {
+    if (stream && pixels >= 4u) {
         for (uint32_t r = 0; r < rows; r++) {
             float *p = (float *)(row + r * stride);
             _mm256_stream_ps(p, out[r][0]);
@@ -347,7 +348,7 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     prim = _mm_blendv_ps(_mm_castsi128_ps(_mm_set1_epi32((int)RTT_MISS)), prim, hit);
     _MM_TRANSPOSE4_PS(t, u, v, prim);
     const __m128 out[4] = {t, u, v, prim};
-    if (stream && pixels >= 4u && !((uintptr_t)row & 63u)) {
+    if (stream && pixels >= 4u) {
         for (uint32_t p = 0; p < 4u; p++) _mm_stream_ps((float *)(row + p), out[p]);
         return;
     }
@@ -620,6 +621,8 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buff
 {
     const float *depth = buffers->depth;
     const uint32_t *triangle = buffers->triangle;
+    /* a block's rows of four start on a line when the cell's first does and the stride is whole lines */
+    stream = stream && !(((uintptr_t)hits | (stride * sizeof *hits)) & 63u);
     const uint32_t side = g->cell;
     const uint32_t X0 = (cell % g->cells_x) * side, Y0 = (cell / g->cells_x) * side;
     const uint32_t w = (X0 + side < g->width ? X0 + side : g->width) - X0;

@@ -154,8 +154,8 @@ typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_b
 /* ...and the hits of the cell's pixels from them: pixel (X0 + x, Y0 + y)
  * of the cell with corner (X0, Y0) into hits[y * stride + x]; t along
  * rtt_camera_ray's normalised direction, u, v, prim (a miss where none).
- * With `stream`, the rows of 4 pixels that start on a 64-byte boundary are
- * written with non-temporal stores (past the caches, without reading the
+ * With `stream`, when hits and the stride are whole 64-byte lines, the
+ * rows of 4 pixels are written with non-temporal stores (past the caches, without reading the
  * lines first): for a whole frame of hits, many times the caches, that no
  * one reads before it has left them; a tile about to be shaded wants
  * plain stores. */

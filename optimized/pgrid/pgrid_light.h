@@ -165,25 +165,6 @@ uint32_t pgrid_light_res_rule(uint32_t triangles);
 void pgrid_light_free(pgrid_light *light);
 void pgrid_shadows_free(pgrid_shadows *grids);
 
-/* The cell of direction d = p - L: face * res^2 + y * res + x.  The same
- * code on both sides (baseline and kernels). */
-static inline uint32_t pgrid_light_cell_of(uint32_t res, float dx, float dy, float dz)
-{
-    const float d[3] = {dx, dy, dz};
-    const float ax = d[0] < 0.0f ? -d[0] : d[0], ay = d[1] < 0.0f ? -d[1] : d[1], az = d[2] < 0.0f ? -d[2] : d[2];
-    const uint32_t axis = (ax >= ay && ax >= az) ? 0u : (ay >= az ? 1u : 2u);
-    const float major = axis == 0 ? ax : axis == 1 ? ay : az;
-    const uint32_t face = 2u * axis + (d[axis] < 0.0f ? 1u : 0u);
-    float s = d[(axis + 1) % 3] / major, t = d[(axis + 2) % 3] / major;
-    if (!(s >= -1.0f)) s = -1.0f; /* also NaN: any cell, the test decides */
-    if (!(t >= -1.0f)) t = -1.0f;
-    const float half = 0.5f * (float)res;
-    uint32_t x = (uint32_t)((s + 1.0f) * half), y = (uint32_t)((t + 1.0f) * half);
-    if (x >= res) x = res - 1;
-    if (y >= res) y = res - 1;
-    return (face * res + y) * res + x;
-}
-
 /* The light-grid kernel (pgrid_shadow.c, one copy per instruction set):
  * occluded[i] = 1 when rays[i] (from its origin towards light `light`, as
  * the shader proxy makes them; origin_prim[i] the triangle its origin lies

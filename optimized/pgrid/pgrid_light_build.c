@@ -340,7 +340,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
      * bands read those, not every record (most triangles meet one face) */
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
     for (uint32_t i = 0; i < n; i++)
-        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += light->face_mask[i] >> face & 1u;
+        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1) at[__builtin_ctz(mask) + 1]++;
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
     for (uint32_t i = 0; i < n; i++)

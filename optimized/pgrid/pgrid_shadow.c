@@ -215,8 +215,11 @@ static inline void major_axis(vf x, vf y, vf z, vm *axis0, vm *axis1)
 }
 
 /* The keys of rays[first .. first + n) (n <= LANES): cell * 3 + kz, with
- * pgrid_light_cell_of's cell of the origin's direction from the light (the
- * same arithmetic a lane at a time: the divisions in one vector) and the
+ * the cell of the origin's direction d = p - L from the light (the six-face
+ * arrangement of pgrid_light.h: face 2 axis + (d[axis] < 0) for d's major
+ * axis by the reference's tie rule, coordinates d[axis + 1], d[axis + 2]
+ * over |d[axis]| clamped below at -1 (NaN too: any cell, the test
+ * decides), res / 2 (s + 1) truncated, at most res - 1) and the
  * direction's dominant axis kz. */
 static void make_keys(const pgrid_light *L, const rtt_ray *rays, uint32_t first, uint32_t n, uint32_t *keys)
 {
@@ -322,7 +325,7 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
         /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
         const vf reach = vf_add(vf_add(ray[6], ray[7]), slack);
         vf_store(p.reach, reach);
-        uint32_t active = n == 32 ? UINT32_MAX : (1u << n) - 1u;
+        uint32_t active = (1u << n) - 1u; /* n <= LANES <= 16 */
         uint32_t reaching = active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell])));
         /* an origin beyond 2M: every triangle (pgrid_light.h) */
         const vm tame = vm_and(vm_and(vf_le(vf_abs(ray[0]), within), vf_le(vf_abs(ray[1]), within)),

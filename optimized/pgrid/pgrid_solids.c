@@ -28,6 +28,19 @@ static bool sort_u64(uint64_t *keys, uint64_t *spare, size_t count, uint64_t lar
     return true;
 }
 
+/* Six times the signed volume of the tetrahedron from o to the triangle of
+ * corners v (in double, relative to o). */
+static double signed_volume6(const rtt_scene *scene, const uint32_t v[3], rtt_vec3 o)
+{
+    double p[3][3];
+    for (int k = 0; k < 3; k++) {
+        const rtt_vec3 q = scene->vertices[v[k]];
+        p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
+    }
+    return p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+           p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+}
+
 /* Every directed edge, by vertex index, used once and its reverse once,
  * and a non-zero volume. */
 bool pgrid_mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward)
@@ -50,13 +63,7 @@ bool pgrid_mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, cons
             if (reverse[count] > largest) largest = reverse[count];
             count++;
         }
-        double p[3][3];
-        for (int k = 0; k < 3; k++) {
-            const rtt_vec3 q = scene->vertices[v[k]];
-            p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
-        }
-        volume += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) - p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-                  p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+        volume += signed_volume6(scene, v, o);
     }
     bool ok = sort_u64(edges, spare, count, largest) && sort_u64(reverse, spare, count, largest) && count > 0 &&
               volume != 0.0 && isfinite(volume);
@@ -103,19 +110,12 @@ static void parts_outward(const rtt_scene *scene, const uint8_t *degenerate, con
             if (a != b) parent[a] = b;
         }
     }
-    /* the part's volume about its own first corner seen (any point: the surface is closed) */
+    /* each part's volume about the mesh's first corner (any point will do: every part is closed) */
     const rtt_vec3 o = scene->vertices[scene->triangles[first].v[0]];
     for (uint32_t t = first; t < end; t++) {
         if (degenerate && degenerate[t]) continue;
         const uint32_t *v = scene->triangles[t].v;
-        double p[3][3];
-        for (int k = 0; k < 3; k++) {
-            const rtt_vec3 q = scene->vertices[v[k]];
-            p[k][0] = (double)q.x - o.x, p[k][1] = (double)q.y - o.y, p[k][2] = (double)q.z - o.z;
-        }
-        volume[part_of(parent, v[0])] += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
-                                         p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
-                                         p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+        volume[part_of(parent, v[0])] += signed_volume6(scene, v, o);
     }
     for (uint32_t t = first; t < end; t++) {
         const double w = volume[part_of(parent, scene->triangles[t].v[0])];
