@@ -340,7 +340,8 @@ static void plain_z_buffer(const pgrid_eye *g, uint32_t cell, uint32_t lanes, fl
  * skip blocks) bit for bit those of the plain Z-buffer, every cell, at every
  * instruction set and several cell sizes, on scenes deep in overdraw: the
  * triangle soup (big triangles at random depths in random order), the demo
- * room and, when cached, a Quake III map seen from inside. */
+ * room and, when cached, a Quake III map seen from inside; and after the
+ * cell's resolve, cleared again for the next. */
 static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
 {
     (void)state;
@@ -364,8 +365,9 @@ static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
             const size_t entries = (size_t)g.cell * g.cell;
             float *depth = malloc(entries * sizeof *depth);
             uint32_t *triangle = malloc(entries * sizeof *triangle);
+            rtt_hit *cell_hits = malloc(entries * sizeof *cell_hits);
             pgrid_cell_buffers b;
-            assert_true(depth && triangle && pgrid_cell_buffers_alloc(&b, g.cell));
+            assert_true(depth && triangle && cell_hits && pgrid_cell_buffers_alloc(&b, g.cell));
             uint64_t won = 0;
             for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
                 if (!isa_runs(isa)) continue;
@@ -380,10 +382,17 @@ static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
                                      triangle[i], (double)depth[i]);
                         won += triangle[i] != PGRID_NO_TRIANGLE;
                     }
+                    /* the resolve leaves the buffers cleared for the next cell's trace */
+                    k->resolve_cell(&g, cell, &b, cell_hits, g.cell, false);
+                    for (size_t i = 0; i < entries; i++)
+                        if (b.triangle[i] != PGRID_NO_TRIANGLE || b.depth[i] != INFINITY)
+                            fail_msg("scene %d cell %u of %u px %s: entry %zu left %u t %.9g by the resolve", sc, cell,
+                                     g.cell, rtt_isa_name(isa), i, b.triangle[i], (double)b.depth[i]);
                 }
             }
             assert_true(won > 0);
             pgrid_cell_buffers_free(&b);
+            free(cell_hits);
             free(depth);
             free(triangle);
             pgrid_eye_free(&g);

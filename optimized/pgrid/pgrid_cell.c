@@ -575,10 +575,7 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buf
     const uint32_t X0 = (cell % g->cells_x) * side, Y0 = (cell / g->cells_x) * side;
     const uint32_t X1 = (X0 + side < g->width ? X0 + side : g->width) - 1u;
     const uint32_t Y1 = (Y0 + side < g->height ? Y0 + side : g->height) - 1u;
-    for (uint32_t b = 0; b < side * side / LANES; b++) {
-        clear_block(depth + b * LANES, triangle + b * LANES);
-        block_max[b] = INFINITY;
-    }
+    for (uint32_t b = 0; b < side * side / LANES; b++) block_max[b] = INFINITY;
     const uint32_t end = g->cell_first[cell + 1];
     for (uint32_t r = g->cell_first[cell]; r < end; r++) {
         /* a cell's triangles lie all over the array (mesh order), which
@@ -607,7 +604,7 @@ void pgrid_trace_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buf
     }
 }
 
-void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buffers *buffers, rtt_hit *hits,
+void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buffers, rtt_hit *hits,
                         size_t stride, bool stream);
 
 /* The hits of the cell's pixels from its buffers, a block (one vector)
@@ -616,11 +613,11 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buff
  * outside (1e-18, 1e18) takes), u, v the barycentric map of the hit point
  * t_D D (pgrid_eye.h); each lane's operations are the scalar formula's, in
  * its order, so every width gives the same bits. */
-void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buffers *buffers, rtt_hit *hits,
+void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, pgrid_cell_buffers *buffers, rtt_hit *hits,
                         size_t stride, bool stream)
 {
-    const float *depth = buffers->depth;
-    const uint32_t *triangle = buffers->triangle;
+    float *depth = buffers->depth;
+    uint32_t *triangle = buffers->triangle;
     /* a block's rows of four start on a line when the cell's first does and the stride is whole lines */
     stream = stream && !(((uintptr_t)hits | (stride * sizeof *hits)) & 63u);
     const uint32_t side = g->cell;
@@ -666,6 +663,7 @@ void pgrid_resolve_cell(const pgrid_eye *g, uint32_t cell, const pgrid_cell_buff
                     t = vf_load(out_t);
                 }
             }
+            clear_block(depth + at, triangle + at); /* as the next cell's trace wants them, while the lines are here */
             const uint32_t x = bx * 4u, y = by * BLOCK_H;
             store_block(hits + (size_t)y * stride + x, stride, w - x, h - y < BLOCK_H ? h - y : BLOCK_H, hit, t, u, v,
                         sf[9], stream);

@@ -143,13 +143,14 @@ typedef struct pgrid_cell_buffers {
     uint32_t *triangle;     /* cell * cell */
     float *block_max;       /* cell * cell / 4: a block per vector, 4 lanes or more */
 } pgrid_cell_buffers;
-/* False (nothing held) when out of memory. */
+/* Cleared (depth +inf, PGRID_NO_TRIANGLE), as the trace wants them and
+ * the resolve leaves them; false (nothing held) when out of memory. */
 bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell);
 void pgrid_cell_buffers_free(pgrid_cell_buffers *b);
 
 /* The per-cell kernel (pgrid_cell.c, one copy per instruction set): fills
- * the buffers of cell `cell` with the closest triangle per pixel and its
- * t_D (PGRID_NO_TRIANGLE and +inf where none). */
+ * the buffers of cell `cell`, cleared, with the closest triangle per pixel
+ * and its t_D (PGRID_NO_TRIANGLE and +inf where none). */
 typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_buffers *buffers);
 /* ...and the hits of the cell's pixels from them: pixel (X0 + x, Y0 + y)
  * of the cell with corner (X0, Y0) into hits[y * stride + x]; t along
@@ -158,8 +159,10 @@ typedef void (*pgrid_cell_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_b
  * rows of 4 pixels are written with non-temporal stores (past the caches, without reading the
  * lines first): for a whole frame of hits, many times the caches, that no
  * one reads before it has left them; a tile about to be shaded wants
- * plain stores. */
-typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, const pgrid_cell_buffers *buffers,
+ * plain stores.  The buffers are left cleared for the next cell's trace:
+ * each block as it is read, while its lines are in the cache (a clear at
+ * the trace's start missed on every line: 5% of oa_dm4's frame). */
+typedef void (*pgrid_resolve_fn)(const pgrid_eye *grid, uint32_t cell, pgrid_cell_buffers *buffers,
                                  rtt_hit *hits, size_t stride, bool stream);
 
 /* The perspective grid's kernel descriptor table (pgrid_table.c): one row

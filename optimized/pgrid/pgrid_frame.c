@@ -3,6 +3,7 @@
  * llvmpipe and what the tests compare with the reference.  The build runs
  * on the calling thread and is part of the frame; the cells go to the
  * thread pool, each worker with its own depth and triangle buffers. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "engine/clock.h"
@@ -22,7 +23,10 @@ bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell)
     b->depth = aligned_alloc(64, entries * sizeof(float));
     b->triangle = aligned_alloc(64, entries * sizeof(uint32_t));
     b->block_max = malloc((entries / 4u ? entries / 4u : 1u) * sizeof(float));
-    if (b->depth && b->triangle && b->block_max) return true;
+    if (b->depth && b->triangle && b->block_max) {
+        for (size_t i = 0; i < entries; i++) b->depth[i] = INFINITY, b->triangle[i] = PGRID_NO_TRIANGLE;
+        return true;
+    }
     pgrid_cell_buffers_free(b);
     return false;
 }

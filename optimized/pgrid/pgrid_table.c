@@ -8,7 +8,7 @@
 
 #define PGRID_KERNEL_COPY(isa)                                                                                \
     void pgrid_trace_cell_##isa(const pgrid_eye *, uint32_t, pgrid_cell_buffers *);                          \
-    void pgrid_resolve_cell_##isa(const pgrid_eye *, uint32_t, const pgrid_cell_buffers *, rtt_hit *, size_t, bool);  \
+    void pgrid_resolve_cell_##isa(const pgrid_eye *, uint32_t, pgrid_cell_buffers *, rtt_hit *, size_t, bool);  \
     bool pgrid_shadow_occluded_##isa(const pgrid_shadows *, uint32_t, const rtt_ray *, const uint32_t *, uint32_t, \
                                      uint8_t *);                                                                    \
     void pgrid_soft_occluded_##isa(const pgrid_soft *, uint32_t, const rtt_ray *, uint32_t, uint8_t *, pgrid_soft_counts *);
