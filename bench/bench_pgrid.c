@@ -58,10 +58,11 @@ bool bench_pgrid_row(const rtt_scene *scene, const uint8_t *degenerate, uint32_t
         free(f.build_seconds);
         return false;
     }
-    snprintf(row->variant, sizeof row->variant, "%s/%s cell %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
-             cell ? cell : PGRID_EYE_CELL_DEFAULT);
-    row->tile = cell ? cell : PGRID_EYE_CELL_DEFAULT;
     bench_time_frames(run_frame, &f, spec->warmup, spec->frames, row);
+    /* the cell the frames ran with: --pgrid-cell's, or pgrid_eye_cell_rule's */
+    snprintf(row->variant, sizeof row->variant, "%s/%s cell %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
+             f.grid.cell);
+    row->tile = f.grid.cell;
     if (f.failed) snprintf(row->error, sizeof row->error, "out of memory building the perspective grid");
     double *timed = f.build_seconds + spec->warmup;
     qsort(timed, spec->frames, sizeof *timed, compare_double);

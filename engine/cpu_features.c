@@ -5,6 +5,7 @@
  * the wide registers reports them unsupported. */
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "rtt/engine.h"
 
@@ -49,4 +50,14 @@ rtt_isa rtt_isa_resolve(rtt_isa requested)
     for (int isa = RTT_ISA_COUNT - 1; isa > RTT_ISA_AUTO; isa--)
         if (rtt_isa_supported((rtt_isa)isa)) return (rtt_isa)isa;
     return RTT_ISA_SSE4;
+}
+
+size_t rtt_cpu_l2_bytes(void)
+{
+#ifdef _SC_LEVEL2_CACHE_SIZE
+    const long bytes = sysconf(_SC_LEVEL2_CACHE_SIZE); /* glibc: from cpuid; 0 or -1 when unknown */
+    return bytes > 0 ? (size_t)bytes : 0;
+#else
+    return 0;
+#endif
 }

@@ -354,7 +354,7 @@ static void test_cell_buffers_equal_a_plain_z_buffer(void **state)
     rtt_error err = {{0}};
     scenes[2] = rtt_scene_load(path, NULL, &err);
     if (!scenes[2]) print_message("%s not cached (bench/fetch-scenes.sh): only the soup and the demo\n", path);
-    static const uint32_t cells[] = {8, 32, 0};
+    static const uint32_t cells[] = {8, 32, 0, 256};
     for (int sc = 0; sc < 3 && scenes[sc]; sc++) {
         const uint32_t w = 160, h = 120;
         rtt_camera_frame frame = rtt_camera_frame_make(&scenes[sc]->camera, w, h);
@@ -421,6 +421,37 @@ static void test_pgrid_isa_bit_identical(void **state)
             free(hits);
         }
         free(block);
+    }
+    rtt_scene_free(s);
+}
+
+/* Frames one after the other on one grid (its cell buffers kept from frame
+ * to frame, left cleared by each cell's resolve, or made again for another
+ * cell size or more threads) give a fresh grid's hits, bit for bit, at
+ * every instruction set; 256 a cell larger than the image. */
+static void test_pgrid_frames_on_one_grid_equal_fresh_ones(void **state)
+{
+    (void)state;
+    rtt_scene *s = load_scene("demo.json");
+    const uint32_t w = 152, h = 90, runs[][2] = {{32, 1}, {32, 1}, {32, 2}, {16, 2}, {256, 1}, {32, 2}, {0, 1}};
+    rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("pgrid", isa);
+        pgrid_eye grid = {0};
+        rtt_error err = {{0}};
+        rtt_hit *hits = aligned_alloc(64, (size_t)w * h * sizeof *hits);
+        assert_non_null(hits);
+        for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
+            assert_true(pgrid_eye_trace_frame(&grid, k, s, NULL, &frame, w, h, runs[r][0], runs[r][1], hits, NULL, &err));
+            rtt_hit *fresh = trace_pgrid(s, NULL, k, w, h, runs[r][0], runs[r][1]);
+            if (memcmp(hits, fresh, (size_t)w * h * sizeof *hits) != 0)
+                fail_msg("%s: frame %zu (cell %u, %u threads) on the kept grid differs from a fresh grid's",
+                         rtt_isa_name(isa), r, runs[r][0], runs[r][1]);
+            free(fresh);
+        }
+        free(hits);
+        pgrid_eye_free(&grid);
     }
     rtt_scene_free(s);
 }
@@ -557,6 +588,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_back_faces_kept_for_the_mesh_whose_box_holds_the_eye, setup_scratch,
                                         remove_scratch),
         cmocka_unit_test(test_cell_buffers_equal_a_plain_z_buffer),
+        cmocka_unit_test(test_pgrid_frames_on_one_grid_equal_fresh_ones),
         cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),
         cmocka_unit_test(test_pgrid_skips_degenerate),
         cmocka_unit_test(test_pgrid_refuses_bad_cells),

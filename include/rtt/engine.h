@@ -213,6 +213,10 @@ bool rtt_isa_supported(rtt_isa isa);
 /* The instruction set AUTO stands for here: $RTT_ISA when set and valid,
  * else the widest supported.  A concrete request is returned as is. */
 rtt_isa rtt_isa_resolve(rtt_isa requested);
+/* This CPU's L2 cache per core, in bytes, as the C library reports it; 0
+ * when it does not know (kernels that size their working sets by it keep
+ * their measured defaults then). */
+size_t rtt_cpu_l2_bytes(void);
 /* Triangle tests by name ("watertight", "projected"). */
 const char *rtt_isect_name(rtt_isect isect);
 bool rtt_isect_parse(const char *name, rtt_isect *out);

@@ -60,6 +60,7 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->order);
     free(grid->order_keys);
     pgrid_solids_free(&grid->solids);
+    pgrid_eye_frame_buffers_free(grid);
     memset(grid, 0, sizeof *grid);
 }
 

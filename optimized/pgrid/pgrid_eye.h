@@ -47,8 +47,9 @@
 #include "pgrid_solids.h"
 
 #define PGRID_NO_TRIANGLE UINT32_MAX
-/* The cell side in pixels when the caller gives none (bench/results/pgrid.md,
- * "Cell size": the sweep on this machine's 1 MiB-per-core L2). */
+/* The cell side in pixels when the caller gives none and the cache rule
+ * (pgrid_eye_cell_rule) does not choose a larger one (bench/results/pgrid.md,
+ * "Cell size": the sweeps on a 1 MiB and a 2 MiB L2 per core). */
 #define PGRID_EYE_CELL_DEFAULT 128u
 #define PGRID_EYE_CELL_MAX 512u
 
@@ -112,6 +113,11 @@ typedef struct pgrid_eye {
     uint32_t *order;
     uint64_t *order_keys;
     uint32_t order_capacity;
+    /* pgrid_eye_trace_frame's cell buffers, a set per thread, kept from
+     * frame to frame (cleared, as the resolve leaves them) for cells of
+     * frame_buffer_cell */
+    struct pgrid_cell_buffers *frame_buffers;
+    uint32_t frame_buffer_count, frame_buffer_cell;
 } pgrid_eye;
 
 /* Builds the grid of `frame` at width x height in cells of `cell` pixels
@@ -147,6 +153,8 @@ typedef struct pgrid_cell_buffers {
  * the resolve leaves them; false (nothing held) when out of memory. */
 bool pgrid_cell_buffers_alloc(pgrid_cell_buffers *b, uint32_t cell);
 void pgrid_cell_buffers_free(pgrid_cell_buffers *b);
+/* The grid's pgrid_eye_trace_frame buffers (pgrid_eye_free frees them too). */
+void pgrid_eye_frame_buffers_free(pgrid_eye *grid);
 
 /* The per-cell kernel (pgrid_cell.c, one copy per instruction set): fills
  * the buffers of cell `cell`, cleared, with the closest triangle per pixel
@@ -184,11 +192,21 @@ const pgrid_kernel *pgrid_kernel_find(const char *name, rtt_isa isa);
 const char *pgrid_kernel_name_at(uint32_t i);
 const pgrid_kernel *pgrid_kernel_row_at(uint32_t i);
 
+/* The cell side for a frame of width x height on `threads` threads whose
+ * cells keep `bytes_per_pixel` each in the cache while they are traced: 256
+ * when a cell's bytes fit in a quarter of the L2 (rtt_cpu_l2_bytes; the
+ * rest for the triangle records and the surfaces the resolve reads) and the
+ * image has 4 cells a thread or more (the threads' balance); else
+ * PGRID_EYE_CELL_DEFAULT.  A frame whose hits are streamed keeps 8 bytes a
+ * pixel (depth, triangle): 256 on a 2 MiB L2, 128 on 1 MiB; a tile shaded
+ * next keeps its 16-byte hits too (24). */
+uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel);
+
 /* One frame of eye rays alone (the bench and the tests): build, every cell
  * through `kernel` on `threads` threads, each pixel's hit into hits[py *
  * width + px], streamed (pgrid_resolve_fn: a whole frame of hits; give a
- * 64-byte aligned buffer to get it).  build_seconds (may be NULL) gets the
- * build's share. */
+ * 64-byte aligned buffer to get it).  `cell` 0 takes pgrid_eye_cell_rule's
+ * for streamed hits.  build_seconds (may be NULL) gets the build's share. */
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
                            const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
                            uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,

@@ -48,6 +48,37 @@ static void trace_cell(void *context, uint32_t thread, uint32_t cell)
     job->kernel->resolve_cell(g, cell, &job->buffers[thread], job->hits + (size_t)Y0 * g->width + X0, g->width, true);
 }
 
+uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel)
+{
+    const uint32_t big = 2u * PGRID_EYE_CELL_DEFAULT;
+    const uint64_t cells = (uint64_t)((width + big - 1u) / big) * ((height + big - 1u) / big);
+    const bool fits = (uint64_t)big * big * bytes_per_pixel <= rtt_cpu_l2_bytes() / 4u;
+    return fits && cells >= 4u * (uint64_t)(threads ? threads : 1u) ? big : PGRID_EYE_CELL_DEFAULT;
+}
+
+void pgrid_eye_frame_buffers_free(pgrid_eye *grid)
+{
+    for (uint32_t t = 0; t < grid->frame_buffer_count; t++) pgrid_cell_buffers_free(&grid->frame_buffers[t]);
+    free(grid->frame_buffers);
+    grid->frame_buffers = NULL, grid->frame_buffer_count = 0, grid->frame_buffer_cell = 0;
+}
+
+/* The grid's cell buffers for `threads` threads at its cell: the frame
+ * before's when they fit, else new ones; false (none held) when out of memory. */
+static bool frame_buffers_ready(pgrid_eye *grid, uint32_t threads)
+{
+    if (grid->frame_buffer_cell == grid->cell && grid->frame_buffer_count >= threads) return true;
+    pgrid_eye_frame_buffers_free(grid);
+    if (!(grid->frame_buffers = calloc(threads, sizeof *grid->frame_buffers))) return false;
+    for (; grid->frame_buffer_count < threads; grid->frame_buffer_count++)
+        if (!pgrid_cell_buffers_alloc(&grid->frame_buffers[grid->frame_buffer_count], grid->cell)) {
+            pgrid_eye_frame_buffers_free(grid);
+            return false;
+        }
+    grid->frame_buffer_cell = grid->cell;
+    return true;
+}
+
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
                            const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
                            uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,
@@ -55,14 +86,12 @@ bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rt
 {
     const uint64_t t0 = rtt_clock_ns();
     grid->threads = threads;
+    threads = rtt_thread_count(threads);
+    if (cell == 0) cell = pgrid_eye_cell_rule(width, height, threads, 8u); /* streamed hits: depth and triangle */
     if (!pgrid_eye_build(grid, scene, degenerate, frame, width, height, cell, err)) return false;
     if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
-    threads = rtt_thread_count(threads);
-    frame_job job = {grid, kernel, hits, calloc(threads, sizeof(pgrid_cell_buffers))};
-    bool ok = job.buffers != NULL;
-    for (uint32_t t = 0; ok && t < threads; t++) ok = pgrid_cell_buffers_alloc(&job.buffers[t], grid->cell);
+    const bool ok = frame_buffers_ready(grid, threads);
+    frame_job job = {grid, kernel, hits, grid->frame_buffers};
     if (ok) rtt_parallel_run(pgrid_eye_cell_count(grid), threads, trace_cell, &job);
-    for (uint32_t t = 0; t < threads && job.buffers; t++) pgrid_cell_buffers_free(&job.buffers[t]);
-    free(job.buffers);
     return ok || rtt_error_set(err, "%s: out of memory tracing the perspective grid", scene->path);
 }
