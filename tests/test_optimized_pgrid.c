@@ -480,8 +480,16 @@ static void test_pgrid_build_same_at_any_thread_count(void **state)
     assert_int_equal(one.triangle_count, three.triangle_count);
     assert_int_equal(one.near_count, three.near_count);
     assert_int_equal(one.ref_count, three.ref_count);
-    assert_memory_equal(one.triangles, three.triangles, one.triangle_count * sizeof *one.triangles);
-    assert_memory_equal(one.surfaces, three.surfaces, one.triangle_count * sizeof *one.surfaces);
+    /* each chunk's kept triangles at its slots (pgrid_eye) */
+    uint32_t kept = 0;
+    for (uint32_t c = 0; c * PGRID_SETUP_CHUNK < s->triangle_count; c++) {
+        const uint32_t first = c * PGRID_SETUP_CHUNK, n = one.chunk_kept[3 * c];
+        assert_int_equal(n, three.chunk_kept[3 * c]);
+        assert_memory_equal(one.triangles + first, three.triangles + first, n * sizeof *one.triangles);
+        assert_memory_equal(one.surfaces + first, three.surfaces + first, n * sizeof *one.surfaces);
+        kept += n;
+    }
+    assert_int_equal(kept, one.triangle_count);
     assert_memory_equal(one.cell_first, three.cell_first, ((size_t)pgrid_eye_cell_count(&one) + 1) * sizeof(uint32_t));
     assert_memory_equal(one.refs, three.refs, one.ref_count * sizeof *one.refs);
     pgrid_eye_free(&one);

@@ -223,7 +223,7 @@ _Static_assert(PGRID_EYE_CELL_MAX <= 512u && PGRID_IMAGE_MAX < 65536u, "cell_of'
 static inline uint64_t cell_reciprocal(uint32_t cell) { return ((UINT64_C(1) << 32) + cell - 1) / cell; }
 static inline uint32_t cell_of(uint32_t pixel, uint64_t reciprocal) { return (uint32_t)((pixel * reciprocal) >> 32); }
 
-enum { SETUP_CHUNK = 4096 };
+enum { SETUP_CHUNK = PGRID_SETUP_CHUNK };
 
 /* ---- four triangles at once (SSE4.1, the baseline) ----
  * The common case, every corner beyond the near plane, for four triangles
@@ -495,21 +495,23 @@ static bool frame_outward(pgrid_eye *g, const rtt_scene *scene, const uint8_t *d
  * little once their back faces are gone, and neighbours in a mesh's order
  * are neighbours on screen (the bunny's cells took 18% longer sorted).
  * The same order at any thread count. */
-static void drawing_order(pgrid_eye *g)
+static void drawing_order(pgrid_eye *g, uint32_t chunks)
 {
     const uint32_t n = g->triangle_count;
     if (g->culled_count || n < 2) {
-        for (uint32_t k = 0; k < n; k++) g->order[k] = k;
+        for (uint32_t c = 0, i = 0; c < chunks; c++)
+            for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) g->order[i++] = k;
         return;
     }
     enum { BITS = 11, BUCKETS = 1 << BITS };
     uint64_t *keys = g->order_keys, *spare = keys + n;
-    for (uint32_t k = 0; k < n; k++) {
-        uint32_t bits;
-        memcpy(&bits, &g->nearest[k], sizeof bits);
-        bits ^= (bits >> 31) ? 0xFFFFFFFFu : 0x80000000u; /* NaN sorts last */
-        keys[k] = (uint64_t)bits << 32 | k;
-    }
+    for (uint32_t c = 0, i = 0; c < chunks; c++)
+        for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) {
+            uint32_t bits;
+            memcpy(&bits, &g->nearest[k], sizeof bits);
+            bits ^= (bits >> 31) ? 0xFFFFFFFFu : 0x80000000u; /* NaN sorts last */
+            keys[i++] = (uint64_t)bits << 32 | k;
+        }
     uint32_t histogram[BUCKETS];
     for (uint32_t shift = 32; shift < 64; shift += BITS) {
         memset(histogram, 0, sizeof histogram);
@@ -558,8 +560,8 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     g->triangle_capacity = (uint32_t)tcap;
 
     /* transform, clip against the near plane, set up (by chunks on the
-     * thread pool, each chunk's kept triangles packed at its own start),
-     * then the chunks moved together in order and each cell's references counted */
+     * thread pool, each chunk's kept triangles packed at its own start,
+     * where they stay: pgrid_eye's slots), then each cell's references counted */
     const uint32_t chunks = (scene->triangle_count + SETUP_CHUNK - 1) / SETUP_CHUNK;
     if (3 * chunks + 1 > g->chunk_capacity) {
         uint32_t *bigger = realloc(g->chunk_kept, (3 * (size_t)chunks + 1) * sizeof *bigger);
@@ -581,13 +583,8 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     for (uint32_t c = 0; c < chunks; c++) {
         const uint32_t n = g->chunk_kept[3 * c], from = c * SETUP_CHUNK;
         g->culled_count += g->chunk_kept[3 * c + 2];
-        if (from != kept) {
-            memmove(&g->triangles[kept], &g->triangles[from], n * sizeof *g->triangles);
-            memmove(&g->surfaces[kept], &g->surfaces[from], n * sizeof *g->surfaces);
-            memmove(&g->nearest[kept], &g->nearest[from], n * sizeof *g->nearest);
-        }
         near_count += g->chunk_kept[3 * c + 1];
-        for (uint32_t k = kept; k < kept + n; k++) {
+        for (uint32_t k = from; k < from + n; k++) {
             const pgrid_triangle *t = &g->triangles[k];
             const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
             const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);
@@ -605,7 +602,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     g->ref_count = refs;
 
     /* counting sort: each cell's references in the drawing order */
-    drawing_order(g);
+    drawing_order(g, chunks);
     for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
     for (uint32_t i = 0; i < kept; i++) {
         const uint32_t k = g->order[i];

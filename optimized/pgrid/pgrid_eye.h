@@ -52,6 +52,8 @@
  * "Cell size": the sweeps on a 1 MiB and a 2 MiB L2 per core). */
 #define PGRID_EYE_CELL_DEFAULT 128u
 #define PGRID_EYE_CELL_MAX 512u
+/* the build's set-up: scene triangles per task (pgrid_eye's triangle slots) */
+#define PGRID_SETUP_CHUNK 4096u
 
 /* One triangle set up for one frame (64 bytes: one cache line, read once
  * per pixel block of its rectangle; pixel indices in 16 bits, so images
@@ -81,9 +83,14 @@ _Static_assert(sizeof(pgrid_triangle) == 64, "pgrid_triangle is one cache line")
 typedef struct pgrid_eye {
     uint32_t width, height, cell, cells_x, cells_y;
     rtt_camera_frame frame;
-    pgrid_triangle *triangles; /* the triangles whose rectangle is not empty, in global order */
-    pgrid_surface *surfaces;   /* the same triangles' barycentric maps */
-    uint32_t triangle_count, triangle_capacity;
+    /* The triangles whose rectangle is not empty, in global order, by
+     * chunks of the scene's (PGRID_SETUP_CHUNK): chunk c's kept ones at
+     * [c * PGRID_SETUP_CHUNK, + chunk_kept[3 c]), the rest of its slots
+     * unused (left where the parallel set-up wrote them, not moved
+     * together: that copy was a third of a mesh's serial build) */
+    pgrid_triangle *triangles;
+    pgrid_surface *surfaces;   /* the same triangles' barycentric maps, in the same slots */
+    uint32_t triangle_count, triangle_capacity; /* count: how many kept, in all chunks */
     uint32_t *cell_first;      /* cells_x * cells_y + 1: cell c's references are refs[cell_first[c] ..) */
     uint32_t cell_capacity;
     uint32_t *refs;            /* indices into triangles */
