@@ -60,6 +60,7 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->order);
     free(grid->order_keys);
     pgrid_solids_free(&grid->solids);
+    free(grid->chunk_cells);
     pgrid_eye_frame_buffers_free(grid);
     memset(grid, 0, sizeof *grid);
 }
@@ -527,6 +528,76 @@ static void drawing_order(pgrid_eye *g, uint32_t chunks)
     for (uint32_t k = 0; k < n; k++) g->order[k] = (uint32_t)keys[k];
 }
 
+/* The cells (inclusive) a set-up triangle's rectangle covers. */
+static inline void triangle_cells(const pgrid_triangle *t, uint64_t inv_cell, uint32_t *cx0, uint32_t *cx1,
+                                  uint32_t *cy0, uint32_t *cy1)
+{
+    *cx0 = cell_of(t->x0, inv_cell), *cx1 = cell_of(t->x1, inv_cell);
+    *cy0 = cell_of(t->y0, inv_cell), *cy1 = cell_of(t->y1, inv_cell);
+}
+
+/* The binning by chunks on the pool (bin_job): when the drawing order is
+ * the global one, each chunk's references per cell are counted on its own
+ * row of chunk_cells, turned into that row's first slots per cell (the
+ * chunks in order within each cell, as the one-thread fill leaves them),
+ * and placed; while the table stays small (BIN_TABLE_MOST entries). */
+enum { BIN_TABLE_MOST = 1 << 20 };
+typedef struct bin_job {
+    pgrid_eye *g;
+    uint64_t inv_cell;
+    uint32_t cells;
+    bool fill;
+} bin_job;
+
+static void bin_chunk(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    const bin_job *job = context;
+    pgrid_eye *g = job->g;
+    uint32_t *row = g->chunk_cells + (size_t)task * job->cells;
+    const uint32_t from = task * SETUP_CHUNK, end = from + g->chunk_kept[3 * task];
+    if (!job->fill) memset(row, 0, job->cells * sizeof *row);
+    for (uint32_t k = from; k < end; k++) {
+        uint32_t cx0, cx1, cy0, cy1;
+        triangle_cells(&g->triangles[k], job->inv_cell, &cx0, &cx1, &cy0, &cy1);
+        for (uint32_t cy = cy0; cy <= cy1; cy++)
+            for (uint32_t cx = cx0; cx <= cx1; cx++) {
+                const uint32_t c = cy * g->cells_x + cx;
+                if (job->fill)
+                    g->refs[row[c]++] = k;
+                else
+                    row[c]++;
+            }
+    }
+}
+
+/* Bins the kept triangles by chunks on the pool (bin_job); false when it
+ * does not apply (then the caller's loops do it) or memory runs out. */
+static bool bin_by_chunks(pgrid_eye *g, uint32_t chunks, uint32_t cells, uint64_t inv_cell)
+{
+    if (g->threads < 2 || !g->culled_count || (uint64_t)chunks * cells > BIN_TABLE_MOST) return false;
+    size_t cap = g->chunk_cells_capacity;
+    if (!grow((void **)&g->chunk_cells, &cap, (size_t)chunks * cells, sizeof(uint32_t))) return false;
+    g->chunk_cells_capacity = cap;
+    bin_job job = {g, inv_cell, cells, false};
+    rtt_parallel_run(chunks, g->threads, bin_chunk, &job);
+    size_t refs = 0;
+    for (uint32_t c = 0; c < cells; c++) {
+        g->cell_first[c] = (uint32_t)refs;
+        for (uint32_t k = 0; k < chunks; k++) {
+            uint32_t *slot = &g->chunk_cells[(size_t)k * cells + c];
+            const uint32_t n = *slot;
+            *slot = (uint32_t)refs, refs += n;
+        }
+    }
+    g->cell_first[cells] = (uint32_t)refs;
+    if (!grow((void **)&g->refs, &g->ref_capacity, refs ? refs : 1, sizeof(uint32_t))) return false;
+    g->ref_count = refs;
+    job.fill = true;
+    rtt_parallel_run(chunks, g->threads, bin_chunk, &job);
+    return true;
+}
+
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
                      const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
 {
@@ -574,41 +645,39 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     job.mesh_culled = g->mesh_culled; /* allocated there for a new scene */
     rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
-    const projection p = job.p;
-    memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
     const uint64_t inv_cell = cell_reciprocal(cell);
     uint32_t kept = 0, near_count = 0;
-    size_t refs = 0;
     g->culled_count = 0;
     for (uint32_t c = 0; c < chunks; c++) {
-        const uint32_t n = g->chunk_kept[3 * c], from = c * SETUP_CHUNK;
-        g->culled_count += g->chunk_kept[3 * c + 2];
+        kept += g->chunk_kept[3 * c];
         near_count += g->chunk_kept[3 * c + 1];
-        for (uint32_t k = from; k < from + n; k++) {
-            const pgrid_triangle *t = &g->triangles[k];
-            const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
-            const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);
+        g->culled_count += g->chunk_kept[3 * c + 2];
+    }
+    g->triangle_count = kept;
+    g->inv_scale = 1.0f / job.p.scale;
+    g->near_count = near_count;
+    if (bin_by_chunks(g, chunks, cells, inv_cell)) return true;
+
+    /* on this thread: each cell's references counted, then placed in the drawing order */
+    memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
+    size_t refs = 0;
+    for (uint32_t c = 0; c < chunks; c++)
+        for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) {
+            uint32_t cx0, cx1, cy0, cy1;
+            triangle_cells(&g->triangles[k], inv_cell, &cx0, &cx1, &cy0, &cy1);
             for (uint32_t cy = cy0; cy <= cy1; cy++)
                 for (uint32_t cx = cx0; cx <= cx1; cx++) g->cell_first[cy * g->cells_x + cx + 1]++;
             refs += (size_t)(cx1 - cx0 + 1) * (cy1 - cy0 + 1);
         }
-        kept += n;
-    }
-    g->triangle_count = kept;
-    g->inv_scale = 1.0f / p.scale;
-    g->near_count = near_count;
     if (!grow((void **)&g->refs, &g->ref_capacity, refs ? refs : 1, sizeof(uint32_t)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     g->ref_count = refs;
-
-    /* counting sort: each cell's references in the drawing order */
     drawing_order(g, chunks);
     for (uint32_t c = 0; c < cells; c++) g->cell_first[c + 1] += g->cell_first[c];
     for (uint32_t i = 0; i < kept; i++) {
         const uint32_t k = g->order[i];
-        const pgrid_triangle *t = &g->triangles[k];
-        const uint32_t cx0 = cell_of(t->x0, inv_cell), cx1 = cell_of(t->x1, inv_cell);
-        const uint32_t cy0 = cell_of(t->y0, inv_cell), cy1 = cell_of(t->y1, inv_cell);
+        uint32_t cx0, cx1, cy0, cy1;
+        triangle_cells(&g->triangles[k], inv_cell, &cx0, &cx1, &cy0, &cy1);
         for (uint32_t cy = cy0; cy <= cy1; cy++)
             for (uint32_t cx = cx0; cx <= cx1; cx++) g->refs[g->cell_first[cy * g->cells_x + cx]++] = k;
     }

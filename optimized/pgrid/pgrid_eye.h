@@ -101,6 +101,8 @@ typedef struct pgrid_eye {
     uint32_t *chunk_kept;      /* the build's: per chunk of triangles, how many it kept, how many are near
                                 * and how many it dropped as back faces */
     uint32_t chunk_capacity;
+    uint32_t *chunk_cells;     /* the build's: per chunk and cell, its references' count, then first slot */
+    size_t chunk_cells_capacity;
     /* Back-face culling (pgrid_solids.h): a triangle of a solid whose
      * mesh's box the eye is outside, with the eye on the inner side of its
      * plane by a margin, is dropped: an eye ray meets an entering face of
