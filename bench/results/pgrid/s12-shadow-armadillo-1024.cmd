@@ -1,2 +1,3 @@
 commit 5032da8 load 1.24 1.51 2.03
 build/cli/rtt bench ~/.cache/rtt-data/meshes/armadillo.off --views bench/views.json --size 1024 --only shadow,build --frames 5 --threads 1,2 --json
+load after 1.26 1.50 2.02
