@@ -375,6 +375,16 @@ static uint32_t facing_away4(const v3x4 c[3], const rtt_vec3 (*tri)[3], rtt_vec3
     return result;
 }
 
+/* Four triangles' corners (tri[l], one per lane) as vectors, put together
+ * in registers: no vector load of scalar stores. */
+static inline void corners_of(const rtt_vec3 (*tri)[3], v3x4 corners[3])
+{
+    for (int k = 0; k < 3; k++)
+        corners[k] = (v3x4){_mm_setr_ps(tri[0][k].x, tri[1][k].x, tri[2][k].x, tri[3][k].x),
+                            _mm_setr_ps(tri[0][k].y, tri[1][k].y, tri[2][k].y, tri[3][k].y),
+                            _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
+}
+
 /* Up to four triangles (prim, their corners tri) transformed, clipped and
  * set up, the kept ones written from slot *kept on. */
 static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_vec3 (*tri)[3], uint32_t n,
@@ -383,15 +393,10 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
     pgrid_eye *g = job->g;
     const v3x4 eye = v4_splat(job->frame->eye);
     const __m128 scale = _mm_set1_ps(job->p.scale);
-    /* the corners, a triangle per lane (lanes past n zero), put together
-     * in registers: no vector load of scalar stores */
+    /* the corners, a triangle per lane (lanes past n zero) */
     v3x4 rel[3];
-    for (int k = 0; k < 3; k++) {
-        const v3x4 corner = {_mm_setr_ps(tri[0][k].x, tri[1][k].x, tri[2][k].x, tri[3][k].x),
-                             _mm_setr_ps(tri[0][k].y, tri[1][k].y, tri[2][k].y, tri[3][k].y),
-                             _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
-        rel[k] = v4_scale(v4_sub(corner, eye), scale);
-    }
+    corners_of(tri, rel);
+    for (int k = 0; k < 3; k++) rel[k] = v4_scale(v4_sub(rel[k], eye), scale);
     setup4 four;
     setup_four(&job->p, job->frame, rel, &four);
     for (uint32_t l = 0; l < n; l++) {
@@ -456,10 +461,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
                 side[l] = job->mesh_culled[scene->triangle_mesh[prim[l]]] ? job->outward[prim[l]] : 0;
             if (side[0] | side[1] | side[2] | side[3]) {
                 v3x4 corners[3];
-                for (int k = 0; k < 3; k++)
-                    corners[k] = (v3x4){_mm_setr_ps(tri[0][k].x, tri[1][k].x, tri[2][k].x, tri[3][k].x),
-                                        _mm_setr_ps(tri[0][k].y, tri[1][k].y, tri[2][k].y, tri[3][k].y),
-                                        _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
+                corners_of((const rtt_vec3(*)[3])tri, corners);
                 away = facing_away4(corners, (const rtt_vec3(*)[3])tri, job->frame->eye, side, n);
             }
         }
@@ -488,6 +490,9 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
     job->g->chunk_kept[3 * task + 1] = near_count;
     job->g->chunk_kept[3 * task + 2] = culled;
 }
+
+/* The end of chunk c's kept slots (pgrid_eye: they start at c * SETUP_CHUNK). */
+static inline uint32_t chunk_end(const pgrid_eye *g, uint32_t c) { return c * SETUP_CHUNK + g->chunk_kept[3 * c]; }
 
 /* The frame's side of the culling: the scene's solids (worked out once per
  * scene) and the meshes whose box the eye is outside (g->mesh_culled);
@@ -534,13 +539,13 @@ static void drawing_order(pgrid_eye *g, uint32_t chunks)
     const uint32_t n = g->triangle_count;
     if (g->culled_count || n < 2) {
         for (uint32_t c = 0, i = 0; c < chunks; c++)
-            for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) g->order[i++] = k;
+            for (uint32_t k = c * SETUP_CHUNK; k < chunk_end(g, c); k++) g->order[i++] = k;
         return;
     }
     enum { BITS = 11, BUCKETS = 1 << BITS };
     uint64_t *keys = g->order_keys, *spare = keys + n;
     for (uint32_t c = 0, i = 0; c < chunks; c++)
-        for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) {
+        for (uint32_t k = c * SETUP_CHUNK; k < chunk_end(g, c); k++) {
             uint32_t bits;
             memcpy(&bits, &g->nearest[k], sizeof bits);
             bits ^= (bits >> 31) ? 0xFFFFFFFFu : 0x80000000u; /* NaN sorts last */
@@ -588,7 +593,7 @@ static void bin_chunk(void *context, uint32_t thread, uint32_t task)
     const bin_job *job = context;
     pgrid_eye *g = job->g;
     uint32_t *row = g->chunk_cells + (size_t)task * job->cells;
-    const uint32_t from = task * SETUP_CHUNK, end = from + g->chunk_kept[3 * task];
+    const uint32_t from = task * SETUP_CHUNK, end = chunk_end(g, task);
     if (!job->fill) memset(row, 0, job->cells * sizeof *row);
     for (uint32_t k = from; k < end; k++) {
         uint32_t cx0, cx1, cy0, cy1;
@@ -695,7 +700,7 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
     memset(g->cell_first, 0, ((size_t)cells + 1) * sizeof(uint32_t));
     size_t refs = 0;
     for (uint32_t c = 0; c < chunks; c++)
-        for (uint32_t k = c * SETUP_CHUNK; k < c * SETUP_CHUNK + g->chunk_kept[3 * c]; k++) {
+        for (uint32_t k = c * SETUP_CHUNK; k < chunk_end(g, c); k++) {
             uint32_t cx0, cx1, cy0, cy1;
             triangle_cells(&g->triangles[k], inv_cell, &cx0, &cx1, &cy0, &cy1);
             for (uint32_t cy = cy0; cy <= cy1; cy++)

@@ -2,7 +2,8 @@
  * shading (pgrid_eye_trace_frame): what the bench races against Embree and
  * llvmpipe and what the tests compare with the reference.  The build runs
  * on the calling thread and is part of the frame; the cells go to the
- * thread pool, each worker with its own depth and triangle buffers. */
+ * thread pool, each worker with its own depth and triangle buffers (kept
+ * in the grid from frame to frame, left cleared by every cell's resolve). */
 #include <math.h>
 #include <stdlib.h>
 
