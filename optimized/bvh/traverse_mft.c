@@ -451,31 +451,15 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
             }
             g.pinhole = camera_cones(&g.cone, b, vf_load(block_x), vf_load(block_y)) & exact;
             trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
-            /* each packet's rows of four straight into the block's rows; a
-             * lane that missed holds bvh_hits_clear's t, made +inf as
-             * bvh_hits_store makes it */
-            const vi miss = vi_set1(RTT_MISS);
+            /* each packet's rows of four straight into the block's rows */
             for (uint32_t f = 0; f < MFT_FRUSTA; f++)
                 for (uint32_t v = 0; v < MFT_VECS; v++) {
                     const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX) + v * VEC_ROWS;
                     if (fx >= b->x1 || fy >= b->y1) continue;
-                    const bvh_hits *h = &g.hits[f][v];
-                    const vm hit = vi_lt_u(h->prim, miss);
-                    _Alignas(64) float t[BVH_W], u[BVH_W], w[BVH_W];
-                    _Alignas(64) uint32_t prim[BVH_W];
-                    vf_store(t, vf_blend(hit, vf_set1(INFINITY), h->t));
-                    vf_store(u, vf_blend(hit, vf_set1(0.0f), h->u));
-                    vf_store(w, vf_blend(hit, vf_set1(0.0f), h->v));
-                    vi_store(prim, h->prim);
                     const uint32_t cols = b->x1 - fx < 4u ? b->x1 - fx : 4u;
                     const uint32_t rows = b->y1 - fy < VEC_ROWS ? b->y1 - fy : VEC_ROWS;
-                    for (uint32_t r = 0; r < rows; r++) {
-                        rtt_hit *out = &hits[(size_t)(fy + r - b->y0) * width + (fx - b->x0)];
-                        for (uint32_t i = 0; i < cols; i++) {
-                            const uint32_t l = 4u * r + i;
-                            out[i] = (rtt_hit){t[l], u[l], w[l], prim[l]};
-                        }
-                    }
+                    bvh_hits_store_rows(&g.hits[f][v], &hits[(size_t)(fy - b->y0) * width + (fx - b->x0)], width,
+                                        cols, rows);
                 }
         }
 }
