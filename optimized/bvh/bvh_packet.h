@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "bvh_simd.h"
+#include "hit_rows.h"
 #include "packet.h" /* ray_is_traceable: the kd kernels' rule for rays they refuse */
 #include "rtt/engine.h"
 
@@ -84,7 +85,7 @@ static inline void bvh_hits_store(const bvh_hits *h, rtt_hit *out, size_t count)
  * `stride` records apart, bvh_hits_store's records (a miss: t = +inf, u = v
  * = 0).  A whole row's four records are transposed in registers and stored
  * at once (64 bytes); a row cut by the image's edge (cols < 4) goes a
- * record at a time. */
+ * record at a time (hit_rows.h's transpose). */
 static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t stride, uint32_t cols, uint32_t rows)
 {
     _Static_assert(sizeof(rtt_hit) == 4 * sizeof(float), "a hit is four words: t, u, v, prim");
@@ -102,39 +103,12 @@ static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t s
             }
         return;
     }
-#if BVH_W == 16
-    const __m512 p = _mm512_castsi512_ps(h->prim);
-    /* per 128-bit lane (a row): records 0, 1 and 2, 3 of its pixels, then
-     * the rows gathered from the four records' lanes */
-    const __m512 tu_lo = _mm512_unpacklo_ps(t, u), tu_hi = _mm512_unpackhi_ps(t, u);
-    const __m512 vp_lo = _mm512_unpacklo_ps(v, p), vp_hi = _mm512_unpackhi_ps(v, p);
-    const __m512 r0 = _mm512_shuffle_ps(tu_lo, vp_lo, 0x44), r1 = _mm512_shuffle_ps(tu_lo, vp_lo, 0xEE);
-    const __m512 r2 = _mm512_shuffle_ps(tu_hi, vp_hi, 0x44), r3 = _mm512_shuffle_ps(tu_hi, vp_hi, 0xEE);
-    const __m512 a = _mm512_shuffle_f32x4(r0, r1, 0x44), b = _mm512_shuffle_f32x4(r0, r1, 0xEE);
-    const __m512 c = _mm512_shuffle_f32x4(r2, r3, 0x44), d = _mm512_shuffle_f32x4(r2, r3, 0xEE);
-    const __m512 row[4] = {_mm512_shuffle_f32x4(a, c, 0x88), _mm512_shuffle_f32x4(a, c, 0xDD),
-                           _mm512_shuffle_f32x4(b, d, 0x88), _mm512_shuffle_f32x4(b, d, 0xDD)};
-    for (uint32_t r = 0; r < rows; r++) _mm512_storeu_ps((float *)(out + r * stride), row[r]);
-#elif BVH_W == 8
-    const __m256 p = _mm256_castsi256_ps(h->prim);
-    const __m256 tu_lo = _mm256_unpacklo_ps(t, u), tu_hi = _mm256_unpackhi_ps(t, u);
-    const __m256 vp_lo = _mm256_unpacklo_ps(v, p), vp_hi = _mm256_unpackhi_ps(v, p);
-    /* record i of row 0 in the low half, of row 1 in the high half */
-    const __m256 r0 = _mm256_shuffle_ps(tu_lo, vp_lo, 0x44), r1 = _mm256_shuffle_ps(tu_lo, vp_lo, 0xEE);
-    const __m256 r2 = _mm256_shuffle_ps(tu_hi, vp_hi, 0x44), r3 = _mm256_shuffle_ps(tu_hi, vp_hi, 0xEE);
-    for (uint32_t r = 0; r < rows; r++) {
-        const int half = r ? 0x31 : 0x20;
-        float *row = (float *)(out + r * stride);
-        _mm256_storeu_ps(row, _mm256_permute2f128_ps(r0, r1, half));
-        _mm256_storeu_ps(row + 8, _mm256_permute2f128_ps(r2, r3, half));
-    }
-#else
-    __m128 r0 = t, r1 = u, r2 = v, r3 = _mm_castsi128_ps(h->prim);
-    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-    float *row = (float *)out;
-    (void)rows; /* one row of four */
-    _mm_storeu_ps(row, r0), _mm_storeu_ps(row + 4, r1), _mm_storeu_ps(row + 8, r2), _mm_storeu_ps(row + 12, r3);
-#endif
+    _Static_assert(HIT_ROWS_W == BVH_W, "hit_rows.h is compiled for the packet's width");
+    vf rec[4];
+    hit_rows_of_lanes(t, u, v, vi_as_vf(h->prim), rec);
+    for (uint32_t r = 0; r < rows; r++)
+        for (uint32_t j = 0; j < HIT_ROWS_PER_ROW; j++)
+            vf_store((float *)(out + r * stride) + j * BVH_W, rec[r * HIT_ROWS_PER_ROW + j]);
 }
 
 #endif

@@ -55,6 +55,7 @@ static inline vi vi_load(const uint32_t *p) { return _mm512_loadu_si512(p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm512_storeu_si512(p, a); }
 static inline vi vi_blend(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, a, b); }
 static inline vm vi_lt_u(vi a, vi b) { return _mm512_cmplt_epu32_mask(a, b); }
+static inline vf vi_as_vf(vi a) { return _mm512_castsi512_ps(a); }
 static inline float vf_hmin(vf a) { return _mm512_reduce_min_ps(a); }
 /* out[a] lane l = p[8 l + a]: BVH_W consecutive records of eight floats, a
  * field per word.  Rays l and l + 8 share a zmm, an 8x8 transpose per half. */
@@ -109,6 +110,7 @@ static inline vf vf_blend(vm m, vf a, vf b) { return _mm256_blendv_ps(a, b, m); 
 static inline vi vi_set1(uint32_t x) { return _mm256_set1_epi32((int)x); }
 static inline vi vi_load(const uint32_t *p) { return _mm256_loadu_si256((const __m256i *)p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm256_storeu_si256((__m256i *)p, a); }
+static inline vf vi_as_vf(vi a) { return _mm256_castsi256_ps(a); }
 static inline vi vi_blend(vm m, vi a, vi b)
 {
     return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), m));
@@ -177,6 +179,7 @@ static inline vf vf_blend(vm m, vf a, vf b) { return _mm_blendv_ps(a, b, m); }
 static inline vi vi_set1(uint32_t x) { return _mm_set1_epi32((int)x); }
 static inline vi vi_load(const uint32_t *p) { return _mm_loadu_si128((const __m128i *)p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm_storeu_si128((__m128i *)p, a); }
+static inline vf vi_as_vf(vi a) { return _mm_castsi128_ps(a); }
 static inline vi vi_blend(vm m, vi a, vi b)
 {
     return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b), m));

@@ -31,6 +31,8 @@
 
 #include "rtt/vec3.h"
 
+#include "hit_rows.h"
+
 #include "pgrid_eye.h"
 #include "pgrid_isa.h"
 
@@ -137,7 +139,7 @@ static inline vmask gather_surfaces(const pgrid_surface *surfaces, const uint32_
 }
 /* A block's hit records (t, u, v, prim of lane i = x + 4 y; the misses'
  * record where `hit` is clear) into the first `pixels` records of its
- * first `rows` rows: two 4x4 transposes, one (masked) store per row, or
+ * first `rows` rows: hit_rows.h's transpose, one (masked) store per row, or
  * with `stream` (every row starts on a 64-byte line) a non-temporal one
  * per whole row. */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
@@ -147,16 +149,8 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     u = _mm512_maskz_mov_ps(hit, u);
     v = _mm512_maskz_mov_ps(hit, v);
     prim = _mm512_mask_blend_ps(hit, _mm512_castsi512_ps(_mm512_set1_epi32((int)RTT_MISS)), prim);
-    /* in each 128-bit lane (a row), the records of its four pixels */
-    const __m512 tu_lo = _mm512_unpacklo_ps(t, u), tu_hi = _mm512_unpackhi_ps(t, u);
-    const __m512 vp_lo = _mm512_unpacklo_ps(v, prim), vp_hi = _mm512_unpackhi_ps(v, prim);
-    const __m512 p0 = _mm512_shuffle_ps(tu_lo, vp_lo, 0x44), p1 = _mm512_shuffle_ps(tu_lo, vp_lo, 0xEE);
-    const __m512 p2 = _mm512_shuffle_ps(tu_hi, vp_hi, 0x44), p3 = _mm512_shuffle_ps(tu_hi, vp_hi, 0xEE);
-    /* pixel p's record of row j is 128-bit lane j of p_p: rows from lanes */
-    const __m512 a = _mm512_shuffle_f32x4(p0, p1, 0x44), b = _mm512_shuffle_f32x4(p0, p1, 0xEE);
-    const __m512 c = _mm512_shuffle_f32x4(p2, p3, 0x44), d = _mm512_shuffle_f32x4(p2, p3, 0xEE);
-    const __m512 out[4] = {_mm512_shuffle_f32x4(a, c, 0x88), _mm512_shuffle_f32x4(a, c, 0xDD),
-                           _mm512_shuffle_f32x4(b, d, 0x88), _mm512_shuffle_f32x4(b, d, 0xDD)};
+    __m512 out[4];
+    hit_rows_of_lanes(t, u, v, prim, out);
     if (stream && pixels >= 4u) {
         for (uint32_t r = 0; r < rows; r++) _mm512_stream_ps((float *)(row + r * stride), out[r]);
         return;
@@ -239,7 +233,7 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
                                                                        _mm256_cmp_ps(a, _mm256_set1_ps(hi), _CMP_LT_OQ))));
 }
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm256_movemask_ps(m); }
-/* the AVX-512 store's transposes for a 4x2 block: a row per 128-bit lane */
+/* the AVX-512 store for a 4x2 block: a row in two vectors */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
                                vfloat u, vfloat v, vfloat prim, bool stream)
 {
@@ -247,13 +241,9 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     u = _mm256_and_ps(u, hit);
     v = _mm256_and_ps(v, hit);
     prim = _mm256_blendv_ps(_mm256_castsi256_ps(_mm256_set1_epi32((int)RTT_MISS)), prim, hit);
-    const __m256 tu_lo = _mm256_unpacklo_ps(t, u), tu_hi = _mm256_unpackhi_ps(t, u);
-    const __m256 vp_lo = _mm256_unpacklo_ps(v, prim), vp_hi = _mm256_unpackhi_ps(v, prim);
-    const __m256 p0 = _mm256_shuffle_ps(tu_lo, vp_lo, 0x44), p1 = _mm256_shuffle_ps(tu_lo, vp_lo, 0xEE);
-    const __m256 p2 = _mm256_shuffle_ps(tu_hi, vp_hi, 0x44), p3 = _mm256_shuffle_ps(tu_hi, vp_hi, 0xEE);
-    /* row j, pixels 0-1 and 2-3: lane j of p0, p1 and of p2, p3 */
-    const __m256 out[2][2] = {{_mm256_permute2f128_ps(p0, p1, 0x20), _mm256_permute2f128_ps(p2, p3, 0x20)},
-                              {_mm256_permute2f128_ps(p0, p1, 0x31), _mm256_permute2f128_ps(p2, p3, 0x31)}};
+    __m256 rec[4];
+    hit_rows_of_lanes(t, u, v, prim, rec);
+    const __m256 out[2][2] = {{rec[0], rec[1]}, {rec[2], rec[3]}};
     if (stream && pixels >= 4u) {
         for (uint32_t r = 0; r < rows; r++) {
             float *p = (float *)(row + r * stride);
@@ -337,7 +327,7 @@ static inline uint32_t vm_bits_inside(vmask m, vfloat a, float lo, float hi)
     return (uint32_t)_mm_movemask_ps(_mm_and_ps(m, _mm_and_ps(_mm_cmpgt_ps(a, _mm_set1_ps(lo)), _mm_cmplt_ps(a, _mm_set1_ps(hi)))));
 }
 static inline uint32_t vm_bits(vmask m) { return (uint32_t)_mm_movemask_ps(m); }
-/* a 4x1 block: one 4x4 transpose, a record per pixel */
+/* a 4x1 block: a record per vector */
 static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uint32_t rows, vmask hit, vfloat t,
                                vfloat u, vfloat v, vfloat prim, bool stream)
 {
@@ -346,8 +336,8 @@ static inline void store_block(rtt_hit *row, size_t stride, uint32_t pixels, uin
     u = _mm_and_ps(u, hit);
     v = _mm_and_ps(v, hit);
     prim = _mm_blendv_ps(_mm_castsi128_ps(_mm_set1_epi32((int)RTT_MISS)), prim, hit);
-    _MM_TRANSPOSE4_PS(t, u, v, prim);
-    const __m128 out[4] = {t, u, v, prim};
+    __m128 out[4];
+    hit_rows_of_lanes(t, u, v, prim, out);
     if (stream && pixels >= 4u) {
         for (uint32_t p = 0; p < 4u; p++) _mm_stream_ps((float *)(row + p), out[p]);
         return;
