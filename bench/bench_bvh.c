@@ -96,7 +96,8 @@ bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *ker
     }
     rtt_ray *ordered = malloc(slots * sizeof *ordered);
     job.pixel = malloc(slots * sizeof *job.pixel);
-    job.hits = spec->occlusion ? NULL : malloc(slots * sizeof *job.hits);
+    /* 64-byte lines: a tile's rows (16 records) start on one, for bvh-mft's streamed stores */
+    job.hits = spec->occlusion ? NULL : aligned_alloc(64, slots * sizeof *job.hits);
     job.occluded = spec->occlusion ? malloc(slots) : NULL;
     bvh_thread_counters *counters = spec->count ? calloc(spec->threads, sizeof *counters) : NULL;
     if (!ordered || !job.pixel || (!job.hits && !job.occluded) || (spec->count && !counters)) {
@@ -116,7 +117,8 @@ bool bench_bvh_row(const bvh_tree *tree, const bench_rays *rays, const char *ker
     job.rays = ordered;
     const rtt_camera_frame *c = &rays->camera;
     const bvh_camera_block camera = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
-                                     {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, 0, 0, 0, 0};
+                                     {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, 0, 0, 0, 0,
+                                     true /* a frame's hits, read after it: streamed */};
     if (!spec->occlusion && rays->from_camera && job.kernel->trace_camera) {
         job.camera = &camera;
         /* the tile's hits row-major (bvh_camera_block) */

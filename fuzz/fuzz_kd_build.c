@@ -350,7 +350,7 @@ static void check_mft_camera(const rtt_scene *scene)
     bvh_kernel_find("bvh-packet", RTT_ISA_SSE4)->trace(tree, &(bvh_query){.rays = rays, .count = PGRID_W * PGRID_H,
                                                                           .hits = want});
     bvh_camera_block block = {{frame.eye.x, frame.eye.y, frame.eye.z}, {frame.corner.x, frame.corner.y, frame.corner.z},
-                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0};
+                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0, false};
     const bvh_kernel *row;
     for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
         if (!row->trace_camera || !rtt_isa_supported(row->isa)) continue;

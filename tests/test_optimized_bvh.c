@@ -337,7 +337,7 @@ static void check_camera_kernel(const bvh_fixture *f, const bvh_tree *tree, cons
         }
     assert_true(hit > 0 && hit < n); /* both answers are checked */
     bvh_camera_block block = {{frame.eye.x, frame.eye.y, frame.eye.z}, {frame.corner.x, frame.corner.y, frame.corner.z},
-                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0};
+                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0, false};
     const bvh_kernel *row;
     for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
         if (!row->trace_camera) {
@@ -345,15 +345,19 @@ static void check_camera_kernel(const bvh_fixture *f, const bvh_tree *tree, cons
             continue;
         }
         if (!isa_runs(row->isa)) continue;
-        /* the whole image in 16 x 16 blocks, then in 13 x 7 blocks from (3, 5) */
-        for (int pass = 0; pass < 2; pass++) {
-            const uint32_t bw = pass ? 13 : 16, bh = pass ? 7 : 16, sx = pass ? 3 : 0, sy = pass ? 5 : 0;
+        /* the whole image in 16 x 16 blocks, then in 13 x 7 blocks from (3,
+         * 5); each with the hits stored and streamed (past the caches where
+         * a block's rows start on 64-byte lines: the 16-wide blocks) */
+        for (int pass = 0; pass < 4; pass++) {
+            const bool cut = pass & 1;
+            const uint32_t bw = cut ? 13 : 16, bh = cut ? 7 : 16, sx = cut ? 3 : 0, sy = cut ? 5 : 0;
+            block.stream = pass >= 2;
             memset(got, 0xab, n * sizeof *got);
             for (uint32_t y0 = 0; y0 < h; y0 += y0 ? bh : (sy ? sy : bh))
                 for (uint32_t x0 = 0; x0 < w; x0 += x0 ? bw : (sx ? sx : bw)) {
                     const uint32_t x1 = x0 ? x0 + bw : (sx ? sx : bw), y1 = y0 ? y0 + bh : (sy ? sy : bh);
                     block.x0 = x0, block.y0 = y0, block.x1 = x1 < w ? x1 : w, block.y1 = y1 < h ? y1 : h;
-                    rtt_hit part[16 * 16];
+                    _Alignas(64) rtt_hit part[16 * 16];
                     bvh_counters counters = {0};
                     row->trace_camera(tree, &block, part, &counters);
                     assert_true(counters.packets > 0);
@@ -369,8 +373,9 @@ static void check_camera_kernel(const bvh_fixture *f, const bvh_tree *tree, cons
                                   (double)want[i].t);
             for (size_t i = 0; i < n; i++) occ[i] = want[i].prim != RTT_MISS;
             const uint32_t bits = tree->watertight ? reference_bit_differences(&f->base, rays, got, occ, (uint32_t)n) : 0;
-            print_message("%s camera %-7s %-10s %ux%u in %ux%u blocks: %u lost%s\n", row->name,
-                          rtt_isa_name(row->isa), bvh_tree_test_name(tree), w, h, bw, bh, lost,
+            print_message("%s camera %-7s %-10s %ux%u in %ux%u blocks%s: %u lost%s\n", row->name,
+                          rtt_isa_name(row->isa), bvh_tree_test_name(tree), w, h, bw, bh,
+                          block.stream ? ", streamed" : "", lost,
                           tree->watertight ? (bits ? ", not the reference's bits" : ", the reference's bits") : "");
             assert_int_equal(lost, 0);
             assert_int_equal(bits, 0);

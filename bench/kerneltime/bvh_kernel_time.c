@@ -63,7 +63,7 @@ static void run_pass(const kernel_run *r, bvh_counters *counters)
     const uint32_t w = r->primary->width, h = r->primary->height, tiles = r->tiles_x * r->tiles_y;
     const rtt_camera_frame *c = &r->primary->camera;
     bvh_camera_block block = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
-                              {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, 0, 0, 0, 0};
+                              {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, 0, 0, 0, 0, true};
     for (uint32_t t = 0; t < tiles; t++) {
         rtt_hit *hits = r->hits ? &r->hits[(size_t)t * TILE * TILE] : NULL;
         if (r->soft) {
@@ -176,7 +176,7 @@ int main(int argc, char **argv)
             return 2;
         }
         ordered = malloc(slots * sizeof *ordered);
-        run.hits = malloc(slots * sizeof *run.hits);
+        run.hits = aligned_alloc(64, slots * sizeof *run.hits); /* a tile's rows on 64-byte lines: streamed */
         if (!ordered || !run.hits) return 1;
         const rtt_ray off_image = {{0, 0, 0}, {1, 0, 0}, INFINITY, -INFINITY};
         for (size_t i = 0; i < slots; i++) {

@@ -41,10 +41,14 @@ typedef void (*bvh_kernel_fn)(const bvh_tree *tree, const bvh_query *query);
  * (Benthin & Wald 2009, 4.1: start and delta vectors): pixel (x, y)'s ray
  * is rtt_camera_ray(frame, x, y) bit for bit, for the pixels
  * [x0, x1) x [y0, y1); its closest hit goes to
- * hits[(y - y0) * (x1 - x0) + (x - x0)]. */
+ * hits[(y - y0) * (x1 - x0) + (x - x0)].  With `stream` (a frame's hits,
+ * read only after the frame, not a tile the caller shades at once) rows
+ * that start on a 64-byte line are written past the caches, non-temporal
+ * stores, fenced before the call returns. */
 typedef struct bvh_camera_block {
     float eye[3], corner[3], du[3], dv[3]; /* rtt_camera_frame's */
     uint32_t x0, y0, x1, y1;
+    bool stream;
 } bvh_camera_block;
 
 typedef void (*bvh_camera_fn)(const bvh_tree *tree, const bvh_camera_block *block, rtt_hit *hits,

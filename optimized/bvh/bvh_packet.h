@@ -6,6 +6,7 @@
 #define RTT_BVH_PACKET_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -84,9 +85,11 @@ static inline void bvh_hits_store(const bvh_hits *h, rtt_hit *out, size_t count)
  * rows) stores its hits into `rows` rows of `cols` records from `out`,
  * `stride` records apart, bvh_hits_store's records (a miss: t = +inf, u = v
  * = 0).  A whole row's four records are transposed in registers and stored
- * at once (64 bytes); a row cut by the image's edge (cols < 4) goes a
- * record at a time (hit_rows.h's transpose). */
-static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t stride, uint32_t cols, uint32_t rows)
+ * at once (64 bytes; with `stream`, rows on 64-byte lines, non-temporal);
+ * a row cut by the image's edge (cols < 4) goes a record at a time
+ * (hit_rows.h's transpose). */
+static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t stride, uint32_t cols, uint32_t rows,
+                                       bool stream)
 {
     _Static_assert(sizeof(rtt_hit) == 4 * sizeof(float), "a hit is four words: t, u, v, prim");
     const vm hit = vi_lt_u(h->prim, vi_set1(RTT_MISS));
@@ -107,8 +110,11 @@ static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t s
     vf rec[4];
     hit_rows_of_lanes(t, u, v, vi_as_vf(h->prim), rec);
     for (uint32_t r = 0; r < rows; r++)
-        for (uint32_t j = 0; j < HIT_ROWS_PER_ROW; j++)
-            vf_store((float *)(out + r * stride) + j * BVH_W, rec[r * HIT_ROWS_PER_ROW + j]);
+        for (uint32_t j = 0; j < HIT_ROWS_PER_ROW; j++) {
+            float *at = (float *)(out + r * stride) + j * BVH_W;
+            if (stream) vf_stream(at, rec[r * HIT_ROWS_PER_ROW + j]);
+            else vf_store(at, rec[r * HIT_ROWS_PER_ROW + j]);
+        }
 }
 
 #endif

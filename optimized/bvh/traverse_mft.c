@@ -425,6 +425,8 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
 void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
 {
     const uint32_t width = b->x1 - b->x0;
+    /* streamed only when every row starts on a 64-byte line */
+    const bool stream = b->stream && !(((uintptr_t)hits | ((size_t)width * sizeof *hits)) & 63u);
     mft_group g;
     for (uint32_t gy = b->y0; gy < b->y1; gy += 4u * GROUP_FY)
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
@@ -459,7 +461,8 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                     const uint32_t cols = b->x1 - fx < 4u ? b->x1 - fx : 4u;
                     const uint32_t rows = b->y1 - fy < VEC_ROWS ? b->y1 - fy : VEC_ROWS;
                     bvh_hits_store_rows(&g.hits[f][v], &hits[(size_t)(fy - b->y0) * width + (fx - b->x0)], width,
-                                        cols, rows);
+                                        cols, rows, stream);
                 }
         }
+    if (stream) _mm_sfence(); /* the streamed rows ordered before whatever tells a reader they are there */
 }

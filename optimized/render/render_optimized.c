@@ -170,7 +170,8 @@ static void trace_camera_tile(const render_job *job, sp_scratch *s, uint32_t x0,
     const uint64_t t0 = rtt_clock_ns();
     const rtt_camera_frame *c = &job->frame;
     const bvh_camera_block block = {{c->eye.x, c->eye.y, c->eye.z}, {c->corner.x, c->corner.y, c->corner.z},
-                                    {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, x0, y0, x1, y1};
+                                    {c->du.x, c->du.y, c->du.z}, {c->dv.x, c->dv.y, c->dv.z}, x0, y0, x1, y1,
+                                    false /* the tile is shaded at once: kept in cache */};
     rtt_hit hits[RTT_TILE_MAX * RTT_TILE_MAX];
     bvh_counters counters = {0};
     const bool counting = sp_tile_counting(s);
