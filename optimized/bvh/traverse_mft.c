@@ -398,6 +398,32 @@ static bool camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
     return exact;
 }
 
+/* frustum_bounds for a frustum camera_frustum made: its origin is the
+ * eye, every live ray starts at t = 0, and the direction box is the live
+ * lanes' smallest and largest components, kept across its packets lane by
+ * lane and reduced once per axis. */
+static void camera_bounds(const mft_group *g, uint32_t f, const bvh_camera_block *b, float org[3][MFT_FRUSTA],
+                          float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear)
+{
+    const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
+    vf lo[3] = {inf, inf, inf}, hi[3] = {minus_inf, minus_inf, minus_inf};
+    uint32_t live = 0;
+    for (uint32_t v = 0; v < MFT_VECS; v++) {
+        const vm m = vm_of_bits(g->live[f][v]);
+        live |= g->live[f][v];
+        for (int k = 0; k < 3; k++) {
+            lo[k] = vf_min(lo[k], vf_blend(m, inf, g->rays[f][v].dir[k]));
+            hi[k] = vf_max(hi[k], vf_blend(m, minus_inf, g->rays[f][v].dir[k]));
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        org[k][f] = live ? b->eye[k] : 0.0f;
+        dlo[k][f] = live ? vf_hmin(lo[k]) : 1.0f;
+        dhi[k][f] = live ? vf_hmax(hi[k]) : 1.0f;
+    }
+    *tnear = live ? 0.0f : INFINITY;
+}
+
 /* Every frustum's corner vectors (mft_cone), frustum f's block at
  * (fx[f], fy[f]): d at the centres of its corner pixels (the rays past the
  * image's edge are dead; their cone holds the live ones), and its scale:
@@ -443,7 +469,7 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                 if (camera_frustum(&g, f, b, fx, fy)) exact |= 1u << f;
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
-                frustum_bounds(&g, f, org, dlo, dhi, &tnear[f]); /* one origin: the eye */
+                camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
                 if (!live) continue;
                 if (counters) counters->packets++;
                 if (tree->triangle_count == 0) continue;
