@@ -19,29 +19,55 @@ typedef struct mft_bounds {
     vf dlo[3], dhi[3], rlo[3], rhi[3]; /* direction box and its reciprocals */
     vf tnear;                          /* smallest t of its rays */
     vf grow;                           /* boxes are tested grown by this much: an origin known to a few ulps */
+    /* per axis, from the direction box (mft_bounds_classify): the frusta
+     * whose directions all point down the axis, those whose interval
+     * contains zero, and of those the ones with some d > 0 and some d < 0 */
+    vm negative[3], up[3], down[3];
+    uint32_t straddle[3];
 } mft_bounds;
 
-/* The frusta of `active` whose interval bounds enter the box; their entries. */
+/* The per-axis classes of every frustum's direction box, once per group
+ * (the box test reads them at every node). */
+static inline void mft_bounds_classify(mft_bounds *g)
+{
+    const vf zero = vf_set1(0.0f);
+    for (int k = 0; k < 3; k++) {
+        g->negative[k] = vf_lt(g->dhi[k], zero);
+        g->up[k] = vf_gt(g->dhi[k], zero);
+        g->down[k] = vf_lt(g->dlo[k], zero);
+        g->straddle[k] = BVH_LANES_ALL & ~(vm_bits(vf_gt(g->dlo[k], zero)) | vm_bits(g->negative[k]));
+    }
+}
+
+/* The frusta of `active` whose interval bounds enter the box; their entries.
+ * Per axis, a frustum whose directions keep one sign enters the slab at
+ * its near plane (the low one along d > 0, the high one along d < 0) no
+ * earlier than the smaller of that plane's distances over dlo and dhi, and
+ * leaves it at the far plane no later than the larger.  An interval that
+ * contains zero (the paper's "zero fix", only on the axes where some
+ * frustum of the group has one): entered from below only along d > 0, from
+ * above only along d < 0, at the steepest direction's entry, never left. */
 static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm active, vf *entry)
 {
-    const vf zero = vf_set1(0.0f), inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
+    const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     vf t0 = g->tnear, t1 = dist;
+    const uint32_t lanes = vm_bits(active);
     for (int k = 0; k < 3; k++) {
         const vf p = vf_sub(vf_sub(vf_set1(c->lo[k]), g->org[k]), g->grow);
         const vf q = vf_add(vf_sub(vf_set1(c->hi[k]), g->org[k]), g->grow);
-        const vf pa = vf_mul(p, g->rlo[k]), pb = vf_mul(p, g->rhi[k]);
-        const vf qa = vf_mul(q, g->rlo[k]), qb = vf_mul(q, g->rhi[k]);
-        const vm positive = vf_gt(g->dlo[k], zero), negative = vf_lt(g->dhi[k], zero);
-        /* the interval contains zero: enter from below only along d > 0, from above only along d < 0 */
-        const vf from_below = vf_blend(vf_gt(g->dhi[k], zero), inf, pb);
-        const vf from_above = vf_blend(vf_lt(g->dlo[k], zero), inf, qa);
-        vf in = vf_blend(vf_lt(q, zero), minus_inf, from_above);
-        in = vf_blend(vf_gt(p, zero), in, from_below);
-        vf out = inf;
-        in = vf_blend(negative, in, vf_min(qa, qb));
-        out = vf_blend(negative, out, vf_max(pa, pb));
-        in = vf_blend(positive, in, vf_min(pa, pb));
-        out = vf_blend(positive, out, vf_max(qa, qb));
+        const vf near = vf_blend(g->negative[k], p, q), far = vf_blend(g->negative[k], q, p);
+        vf in = vf_min(vf_mul(near, g->rlo[k]), vf_mul(near, g->rhi[k]));
+        vf out = vf_max(vf_mul(far, g->rlo[k]), vf_mul(far, g->rhi[k]));
+        if (g->straddle[k] & lanes) {
+            const vf zero = vf_set1(0.0f);
+            const vf from_below = vf_blend(g->up[k], inf, vf_mul(p, g->rhi[k]));
+            const vf from_above = vf_blend(g->down[k], inf, vf_mul(q, g->rlo[k]));
+            vf zero_in = vf_blend(vf_lt(q, zero), minus_inf, from_above);
+            zero_in = vf_blend(vf_gt(p, zero), zero_in, from_below);
+            const vm straddle = vm_of_bits(g->straddle[k]);
+            in = vf_blend(straddle, in, zero_in);
+            out = vf_blend(straddle, out, inf);
+        }
         t0 = vf_max(in, t0);
         t1 = vf_min(out, t1);
     }

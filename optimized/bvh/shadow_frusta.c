@@ -257,6 +257,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
         g.corner_grow = vf_load(grow);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
+        mft_bounds_classify(&g.b);
         if (q->counters) q->counters->packets += n;
         const uint32_t frusta = (uint32_t)((1ull << n) - 1u);
         if (tree->triangle_count > 0 && sets->samples > 0) trace_group(tree, &g, frusta, sets, q->epsilon, q->counters);

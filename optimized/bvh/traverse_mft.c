@@ -276,6 +276,7 @@ static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, flo
     }
     g->b.tnear = vf_load(tnear);
     g->b.grow = vf_load(grow);
+    mft_bounds_classify(&g->b);
     g->apex_reach = reach;
     for (uint32_t f = 0; f < MFT_FRUSTA; f++)
         g->dist[f] = !(frusta >> f & 1u) ? -INFINITY : g->apex >> f & 1u ? 1.0f : frustum_dist(g, f, false);
