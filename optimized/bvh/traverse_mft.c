@@ -431,7 +431,7 @@ static void camera_bounds(const mft_group *g, uint32_t f, const bvh_camera_block
  * the rounding of d, of its normalisation and of these corners is a few
  * ulps of the terms' size per axis, bounded by 2^-16 of it.  Returns the
  * frusta whose corners are finite. */
-static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, vf fy)
+static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, vf fy, vf *size_out)
 {
     const vf zero = vf_set1(0.0f);
     vf cmax = zero, size = zero;
@@ -446,7 +446,58 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
         }
     }
     cone->scale = vf_add(vf_mul(vf_set1(1e-4f), cmax), vf_mul(size, vf_set1(0x1p-16f)));
+    *size_out = size;
     return vm_bits(vf_eq(vf_sub(cone->scale, cone->scale), zero));
+}
+
+/* Every pinhole frustum's direction box at once (lanes = frusta), from its
+ * four corner rays instead of its sixteen: a ray's direction is n = d / |d|
+ * with d affine in the pixel, so over the block (corner pixels 3 apart)
+ * each n_k is its corners' bilinear interpolant within
+ * (9/8) (max |n_k''| along du + along dv), and along any direction u,
+ * |n_k''| <= 6 |u|^2 / |d|^2 (differentiating d_k / |d| twice, each of
+ * the three terms bounded with |d_k| <= |d|, |d.u| <= |d| |u|).  The least
+ * |d| over the block: with c its centre and e = d - c (|e| <= h = 1.5 |du|
+ * + 1.5 |dv|), |d|^2 = |c|^2 + 2 c.e + |e|^2 >= |c|^2 + 2 c.e, affine in
+ * the pixel, so at least its least value at a corner, where it is that
+ * corner's |d|^2 - |e|^2 >= |d|^2 - h^2.  Widened by the rounding the
+ * cone's scale covers (2^-16 of the terms' `size` per axis, over the least
+ * length) and 2^-20 of each bound: no smaller than the rays' own box, a
+ * little larger (the traversal only culls by it, so every ray still gets
+ * its hit).  Returns the frusta it bounded (a positive least length,
+ * finite bounds); camera_bounds takes the rest. */
+static uint32_t camera_boxes(const mft_cone *cone, const bvh_camera_block *b, vf size, vf dlo[3], vf dhi[3])
+{
+    const vf zero = vf_set1(0.0f), one = vf_set1(1.0f);
+    vf shortest_sq = vf_set1(INFINITY), inv[4];
+    for (int c = 0; c < 4; c++) {
+        vf sq = zero;
+        for (int k = 0; k < 3; k++) sq = vf_add(sq, vf_mul(cone->corner[c][k], cone->corner[c][k]));
+        shortest_sq = vf_min(shortest_sq, sq);
+        inv[c] = vf_div(one, vf_sqrt(sq));
+    }
+    float du = 0.0f, dv = 0.0f;
+    for (int k = 0; k < 3; k++) du += b->du[k] * b->du[k], dv += b->dv[k] * b->dv[k];
+    const float h = 1.5f * (sqrtf(du) + sqrtf(dv)) * (1.0f + 0x1p-20f);
+    const vf widen = vf_set1(0x1p-20f), round = vf_mul(size, vf_set1(0x1p-16f));
+    const vf shortest = vf_sub(vf_mul(vf_sqrt(vf_max(vf_sub(shortest_sq, vf_set1(h * h)), zero)), vf_sub(one, widen)),
+                               vf_add(round, round));
+    /* (9/8) 6 (|du|^2 + |dv|^2) / |d|^2, the interpolant's error, and the rounding */
+    const vf bend = vf_div(vf_set1(6.75f * (du + dv) * (1.0f + 0x1p-20f)), vf_mul(shortest, shortest));
+    const vf slack = vf_add(bend, vf_div(round, shortest));
+    for (int k = 0; k < 3; k++) {
+        vf lo = vf_mul(cone->corner[0][k], inv[0]), hi = lo;
+        for (int c = 1; c < 4; c++) {
+            const vf n = vf_mul(cone->corner[c][k], inv[c]);
+            lo = vf_min(lo, n), hi = vf_max(hi, n);
+        }
+        dlo[k] = vf_sub(lo, vf_add(vf_mul(vf_abs(lo), widen), slack));
+        dhi[k] = vf_add(hi, vf_add(vf_mul(vf_abs(hi), widen), slack));
+    }
+    vm ok = vf_gt(shortest, zero);
+    for (int k = 0; k < 3; k++)
+        ok = vm_and(ok, vm_and(vf_eq(vf_sub(dlo[k], dlo[k]), zero), vf_eq(vf_sub(dhi[k], dhi[k]), zero)));
+    return vm_bits(ok);
 }
 
 void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
@@ -464,13 +515,23 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                 block_x[f] = (float)(gx + 4u * (f % GROUP_FX)), block_y[f] = (float)(gy + 4u * (f / GROUP_FX));
             uint32_t frusta = 0, exact = 0;
             g.apex = 0;
+            vf size, box_lo[3], box_hi[3];
+            const uint32_t finite = camera_cones(&g.cone, b, vf_load(block_x), vf_load(block_y), &size);
+            const uint32_t boxed = finite & camera_boxes(&g.cone, b, size, box_lo, box_hi);
+            _Alignas(64) float corner_lo[3][MFT_FRUSTA], corner_hi[3][MFT_FRUSTA];
+            for (int k = 0; k < 3; k++) vf_store(corner_lo[k], box_lo[k]), vf_store(corner_hi[k], box_hi[k]);
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
                 const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
                 tnear[f] = INFINITY;
                 if (camera_frustum(&g, f, b, fx, fy)) exact |= 1u << f;
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
-                camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
+                if (live && (boxed & exact) >> f & 1u) { /* every ray made the fast way: the corners bound them */
+                    for (int k = 0; k < 3; k++) org[k][f] = b->eye[k], dlo[k][f] = corner_lo[k][f], dhi[k][f] = corner_hi[k][f];
+                    tnear[f] = 0.0f;
+                } else {
+                    camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
+                }
                 if (!live) continue;
                 if (counters) counters->packets++;
                 if (tree->triangle_count == 0) continue;
@@ -478,7 +539,7 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                     g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
             }
-            g.pinhole = camera_cones(&g.cone, b, vf_load(block_x), vf_load(block_y)) & exact;
+            g.pinhole = finite & exact;
             trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
             /* each packet's rows of four straight into the block's rows */
             for (uint32_t f = 0; f < MFT_FRUSTA; f++)
