@@ -28,7 +28,9 @@
  *     exactly as bvh-packet does on the same rays (the frusta cull only);
  *  6. bvh-mft's primary rays made from the same camera's frame
  *     (trace_camera), every instruction set, in one block and in 5 x 3
- *     blocks: each pixel's hit is bvh-packet's on rtt_camera_ray's ray.
+ *     blocks: without back-face culling each pixel's hit is bvh-packet's
+ *     on rtt_camera_ray's ray; with it (the scene's solids) each passes
+ *     the brute force strictly.
  *
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
@@ -336,43 +338,64 @@ static rtt_engine *bvh_engine_for(const rtt_scene *scene)
 
 /* bvh-mft's camera-made primary rays (trace_camera, every instruction set)
  * for the scene's camera (check_pgrid's), in one block and in blocks of
- * 5 x 3 pixels: each pixel's hit must be bvh-packet's on rtt_camera_ray's
- * ray, bit for bit. */
+ * 5 x 3 pixels into hits. */
+static void trace_mft_camera(const bvh_tree *tree, const bvh_kernel *row, const rtt_camera_frame *frame, uint32_t bw,
+                             uint32_t bh, rtt_hit *hits)
+{
+    bvh_camera_block block = {{frame->eye.x, frame->eye.y, frame->eye.z}, {frame->corner.x, frame->corner.y, frame->corner.z},
+                              {frame->du.x, frame->du.y, frame->du.z}, {frame->dv.x, frame->dv.y, frame->dv.z}, 0, 0, 0, 0, false};
+    rtt_hit part[PGRID_W * PGRID_H];
+    for (uint32_t y0 = 0; y0 < PGRID_H; y0 += bh)
+        for (uint32_t x0 = 0; x0 < PGRID_W; x0 += bw) {
+            block.x0 = x0, block.y0 = y0;
+            block.x1 = x0 + bw < PGRID_W ? x0 + bw : PGRID_W, block.y1 = y0 + bh < PGRID_H ? y0 + bh : PGRID_H;
+            row->trace_camera(tree, &block, part, NULL);
+            for (uint32_t y = y0; y < block.y1; y++)
+                for (uint32_t x = x0; x < block.x1; x++)
+                    hits[y * PGRID_W + x] = part[(y - y0) * (block.x1 - x0) + (x - x0)];
+        }
+}
+
+/* Without back-face culling (the tree's solids left out) each pixel's hit
+ * must be bvh-packet's on rtt_camera_ray's ray, bit for bit; with it (the
+ * engine's tree: back faces of the solids the eye is outside dropped) the
+ * hits must pass the brute force strictly (a front face's tie with a
+ * dropped back face at one t is a hit within the tolerance). */
 static void check_mft_camera(const rtt_scene *scene)
 {
     rtt_engine *engine = bvh_engine_for(scene);
     const bvh_tree *tree = bvh_engine_tree(engine);
+    bvh_tree plain = *tree; /* the same arrays, no solids: nothing culled */
+    plain.solid = NULL, plain.solid_box = NULL, plain.solid_count = 0;
     const rtt_camera_frame frame = rtt_camera_frame_make(&scene->camera, PGRID_W, PGRID_H);
     rtt_ray rays[PGRID_W * PGRID_H];
     for (uint32_t y = 0; y < PGRID_H; y++)
         for (uint32_t x = 0; x < PGRID_W; x++) rays[y * PGRID_W + x] = rtt_camera_ray(&frame, x, y);
-    rtt_hit want[PGRID_W * PGRID_H], got[PGRID_W * PGRID_H], part[PGRID_W * PGRID_H];
+    rtt_hit want[PGRID_W * PGRID_H], got[PGRID_W * PGRID_H];
     bvh_kernel_find("bvh-packet", RTT_ISA_SSE4)->trace(tree, &(bvh_query){.rays = rays, .count = PGRID_W * PGRID_H,
                                                                           .hits = want});
-    bvh_camera_block block = {{frame.eye.x, frame.eye.y, frame.eye.z}, {frame.corner.x, frame.corner.y, frame.corner.z},
-                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0, false};
+    fuzz_oracle *oracle = tree->solid ? fuzz_oracle_create(scene, rays, PGRID_W * PGRID_H) : NULL;
     const bvh_kernel *row;
     for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
         if (!row->trace_camera || !rtt_isa_supported(row->isa)) continue;
         static const uint32_t blocks[2][2] = {{PGRID_W, PGRID_H}, {5, 3}};
         for (uint32_t b = 0; b < 2; b++) {
             const uint32_t bw = blocks[b][0], bh = blocks[b][1];
-            for (uint32_t y0 = 0; y0 < PGRID_H; y0 += bh)
-                for (uint32_t x0 = 0; x0 < PGRID_W; x0 += bw) {
-                    block.x0 = x0, block.y0 = y0;
-                    block.x1 = x0 + bw < PGRID_W ? x0 + bw : PGRID_W, block.y1 = y0 + bh < PGRID_H ? y0 + bh : PGRID_H;
-                    row->trace_camera(tree, &block, part, NULL);
-                    for (uint32_t y = y0; y < block.y1; y++)
-                        for (uint32_t x = x0; x < block.x1; x++)
-                            got[y * PGRID_W + x] = part[(y - y0) * (block.x1 - x0) + (x - x0)];
-                }
+            trace_mft_camera(&plain, row, &frame, bw, bh, got);
             for (uint32_t i = 0; i < PGRID_W * PGRID_H; i++)
                 if (memcmp(&got[i], &want[i], sizeof got[i]) != 0)
                     fuzz_fail("bvh-mft camera (%s, %ux%u blocks) pixel %u: prim %u t %a, bvh-packet prim %u t %a",
                               rtt_isa_name(row->isa), bw, bh, i, got[i].prim, (double)got[i].t, want[i].prim,
                               (double)want[i].t);
+            if (!oracle) continue;
+            trace_mft_camera(tree, row, &frame, bw, bh, got);
+            pgrid_answers answers = {{&answers_vtable, scene}, got};
+            char label[64];
+            snprintf(label, sizeof label, "bvh-mft camera, back faces culled/%s %ux%u", rtt_isa_name(row->isa), bw, bh);
+            fuzz_oracle_check(oracle, &answers.base, label, false);
         }
     }
+    if (oracle) fuzz_oracle_free(oracle);
     rtt_engine_destroy(engine);
 }
 

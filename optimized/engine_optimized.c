@@ -255,6 +255,12 @@ rtt_engine *rtt_optimized_engine_create(const rtt_scene *scene, const rtt_engine
             free(e);
             return NULL;
         }
+        /* the solids bvh-mft's camera path culls back faces of (per scene, apart from the build) */
+        if (!bvh_tree_mark_solids(&e->bvh, scene, err)) {
+            bvh_tree_free(&e->bvh);
+            free(e);
+            return NULL;
+        }
         /* the leaves carry both the records and the corners: the test is a flag */
         e->bvh.watertight = isect == RTT_ISECT_WATERTIGHT;
         return &e->base;

@@ -9,7 +9,9 @@
  * projected test within the conformance tolerance (a hit/miss at an edge of
  * the hit triangle counted apart, as that test is not watertight).  And
  * bvh-mft's primary rays made from the camera frame, per pixel against the
- * brute force and the reference, for three cameras and two block tilings.
+ * brute force and the reference, for three cameras and two block tilings,
+ * and its back-face culling on solids (ties only, none where the eye is
+ * inside a solid's box).
  * And watertightness: from inside a closed mesh, rays aimed at its corners and
  * edges escape through no BVH kernel (closest hit, occlusion, hard-shadow
  * apex frusta, soft-shadow frusta:N) under the watertight test. */
@@ -19,6 +21,9 @@
 
 #include "bvh_build.h"
 #include "test_fixtures_bvh.h"
+#include "test_double_crossing.h"
+#include "test_scenes_solids.h"
+#include "test_tempdir.h"
 
 /* ---- the builder ------------------------------------------------------- */
 
@@ -165,6 +170,7 @@ static void test_one_and_two_threads_build_the_same_bytes(void **state)
     assert_memory_equal(&one.root, &two.root, sizeof one.root);
     assert_memory_equal(one.nodes, two.nodes, one.node_count * sizeof *one.nodes);
     assert_memory_equal(one.triangles, two.triangles, one.triangle_count * sizeof *one.triangles);
+    assert_memory_equal(one.corners, two.corners, one.triangle_count * sizeof *one.corners);
     bvh_tree_free(&one);
     bvh_tree_free(&two);
     rtt_scene_free(scene);
@@ -416,6 +422,148 @@ static void test_kernels_on_shadow_rays(void **state)
     free(rays);
 }
 
+/* ---- back-face culling on the camera path ---- */
+
+static void build_with_solids(const rtt_scene *scene, bvh_tree *tree)
+{
+    build(scene, 4, 0, 1, tree);
+    rtt_error err = {{0}};
+    if (!bvh_tree_mark_solids(tree, scene, &err)) fail_msg("solids: %s", err.message);
+    tree->watertight = true;
+}
+
+/* Every camera row's hits on the scene's camera (w x h, 16 x 16 blocks)
+ * against the brute force over every record: the same hit bit for bit, or
+ * a tie (both prims crossed, in double, within 1e-5 of their barycentric
+ * range and of the t, at a shared edge) on at most 1% of the pixels.
+ * Returns the ray/triangle tests (counters.isect_tests) of the last row. */
+static uint64_t camera_hits_checked(const rtt_scene *s, const bvh_tree *tree, uint32_t w, uint32_t h)
+{
+    const rtt_camera_frame frame = rtt_camera_frame_make(&s->camera, w, h);
+    const size_t n = (size_t)w * h;
+    rtt_ray *rays = malloc(n * sizeof *rays);
+    rtt_hit *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
+    assert_true(rays && want && got);
+    uint32_t seen = 0;
+    for (size_t i = 0; i < n; i++) {
+        rays[i] = rtt_camera_ray(&frame, (uint32_t)(i % w), (uint32_t)(i / w));
+        want[i] = bvh_records_closest(tree, &rays[i]);
+        seen += want[i].prim != RTT_MISS;
+    }
+    assert_true(seen > n / 10);
+    const double extent = rtt_v3_length(rtt_v3_sub(s->bounds.hi, s->bounds.lo)) +
+                          rtt_v3_length(rtt_v3_sub(s->bounds.lo, s->camera.eye));
+    bvh_camera_block block = {{frame.eye.x, frame.eye.y, frame.eye.z}, {frame.corner.x, frame.corner.y, frame.corner.z},
+                              {frame.du.x, frame.du.y, frame.du.z}, {frame.dv.x, frame.dv.y, frame.dv.z}, 0, 0, 0, 0, false};
+    uint64_t tested = 0;
+    const bvh_kernel *row;
+    for (uint32_t r = 0; (row = bvh_kernel_row_at(r)); r++) {
+        if (!row->trace_camera || !isa_runs(row->isa)) continue;
+        bvh_counters counters = {0};
+        for (uint32_t y0 = 0; y0 < h; y0 += 16)
+            for (uint32_t x0 = 0; x0 < w; x0 += 16) {
+                block.x0 = x0, block.y0 = y0, block.x1 = x0 + 16 < w ? x0 + 16 : w, block.y1 = y0 + 16 < h ? y0 + 16 : h;
+                _Alignas(64) rtt_hit part[16 * 16];
+                row->trace_camera(tree, &block, part, &counters);
+                for (uint32_t y = y0; y < block.y1; y++)
+                    for (uint32_t x = x0; x < block.x1; x++)
+                        got[(size_t)y * w + x] = part[(y - y0) * (block.x1 - x0) + (x - x0)];
+            }
+        uint32_t ties = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (!memcmp(&got[i], &want[i], sizeof got[i])) continue;
+            if (got[i].prim == want[i].prim || got[i].prim == RTT_MISS || want[i].prim == RTT_MISS)
+                fail_msg("%s camera (%s) pixel %zu: prim %u t %a, brute force prim %u t %a", row->name,
+                         rtt_isa_name(row->isa), i, got[i].prim, (double)got[i].t, want[i].prim, (double)want[i].t);
+            const double tol = 1e-5 * (fabs((double)want[i].t) + extent);
+            for (int k = 0; k < 2; k++) {
+                const rtt_hit *hit = k ? &got[i] : &want[i];
+                double t = INFINITY;
+                const double inside = crossing(s, hit->prim, &rays[i], &t);
+                if (inside < -1e-5 || fabs(t - hit->t) > tol || fabs((double)got[i].t - want[i].t) > tol)
+                    fail_msg("%s camera (%s) pixel %zu: prim %u t %.9g against the brute force's %u t %.9g: not a tie "
+                             "(%g)", row->name, rtt_isa_name(row->isa), i, got[i].prim, got[i].t, want[i].prim,
+                             want[i].t, inside);
+            }
+            ties++;
+        }
+        print_message("%s camera %-7s %ux%u: %u ties, %llu ray/triangle tests\n", row->name, rtt_isa_name(row->isa), w,
+                      h, ties, (unsigned long long)counters.isect_tests);
+        assert_true(ties <= n / 100);
+        tested = counters.isect_tests;
+    }
+    free(rays), free(want), free(got);
+    return tested;
+}
+
+/* Two solid spheres (meshes of one scene; the second wound inside out, so
+ * its own outward side is used): bvh-mft's camera path drops their back
+ * faces while the eye is outside their boxes -- fewer ray/triangle tests than
+ * with the culling off (bvh_tree.solid NULL), hits equal but for ties --
+ * and keeps every face of a solid whose box holds the eye, which then sees
+ * its inner side: from inside the big sphere only the small one's back
+ * faces go. */
+static void test_mft_camera_drops_back_faces_only_where_no_eye_ray_meets_them_first(void **state)
+{
+    const char *path = scratch_path(state, "two_spheres.json");
+    rtt_error err = {{0}};
+    rtt_scene *s = two_spheres_scene(path, &err);
+    if (!s) fail_msg("%s: not two closed spheres (%s)", path, err.message);
+    /* the second sphere wound inside out: its part's volume is negative */
+    for (uint32_t t = s->meshes[1].first_triangle; t < s->meshes[1].first_triangle + s->meshes[1].triangle_count; t++) {
+        const uint32_t v = s->triangles[t].v[1];
+        s->triangles[t].v[1] = s->triangles[t].v[2], s->triangles[t].v[2] = v;
+    }
+    bvh_tree tree;
+    build(s, 4, 0, 1, &tree);
+    assert_null(tree.solid); /* the build alone finds none */
+    bvh_tree_free(&tree);
+    build_with_solids(s, &tree);
+    assert_non_null(tree.solid);
+    assert_int_equal(tree.solid_count, 2);
+    for (uint32_t i = 0; i < tree.triangle_count; i++) {
+        const uint32_t mesh = s->triangle_mesh[tree.triangles[i].prim];
+        assert_int_equal(tree.solid[i], mesh == 0 ? 1 : -2); /* outward +1 and -1, solids 1 and 2 */
+    }
+    static const struct { float eye[3]; bool inside_big; } cams[] = {
+        {{0.6f, 1.9f, 4.5f}, false}, {{3.5f, -1.0f, 2.0f}, false}, {{0.1f, 0.2f, 0.3f}, true}};
+    for (size_t c = 0; c < sizeof cams / sizeof cams[0]; c++) {
+        s->camera = (rtt_camera){rtt_v3(cams[c].eye[0], cams[c].eye[1], cams[c].eye[2]), rtt_v3(0.9f, 0.0f, 0.0f),
+                                 rtt_v3(0.0f, 1.0f, 0.0f), cams[c].inside_big ? 100.0f : 50.0f};
+        const uint64_t culled = camera_hits_checked(s, &tree, 96, 80);
+        int32_t *solid = tree.solid;
+        tree.solid = NULL;
+        const uint64_t all = camera_hits_checked(s, &tree, 96, 80);
+        tree.solid = solid;
+        print_message("eye %zu: %llu ray/triangle tests with back faces dropped, %llu without\n", c,
+                      (unsigned long long)culled, (unsigned long long)all);
+        assert_true(culled < all);
+        if (!cams[c].inside_big) continue;
+        /* from inside the big sphere: it keeps both faces, the small one is
+         * culled; without the small one, nothing is */
+        bvh_tree_free(&tree);
+        rtt_scene *big = rtt_scene_load(path, NULL, &err);
+        assert_non_null(big);
+        big->meshes[1].triangle_count = 0;
+        big->camera = s->camera;
+        big->triangle_count = big->meshes[0].triangle_count;
+        build_with_solids(big, &tree);
+        assert_int_equal(tree.solid_count, 1);
+        const uint64_t kept = camera_hits_checked(big, &tree, 96, 80);
+        solid = tree.solid;
+        tree.solid = NULL;
+        assert_int_equal(camera_hits_checked(big, &tree, 96, 80), kept);
+        tree.solid = solid;
+        bvh_tree_free(&tree);
+        rtt_scene_free(big);
+        build_with_solids(s, &tree);
+    }
+    bvh_tree_free(&tree);
+    rtt_scene_free(s);
+}
+
+static int setup_scratch(void **state) { return scratch_create(state, "bvh"); }
+
 /* ---- watertightness ---- */
 
 static int setup_bvh_octahedron(void **state)
@@ -541,6 +689,8 @@ int main(void)
         cmocka_unit_test(test_degenerate_only_and_empty_scenes_build_and_miss),
         cmocka_unit_test_setup_teardown(test_kernels_on_primary_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_mft_camera_rays, setup_bvh, teardown_bvh),
+        cmocka_unit_test_setup_teardown(test_mft_camera_drops_back_faces_only_where_no_eye_ray_meets_them_first,
+                                        setup_scratch, remove_scratch),
         cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(

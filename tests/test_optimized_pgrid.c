@@ -32,42 +32,12 @@
 #include "rtt/shade.h"
 #include "test_fixtures_pgrid.h"
 #include "test_isa.h"
+#include "test_double_crossing.h"
+#include "test_scenes_solids.h"
 #include "test_tempdir.h"
 
 #define EDGE_MARGIN 1e-4
 #define MAX_TIE_SHARE 0.01
-
-/* Moller-Trumbore in double, unclamped: false only for a ray parallel to
- * the plane. */
-static bool ray_triangle_double(const rtt_scene *s, uint32_t prim, const rtt_ray *r, double *t, double *u, double *v)
-{
-    rtt_vec3 c[3];
-    rtt_scene_triangle(s, prim, c);
-    double e1[3], e2[3], o[3], d[3], p[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = (double)rtt_v3_get(c[1], k) - rtt_v3_get(c[0], k);
-        e2[k] = (double)rtt_v3_get(c[2], k) - rtt_v3_get(c[0], k);
-        o[k] = (double)r->org[k] - rtt_v3_get(c[0], k);
-        d[k] = r->dir[k];
-    }
-    p[0] = d[1] * e2[2] - d[2] * e2[1], p[1] = d[2] * e2[0] - d[0] * e2[2], p[2] = d[0] * e2[1] - d[1] * e2[0];
-    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-    if (det == 0.0) return false;
-    q[0] = o[1] * e1[2] - o[2] * e1[1], q[1] = o[2] * e1[0] - o[0] * e1[2], q[2] = o[0] * e1[1] - o[1] * e1[0];
-    *u = (o[0] * p[0] + o[1] * p[1] + o[2] * p[2]) / det;
-    *v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-    *t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    return true;
-}
-
-/* Smallest barycentric of the ray's crossing with prim, or -inf. */
-static double crossing(const rtt_scene *s, uint32_t prim, const rtt_ray *r, double *t)
-{
-    double u, v;
-    if (!ray_triangle_double(s, prim, r, t, &u, &v)) return -INFINITY;
-    double w = 1.0 - u - v;
-    return fmin(w, fmin(u, v));
-}
 
 static float scene_extent(const rtt_scene *s)
 {
@@ -292,20 +262,9 @@ static void test_back_faces_dropped_only_where_no_eye_ray_meets_them_first(void 
 static void test_back_faces_kept_for_the_mesh_whose_box_holds_the_eye(void **state)
 {
     const char *path = scratch_path(state, "two_spheres.json");
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs("{\"camera\": {\"eye\": [0.1, 0.2, 0.3], \"look_at\": [2.5, 0, 0], \"fov\": 100},\n"
-          " \"meshes\": [\n"
-          "  {\"name\": \"around\", \"shape\": {\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1.5, \"subdivisions\": 3}},\n"
-          "  {\"name\": \"ahead\", \"shape\": {\"type\": \"sphere\", \"center\": [0.9, 0, 0], \"radius\": 0.3, \"subdivisions\": 3}}\n"
-          " ]}\n",
-          f);
-    assert_int_equal(fclose(f), 0);
     rtt_error err = {{0}};
-    rtt_scene *s = rtt_scene_load(path, NULL, &err);
-    if (!s) fail_msg("%s: %s", path, err.message);
-    assert_int_equal(s->mesh_count, 2);
-    assert_true(s->meshes[0].closed && s->meshes[1].closed);
+    rtt_scene *s = two_spheres_scene(path, &err);
+    if (!s) fail_msg("%s: not two closed spheres (%s)", path, err.message);
     /* the small sphere's back faces only: about half of its triangles */
     const uint32_t culled = back_faces_checked(s);
     assert_true(culled > s->meshes[1].triangle_count / 4);

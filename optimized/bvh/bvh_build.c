@@ -45,6 +45,7 @@
 #include "engine/clock.h"
 #include "engine/threads.h"
 #include "isect_projected_bary.h"
+#include "solids.h"
 
 #define BVH_BINS 32u
 #define BVH_TASKS_PER_THREAD 8u
@@ -513,11 +514,56 @@ static void copy_records(void *context, uint32_t thread, uint32_t task)
     }
 }
 
+bool bvh_tree_mark_solids(bvh_tree *tree, const rtt_scene *scene, rtt_error *err)
+{
+    free(tree->solid), free(tree->solid_box);
+    tree->solid = NULL, tree->solid_box = NULL, tree->solid_count = 0;
+    if (!scene->triangle_mesh || tree->triangle_count == 0) return true;
+    /* the triangles with no record (degenerate, or unrepresentable) are no part of any surface here */
+    uint8_t *dropped = malloc((size_t)scene->triangle_count + 1);
+    uint32_t *entry = malloc(((size_t)scene->mesh_count + 1) * sizeof *entry);
+    scene_solids solids = {0};
+    bool ok = dropped && entry;
+    if (ok) {
+        memset(dropped, 1, scene->triangle_count);
+        for (uint32_t i = 0; i < tree->triangle_count; i++) dropped[tree->triangles[i].prim] = 0;
+        ok = scene_solids_find(&solids, scene, dropped); /* on failure it keeps nothing */
+    }
+    if (ok && solids.solid_count) {
+        tree->solid = malloc((size_t)tree->triangle_count * sizeof *tree->solid);
+        tree->solid_box = malloc((size_t)solids.solid_count * sizeof *tree->solid_box);
+        ok = tree->solid && tree->solid_box;
+        for (uint32_t m = 0; ok && m < scene->mesh_count; m++)
+            if (solids.mesh_solid[m]) {
+                entry[m] = tree->solid_count;
+                memcpy(tree->solid_box[tree->solid_count++], solids.mesh_box[m], sizeof *tree->solid_box);
+            }
+        for (uint32_t i = 0; ok && i < tree->triangle_count; i++) {
+            const uint32_t prim = tree->triangles[i].prim, m = scene->triangle_mesh[prim];
+            const int32_t outward = solids.triangle_outward[prim];
+            tree->solid[i] = outward && solids.mesh_solid[m] ? outward * (int32_t)(entry[m] + 1u) : 0;
+        }
+    }
+    scene_solids_free(&solids);
+    free(dropped), free(entry);
+    if (ok) {
+        tree->info.memory_bytes += tree->solid ? (uint64_t)tree->triangle_count * sizeof *tree->solid +
+                                                     (uint64_t)tree->solid_count * sizeof *tree->solid_box
+                                               : 0;
+        return true;
+    }
+    free(tree->solid), free(tree->solid_box);
+    tree->solid = NULL, tree->solid_box = NULL, tree->solid_count = 0;
+    return rtt_error_set(err, "%s: out of memory finding the solids for back-face culling", scene->path);
+}
+
 void bvh_tree_free(bvh_tree *tree)
 {
     free(tree->nodes);
     free(tree->triangles);
     free(tree->corners);
+    free(tree->solid);
+    free(tree->solid_box);
     memset(tree, 0, sizeof *tree);
 }
 

@@ -24,4 +24,12 @@ typedef struct bvh_build_options {
  * in err) only when memory runs out. */
 bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh_tree *tree, rtt_error *err);
 
+/* The scene's solids for bvh-mft's back-face culling (bvh_tree.solid,
+ * solid_box; ../solids.h), over the triangles that have a record: a
+ * per-scene analysis, as rtt's closedness is, apart from the build (no
+ * other kernel reads it; a tree without it culls nothing).  False (one line
+ * in err, the tree as it was but without solids) only when memory runs
+ * out. */
+bool bvh_tree_mark_solids(bvh_tree *tree, const rtt_scene *scene, rtt_error *err);
+
 #endif

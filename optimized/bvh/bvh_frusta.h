@@ -197,9 +197,12 @@ typedef struct mft_cone {
  * so |n|_1 (eps cmax + grow) is never below that test's eps * mag plus the
  * corners' and the rays' rounding.  Three dot products per corner and
  * edge, no magnitudes: cheaper than the box's bound and tighter (the cone
- * of a 4x4 pixel block, not the box around its directions). */
+ * of a 4x4 pixel block, not the box around its directions).  `cull` (the
+ * back-face culling of a solid's triangle, traverse_mft.c): +1 drops the
+ * frusta whose origin sees the triangle facing (D > margin: behind its
+ * winding's normal), -1 those that see it backing, 0 none. */
 static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_bounds *g, const mft_cone *cone,
-                                               vm active)
+                                               int cull, vm active)
 {
     vf rel[3][3], normals[3][3], det, det_mag;
     frusta_edges(tri, g, rel, normals, &det, &det_mag);
@@ -219,7 +222,8 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
     }
     uint32_t facing, backing;
     frusta_orientation(rel, det, det_mag, &facing, &backing);
-    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+    const uint32_t back = cull > 0 ? facing : cull < 0 ? backing : 0;
+    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)) | back);
 }
 
 /* The same test over the cone of four corner directions per frustum

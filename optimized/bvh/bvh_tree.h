@@ -64,6 +64,14 @@ typedef struct bvh_tree {
     uint32_t node_count, triangle_count;
     bvh_child root;           /* the root's box and reference (count 0 and node 0, or a leaf) */
     bool watertight;          /* the triangle test: false projected (records), true watertight (corners) */
+    /* Back-face culling (../solids.h; bvh-mft's camera path): per record,
+     * 0 when its triangle belongs to no solid, else +-(k + 1) with k its
+     * mesh's entry in solid_box and the sign its part's outward side (+:
+     * the winding's normal points out of the solid).  NULL when the scene
+     * has no solid. */
+    int32_t *solid;
+    float (*solid_box)[6];    /* per solid mesh: the box of its vertices (lo xyz, hi xyz) */
+    uint32_t solid_count;
     rtt_tree_info info;
 } bvh_tree;
 

@@ -39,9 +39,12 @@
  * for pinhole grids), as does a camera frustum with a ray rtt_camera_ray had
  * to make the slow way (a length outside the fast range).  A group of 16 whose rays do
  * not share one origin is traced by the packet walk instead (bvh_traverse.h).
- * No back-face CULLING (rtt's triangles are two-sided): the orientation only
- * picks the sign the edge tests need.  Bounds get a
- * relative slack of 2^-20 so that rounding never culls a ray's hit. */
+ * Back-face culling only where the surface allows it: rtt's triangles are
+ * two-sided, so elsewhere the orientation only picks the sign the edge
+ * tests need; on the camera path the back faces of the solids the eye is
+ * outside (../solids.h, bvh_tree.solid) are skipped for every frustum at
+ * once, the paper's culling (see mft_group.cull).  Bounds get a relative
+ * slack of 2^-20 so that rounding never culls a ray's hit. */
 #include <math.h>
 #include <string.h>
 
@@ -67,7 +70,31 @@ typedef struct mft_group {
     uint32_t pinhole;                /* frusta culled over the cone of their corner vectors (camera-made) */
     vf apex_reach;                   /* apex frusta: the largest |component| of their directions */
     mft_cone cone;                   /* those frusta's corner vectors (bvh_frusta.h) */
+    /* The camera path's back-face culling (bvh_tree.solid): every ray
+     * starts at the eye (t from 0), so a triangle of a solid whose box the
+     * eye lies outside, seen from behind, is never a ray's first hit on
+     * that solid (an entering face comes first, or ties with it at a
+     * silhouette edge) and is skipped for every frustum at once. */
+    bool cull;
+    float eye[3];
+    int32_t solid_seen;              /* the last solid looked at (-1: none yet) and whether the eye is outside its box */
+    bool solid_outside;
 } mft_group;
+
+/* The side a triangle of solid s (tree->solid[rec] != 0) is culled from:
+ * its sign when the eye is outside the solid's box (the frusta that see it
+ * from that side drop it: frusta_triangle_pinhole), else 0. */
+static inline int solid_cull_sign(const bvh_tree *tree, mft_group *g, int32_t s)
+{
+    const int32_t k = (s > 0 ? s : -s) - 1;
+    if (k != g->solid_seen) {
+        const float *box = tree->solid_box[k];
+        g->solid_seen = k;
+        g->solid_outside = g->eye[0] < box[0] || g->eye[1] < box[1] || g->eye[2] < box[2] || g->eye[0] > box[3] ||
+                           g->eye[1] > box[4] || g->eye[2] > box[5];
+    }
+    return g->solid_outside ? (s > 0 ? 1 : -1) : 0;
+}
 
 /* The leaf test of apex frusta, whose rays do not start at the frustum's
  * origin: the frusta of `active` whose bounds reach the box of the
@@ -129,11 +156,13 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
         uint32_t lowered = 0;
         for (uint32_t i = 0; i < c->count && lanes; i++) {
             const uint32_t rec = c->index + i;
+            const int32_t s = g->cull ? tree->solid[rec] : 0;
+            const int cull = s ? solid_cull_sign(tree, g, s) : 0;
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
             const uint32_t boxed = lanes & ~(g->apex | g->pinhole);
             uint32_t survive = boxed ? frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(boxed)) : 0;
             if (lanes & g->pinhole)
-                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->b, &g->cone, vm_of_bits(lanes & g->pinhole));
+                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->b, &g->cone, cull, vm_of_bits(lanes & g->pinhole));
             if (lanes & g->apex)
                 survive |= frusta_triangle_apex(&tree->corners[rec], &g->b, g->apex_reach, dist, vm_of_bits(lanes & g->apex));
             while (survive) {
@@ -293,6 +322,7 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
         float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
         uint32_t frusta = 0;
         g.apex = g.pinhole = 0;
+        g.cull = false;
         for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
             const size_t at = first + (size_t)f * MFT_RAYS;
             const size_t n = at < q->count ? (q->count - at < MFT_RAYS ? q->count - at : MFT_RAYS) : 0;
@@ -506,6 +536,10 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
     /* streamed only when every row starts on a 64-byte line */
     const bool stream = b->stream && !(((uintptr_t)hits | ((size_t)width * sizeof *hits)) & 63u);
     mft_group g;
+    g.cull = tree->solid != NULL;
+    for (int k = 0; k < 3; k++) g.eye[k] = b->eye[k];
+    g.solid_seen = -1;
+    g.solid_outside = false;
     for (uint32_t gy = b->y0; gy < b->y1; gy += 4u * GROUP_FY)
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
             float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];

@@ -59,7 +59,7 @@ void pgrid_eye_free(pgrid_eye *grid)
     free(grid->nearest);
     free(grid->order);
     free(grid->order_keys);
-    pgrid_solids_free(&grid->solids);
+    scene_solids_free(&grid->solids);
     free(grid->chunk_cells);
     pgrid_eye_frame_buffers_free(grid);
     memset(grid, 0, sizeof *grid);
@@ -503,11 +503,11 @@ static bool frame_outward(pgrid_eye *g, const rtt_scene *scene, const uint8_t *d
     *outward = NULL;
     if (g->solids_scene != scene || g->solids_degenerate != degenerate || g->solids_triangles != scene->triangle_count ||
         g->solids_vertices != scene->vertex_count || g->solids_meshes != scene->mesh_count) {
-        pgrid_solids_free(&g->solids);
+        scene_solids_free(&g->solids);
         free(g->mesh_culled);
         g->mesh_culled = calloc((size_t)scene->mesh_count + 1, 1);
         g->solids_scene = NULL;
-        if (!g->mesh_culled || !pgrid_solids_find(&g->solids, scene, degenerate)) return false;
+        if (!g->mesh_culled || !scene_solids_find(&g->solids, scene, degenerate)) return false;
         g->solids_scene = scene, g->solids_degenerate = degenerate, g->solids_triangles = scene->triangle_count;
         g->solids_vertices = scene->vertex_count, g->solids_meshes = scene->mesh_count;
     }

@@ -44,7 +44,7 @@
 
 #include "pgrid_light.h"
 #include "pgrid_soft.h"
-#include "pgrid_solids.h"
+#include "solids.h"
 
 #define PGRID_NO_TRIANGLE UINT32_MAX
 /* The cell side in pixels when the caller gives none and the cache rule
@@ -103,13 +103,13 @@ typedef struct pgrid_eye {
     uint32_t chunk_capacity;
     uint32_t *chunk_cells;     /* the build's: per chunk and cell, its references' count, then first slot */
     size_t chunk_cells_capacity;
-    /* Back-face culling (pgrid_solids.h): a triangle of a solid whose
+    /* Back-face culling (solids.h): a triangle of a solid whose
      * mesh's box the eye is outside, with the eye on the inner side of its
      * plane by a margin, is dropped: an eye ray meets an entering face of
      * that solid first (or ties with one at a silhouette).  The solids are
      * the scene's last built for (worked out again when the scene, its
      * counts or the degenerate flags differ); mesh_culled is the frame's. */
-    pgrid_solids solids;
+    scene_solids solids;
     const rtt_scene *solids_scene;
     const uint8_t *solids_degenerate;
     uint32_t solids_triangles, solids_vertices, solids_meshes;

@@ -11,7 +11,7 @@
 #include "engine/clock.h"
 #include "engine/threads.h"
 #include "pgrid_light.h"
-#include "pgrid_solids.h"
+#include "solids.h"
 
 #define NEAR_FACTOR 256.0
 #define MU_MAX 4e-2
@@ -398,10 +398,10 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
     const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
     for (uint32_t m = 0; ok && m < scene->mesh_count; m++) {
         const rtt_mesh *mesh = &scene->meshes[m];
-        if (!mesh->closed || !mesh->triangle_count || !pgrid_mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
+        if (!mesh->closed || !mesh->triangle_count || !scene_mesh_oriented(scene, degenerate, mesh, &grids->mesh_outward[m]))
             continue;
         float *box = grids->mesh_box[m];
-        pgrid_mesh_box(scene, mesh, box);
+        scene_mesh_box(scene, mesh, box);
         for (int a = 0; a < 3; a++) box[a] -= grow + fabsf(box[a]) * 1e-5f, box[3 + a] += grow + fabsf(box[3 + a]) * 1e-5f;
         for (uint32_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
             rtt_vec3 c[3];

@@ -1,6 +1,7 @@
-/* The closed, consistently oriented surfaces of a scene's meshes: what the
- * perspective grids' back-face culling stands on (eye rays, pgrid_build.c;
- * hard shadows, pgrid_light_build.c).  A mesh qualifies when rtt says it is
+/* The closed, consistently oriented surfaces of a scene's meshes: what every
+ * back-face culling stands on (the perspective grids' eye rays,
+ * pgrid_build.c, and hard shadows, pgrid_light_build.c; bvh-mft's camera
+ * path, bvh/traverse_mft.c).  A mesh qualifies when rtt says it is
  * closed (rtt_mesh.closed) and every directed edge of its non-degenerate
  * triangles, by vertex index, has its reverse exactly once; each connected
  * part (triangles sharing vertices) is then the boundary of a solid, its
@@ -8,8 +9,8 @@
  * ones and inconsistent windings do not qualify: they keep both faces,
  * which costs speed, never exactness.  Assumed, not checked: a part does
  * not pass through itself. */
-#ifndef RTT_OPTIMIZED_PGRID_SOLIDS_H
-#define RTT_OPTIMIZED_PGRID_SOLIDS_H
+#ifndef RTT_OPTIMIZED_SOLIDS_H
+#define RTT_OPTIMIZED_SOLIDS_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -19,13 +20,13 @@
 /* Whether `mesh` qualifies (without the closedness flag's check), and the
  * outward side of the whole mesh (+1: its winding's normal, -1: the
  * opposite).  False also when out of memory. */
-bool pgrid_mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward);
+bool scene_mesh_oriented(const rtt_scene *scene, const uint8_t *degenerate, const rtt_mesh *mesh, int8_t *outward);
 
 /* The box of the mesh's vertices (lo xyz, hi xyz). */
-void pgrid_mesh_box(const rtt_scene *scene, const rtt_mesh *mesh, float box[6]);
+void scene_mesh_box(const rtt_scene *scene, const rtt_mesh *mesh, float box[6]);
 
 /* A scene's solids, worked out once per scene. */
-typedef struct pgrid_solids {
+typedef struct scene_solids {
     /* per scene triangle: +1 when its winding's normal points out of its
      * part's solid, -1 the opposite, 0 when its mesh does not qualify (or
      * the part has no volume) */
@@ -34,11 +35,11 @@ typedef struct pgrid_solids {
     uint8_t *mesh_solid;
     float (*mesh_box)[6];
     uint32_t solid_count;      /* meshes that qualify */
-} pgrid_solids;
+} scene_solids;
 
 /* Fills `solids` for the scene's triangles not flagged in `degenerate`
  * (NULL: none).  False when out of memory (then nothing is kept). */
-bool pgrid_solids_find(pgrid_solids *solids, const rtt_scene *scene, const uint8_t *degenerate);
-void pgrid_solids_free(pgrid_solids *solids);
+bool scene_solids_find(scene_solids *solids, const rtt_scene *scene, const uint8_t *degenerate);
+void scene_solids_free(scene_solids *solids);
 
 #endif
