@@ -35,7 +35,9 @@
  * Layout of an input (missing bytes read as 0):
  *   [0] triangle count - 1 (mod 48)   [1] bit 0: raw float bits, bits 1-3: scale
  *   [2] offset choice                 [3] max tree depth (0 = default), [4] flags
- *   (bit 0 leaf culling, bits 1-2 tile, bit 3 the projected test)
+ *   (bit 0 leaf culling, bits 1-2 tile, bit 3 the projected test, bit 4
+ *   corners at one position welded into one vertex: closed meshes become
+ *   solids, whose back faces pgrid and bvh-mft's camera path cull)
  *   triangles: per vertex 1 control byte (< 48 and a vertex exists: repeat
  *     vertex ctrl % count) then 3 coordinates (1 palette byte each, or 4 raw
  *     bytes in raw mode)
@@ -117,6 +119,22 @@ static uint32_t decode_triangles(byte_reader *in, float *xyz, uint32_t count, bo
         vertices++;
     }
     return count;
+}
+
+/* Each triangle corner made the first vertex at its exact position (the
+ * soup's vertex per corner otherwise): a closed mesh's edges are then
+ * shared by vertex index, as the solids (optimized/solids.h) ask. */
+static void weld_vertices(rtt_scene *scene)
+{
+    for (uint32_t t = 0; t < scene->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const uint32_t v = scene->triangles[t].v[k];
+            for (uint32_t w = 0; w < v; w++)
+                if (!memcmp(&scene->vertices[w], &scene->vertices[v], sizeof scene->vertices[v])) {
+                    scene->triangles[t].v[k] = w;
+                    break;
+                }
+        }
 }
 
 static rtt_vec3 scene_vertex(const rtt_scene *scene, uint8_t b)
@@ -526,6 +544,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!scene)
         fuzz_fail("rtt_scene_from_triangles refused finite input: %s", err.message);
     fuzz_check_scene(scene);
+    if (flags & 16) weld_vertices(scene);
 
     rtt_ray rays[MAX_RAYS + GRID * GRID];
     size_t ray_count = 0;

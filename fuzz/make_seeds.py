@@ -154,6 +154,9 @@ write("kd_build", "cube_rays", kd_input(cube, [len(cube) - 1, 0, 0, 0, 3], eye +
 write("kd_build", "cube_far_huge", kd_input(cube, [len(cube) - 1, 2 << 1, 2, 5, 0], eye + vertex_rays))
 write("kd_build", "cube_far", kd_input(cube, [len(cube) - 1, 0, 3, 0, 2], eye + vertex_rays + axis_rays))
 write("kd_build", "cube_tiny", kd_input(cube, [len(cube) - 1, 1 << 1, 0, 1, 1], eye + edge_rays))
+# flags bit 4: the cube's corners welded, a solid (back faces culled by pgrid and bvh-mft's camera path)
+write("kd_build", "cube_solid_rays", kd_input(cube, [len(cube) - 1, 0, 0, 0, 16 | 3], eye + vertex_rays + edge_rays))
+write("kd_build", "cube_solid_far", kd_input(cube, [len(cube) - 1, 0, 3, 0, 16], eye + vertex_rays + axis_rays))
 degenerate = [[(p(0), p(0), p(0)), (p(1), p(0), p(0)), (p(2), p(0), p(0))],   # collinear
               [(p(0), p(0), p(0)), 0, 0],                                     # a point
               [(p(0), p(0), p(0)), (p(1), p(0), p(0)), (p(0), p(1), p(0))],   # duplicate pair
