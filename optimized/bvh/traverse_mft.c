@@ -31,6 +31,10 @@
  * bvh_kernel_mft_camera (the renderer at one sample per pixel, the bench's
  * primary rows) makes primary rays itself from the camera frame's start and
  * delta vectors, the paper's way, never storing them (bottom of the file).
+ * A camera frustum whose corner box misses the tree's root box (the
+ * traversal's own first test) makes no rays at all; making them only at a
+ * frustum's first triangle test was tried and was slower on the maps
+ * (bench/results/bvh-mft/s14-lazy-rays-ab.txt).
  * The leaf culling of the camera path is the paper's corner-ray test: the
  * edge planes against the four corner vectors of each 4x4 pixel block,
  * whose cone holds every ray of the block (frusta_triangle_pinhole).  What
@@ -495,15 +499,21 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
  * length) and 2^-20 of each bound: no smaller than the rays' own box, a
  * little larger (the traversal only culls by it, so every ray still gets
  * its hit).  Returns the frusta it bounded (a positive least length,
- * finite bounds); camera_bounds takes the rest. */
-static uint32_t camera_boxes(const mft_cone *cone, const bvh_camera_block *b, vf size, vf dlo[3], vf dhi[3])
+ * finite bounds); camera_bounds takes the rest.  *in_range: those of them
+ * whose every pixel's |d| lies ten times inside camera_frustum's fast range
+ * (1e-18, 1e18): the least length above 1e-17 and the longest corner's
+ * below 1e17 (|d| is convex over the block, so a corner is the longest),
+ * so every ray would be made the fast way and the box bounds them. */
+static uint32_t camera_boxes(const mft_cone *cone, const bvh_camera_block *b, vf size, vf dlo[3], vf dhi[3],
+                             uint32_t *in_range)
 {
     const vf zero = vf_set1(0.0f), one = vf_set1(1.0f);
-    vf shortest_sq = vf_set1(INFINITY), inv[4];
+    vf shortest_sq = vf_set1(INFINITY), longest_sq = zero, inv[4];
     for (int c = 0; c < 4; c++) {
         vf sq = zero;
         for (int k = 0; k < 3; k++) sq = vf_add(sq, vf_mul(cone->corner[c][k], cone->corner[c][k]));
         shortest_sq = vf_min(shortest_sq, sq);
+        longest_sq = vf_max(longest_sq, sq);
         inv[c] = vf_div(one, vf_sqrt(sq));
     }
     float du = 0.0f, dv = 0.0f;
@@ -527,7 +537,46 @@ static uint32_t camera_boxes(const mft_cone *cone, const bvh_camera_block *b, vf
     vm ok = vf_gt(shortest, zero);
     for (int k = 0; k < 3; k++)
         ok = vm_and(ok, vm_and(vf_eq(vf_sub(dlo[k], dlo[k]), zero), vf_eq(vf_sub(dhi[k], dhi[k]), zero)));
+    *in_range = vm_bits(vm_and(ok, vm_and(vf_gt(shortest, vf_set1(1e-17f)), vf_lt(longest_sq, vf_set1(1e34f)))));
     return vm_bits(ok);
+}
+
+/* The frusta of `candidates` (lanes) whose direction boxes (lo, hi, from
+ * the eye, t from 0) enter the tree's root box: the traversal's own first
+ * test, made before any ray, so a frustum that misses the scene's box (the
+ * background around a mesh) never makes its rays. */
+static uint32_t camera_reach_root(const bvh_tree *tree, const bvh_camera_block *b, const vf lo[3], const vf hi[3],
+                                  uint32_t candidates)
+{
+    if (!candidates) return 0;
+    mft_bounds bounds;
+    const vf one = vf_set1(1.0f);
+    for (int k = 0; k < 3; k++) {
+        bounds.org[k] = vf_set1(b->eye[k]);
+        bounds.dlo[k] = lo[k], bounds.dhi[k] = hi[k];
+        bounds.rlo[k] = vf_div(one, lo[k]), bounds.rhi[k] = vf_div(one, hi[k]);
+    }
+    bounds.tnear = bounds.grow = vf_set1(0.0f);
+    mft_bounds_classify(&bounds);
+    vf entry;
+    return vm_bits(frusta_box(&tree->root, &bounds, vf_set1(INFINITY), vm_of_bits(candidates), &entry));
+}
+
+/* The live lanes of frustum f's packets (pixels on the block), its hits
+ * cleared, nothing occluded: a frustum that makes no rays. */
+static uint32_t camera_live(mft_group *g, uint32_t f, const bvh_camera_block *b, uint32_t fx, uint32_t fy)
+{
+    uint32_t any = 0;
+    for (uint32_t v = 0; v < MFT_VECS; v++) {
+        const uint32_t y = fy + v * VEC_ROWS, cols = fx < b->x1 ? (b->x1 - fx < 4u ? b->x1 - fx : 4u) : 0;
+        uint32_t live = 0;
+        for (uint32_t r = 0; r < VEC_ROWS; r++)
+            if (y + r < b->y1) live |= ((1u << cols) - 1u) << (4u * r);
+        g->live[f][v] = live, g->occ[f][v] = 0;
+        bvh_hits_clear(&g->hits[f][v]);
+        any |= live;
+    }
+    return any;
 }
 
 void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_hit *hits, bvh_counters *counters)
@@ -550,13 +599,20 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
             uint32_t frusta = 0, exact = 0;
             g.apex = 0;
             vf size, box_lo[3], box_hi[3];
+            uint32_t in_range;
             const uint32_t finite = camera_cones(&g.cone, b, vf_load(block_x), vf_load(block_y), &size);
-            const uint32_t boxed = finite & camera_boxes(&g.cone, b, size, box_lo, box_hi);
+            const uint32_t boxed = finite & camera_boxes(&g.cone, b, size, box_lo, box_hi, &in_range);
+            const uint32_t outside = boxed & in_range & ~camera_reach_root(tree, b, box_lo, box_hi, boxed & in_range);
             _Alignas(64) float corner_lo[3][MFT_FRUSTA], corner_hi[3][MFT_FRUSTA];
             for (int k = 0; k < 3; k++) vf_store(corner_lo[k], box_lo[k]), vf_store(corner_hi[k], box_hi[k]);
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
                 const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
                 tnear[f] = INFINITY;
+                if (outside >> f & 1u) { /* misses the scene's box: no rays, every live lane a miss */
+                    if (camera_live(&g, f, b, fx, fy) && counters) counters->packets++;
+                    for (int k = 0; k < 3; k++) org[k][f] = 0.0f, dlo[k][f] = dhi[k][f] = 1.0f;
+                    continue;
+                }
                 if (camera_frustum(&g, f, b, fx, fy)) exact |= 1u << f;
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
