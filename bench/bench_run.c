@@ -330,6 +330,11 @@ static bool run_pgrid_soft(bench_state *s, const bench_rays *multi)
     return true;
 }
 
+static bool runs_accel(const bench_state *s, rtt_accel accel)
+{
+    return s->config->accel == RTT_ACCEL_DEFAULT || s->config->accel == accel;
+}
+
 static bool run_soft(bench_state *s, const bench_rays *primary)
 {
     const size_t pixels = (size_t)s->width * s->height;
@@ -360,8 +365,9 @@ static bool run_soft(bench_state *s, const bench_rays *primary)
     s->oracle = ok ? malloc(pixels * BENCH_SOFT_SAMPLES * sizeof *s->oracle) : NULL;
     ok = ok && s->result && s->oracle;
     static const uint32_t lanes[] = {16};
-    ok = ok && run_peer_rows(s, RTT_BENCH_SOFT, &soft.rays, lanes, 1);
-    for (uint32_t th = 0; ok && th < s->config->thread_count; th++)
+    const bool bvh = runs_accel(s, RTT_ACCEL_BVH); /* frusta:16 and its racers; pgrid:8 and its racers below */
+    ok = ok && (!bvh || run_peer_rows(s, RTT_BENCH_SOFT, &soft.rays, lanes, 1));
+    for (uint32_t th = 0; ok && bvh && th < s->config->thread_count; th++)
         for (int packet = 0; ok && packet < 2; packet++) {
             rtt_bench_row row = row_start(s, RTT_BENCH_SOFT, "rtt", s->config->threads[th]);
             snprintf(row.method, sizeof row.method, packet ? "bvh-packet" : "frusta:%u", BENCH_SOFT_SAMPLES);
@@ -379,17 +385,12 @@ static bool run_soft(bench_state *s, const bench_rays *primary)
             if (ok && check && !row.error[0]) row.agree = agreement(s, &soft.rays);
             ok = ok && bench_report_push(s->report, &row);
         }
-    ok = ok && run_pgrid_soft(s, &multi);
+    ok = ok && (!runs_accel(s, RTT_ACCEL_PGRID) || run_pgrid_soft(s, &multi));
     free(multi.rays);
     free(s->result), free(s->oracle);
     s->result = result, s->oracle = oracle;
     bench_soft_free(&soft);
     return ok;
-}
-
-static bool runs_accel(const bench_state *s, rtt_accel accel)
-{
-    return s->config->accel == RTT_ACCEL_DEFAULT || s->config->accel == accel;
 }
 
 /* The software Z-buffer anchor on the same view: its agree column is the
