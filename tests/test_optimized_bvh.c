@@ -517,9 +517,16 @@ static void test_mft_camera_drops_back_faces_only_where_no_eye_ray_meets_them_fi
     bvh_tree tree;
     build(s, 4, 0, 1, &tree);
     assert_null(tree.solid); /* the build alone finds none */
+    const uint64_t bare = tree.info.memory_bytes;
     bvh_tree_free(&tree);
     build_with_solids(s, &tree);
     assert_non_null(tree.solid);
+    /* the solids' bytes counted once, however often they are marked */
+    const uint64_t marked = tree.info.memory_bytes;
+    assert_true(marked > bare);
+    rtt_error again = {{0}};
+    assert_true(bvh_tree_mark_solids(&tree, s, &again));
+    assert_int_equal(tree.info.memory_bytes, marked);
     assert_int_equal(tree.solid_count, 2);
     for (uint32_t i = 0; i < tree.triangle_count; i++) {
         const uint32_t mesh = s->triangle_mesh[tree.triangles[i].prim];

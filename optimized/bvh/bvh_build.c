@@ -514,8 +514,17 @@ static void copy_records(void *context, uint32_t thread, uint32_t task)
     }
 }
 
+/* The bytes the records' solids take (bvh_tree.info.memory_bytes counts them). */
+static uint64_t solids_bytes(const bvh_tree *tree)
+{
+    return tree->solid ? (uint64_t)tree->triangle_count * sizeof *tree->solid +
+                             (uint64_t)tree->solid_count * sizeof *tree->solid_box
+                       : 0;
+}
+
 bool bvh_tree_mark_solids(bvh_tree *tree, const rtt_scene *scene, rtt_error *err)
 {
+    tree->info.memory_bytes -= solids_bytes(tree);
     free(tree->solid), free(tree->solid_box);
     tree->solid = NULL, tree->solid_box = NULL, tree->solid_count = 0;
     if (!scene->triangle_mesh || tree->triangle_count == 0) return true;
@@ -547,9 +556,7 @@ bool bvh_tree_mark_solids(bvh_tree *tree, const rtt_scene *scene, rtt_error *err
     scene_solids_free(&solids);
     free(dropped), free(entry);
     if (ok) {
-        tree->info.memory_bytes += tree->solid ? (uint64_t)tree->triangle_count * sizeof *tree->solid +
-                                                     (uint64_t)tree->solid_count * sizeof *tree->solid_box
-                                               : 0;
+        tree->info.memory_bytes += solids_bytes(tree);
         return true;
     }
     free(tree->solid), free(tree->solid_box);

@@ -1,0 +1,3 @@
+# commit fb8b2d5, Sun Dec  6 06:43:34 UTC 2026, load 1.16 1.21 1.19
+build/cli/rtt bench ~/.cache/rtt-data/meshes/armadillo.off --views bench/views.json --size 1024 --accel pgrid --only primary,shadow,build --frames 5 --threads 1,2 --json > bench/results/pgrid/s14-armadillo-1024.json
+# load after: 1.14 1.20 1.19

@@ -1,0 +1,3 @@
+# commit fb8b2d5, Sun Dec  6 06:45:21 UTC 2026, load 1.14 1.18 1.18
+build/cli/rtt bench ~/.cache/rtt-data/maps/ctf_inyard.bsp --views bench/views.json --size 1024 --accel pgrid --only primary,shadow,build --frames 5 --threads 1,2 --json > bench/results/pgrid/s14-ctf_inyard-1024.json
+# load after: 1.11 1.17 1.18
