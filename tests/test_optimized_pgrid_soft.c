@@ -132,7 +132,8 @@ static void test_soft_grid_rays_match_reference_and_brute_force(void **state)
     /* demo.json (the largest) is checked through the renderer below */
     static const char *const scenes[] = {"light_quad.json", "light_sphere.json", "shadow_on_shadow.json",
                                          "shadow_occluder_sizes.json", "shadow_thin_plate.json", "mesh_obj.json"};
-    static const grid_shape shapes[] = {{0, 0}, {7, 1}, {64, 9}};
+    /* 600 cells a side: past the column scan's 512, the rectangles' path (pgrid_soft_trace.c) */
+    static const grid_shape shapes[] = {{0, 0}, {7, 1}, {64, 9}, {600, 2}};
     const size_t shape_count = sizeof shapes / sizeof shapes[0];
     for (size_t sc = 0; sc < sizeof scenes / sizeof scenes[0]; sc++) {
         rtt_scene *s = load_scene(scenes[sc]);

@@ -4,10 +4,14 @@
  * the light in the shader proxy's order.  It walks the slices from the
  * farthest its rays reach (the origin's side) towards the light; per slice
  * each live ray's piece is clipped (in double) to each face's pyramid and
- * projected, the packet's footprint on a face is the union of its rays'
- * rectangles, and every triangle of those cells meets the packet's live
- * lanes once (a 256-entry mailbox per packet) with the watertight test of
- * ../bvh/bvh_isect_wide.h, the reference's arithmetic.  A ray leaves the
+ * projected; on a grid of up to 512 cells a side each ray's cells are the
+ * ones its projected segment crosses (a column scan, cover_of), visited
+ * once per packet for every lane whose segment crosses them, the empty
+ * ones skipped at once (finer grids take the rectangle round each ray's
+ * segment and the union of the packet's); every triangle of those cells
+ * meets the packet's live lanes once (a 1024-entry mailbox per packet)
+ * with the watertight test of ../bvh/bvh_isect_wide.h, the reference's
+ * arithmetic.  A ray leaves the
  * packet when occluded; the packet ends when every ray has.  The near list
  * comes first. */
 #include <math.h>
@@ -18,6 +22,11 @@
 #include "pgrid_soft.h"
 
 #define pgrid_soft_occluded PGRID_ISA(pgrid_soft_occluded)
+
+/* fmax and fmin inline (libm's are calls): the same answers, a NaN
+ * operand giving the other. */
+static inline double dmax(double a, double b) { return a > b || b != b ? a : b; }
+static inline double dmin(double a, double b) { return a < b || b != b ? a : b; }
 
 /* One ray relative to the light, in double: q(t) = o + t d over [t0, t1]. */
 typedef struct soft_seg {
@@ -48,7 +57,7 @@ static bool slice_piece(const pgrid_soft_light *L, const soft_seg *s, uint32_t k
     if (!(lo <= hi)) return false;
     if (isfinite(L->bound[k + 1])) {
         if (!ball_interval(s, L->bound[k + 1] + L->slack, &ia, &ib)) return false;
-        lo = fmax(lo, ia), hi = fmin(hi, ib);
+        lo = dmax(lo, ia), hi = dmin(hi, ib);
     }
     if (!(lo <= hi)) return false;
     const double inner = L->bound[k] - L->slack;
@@ -65,16 +74,19 @@ static bool slice_piece(const pgrid_soft_light *L, const soft_seg *s, uint32_t k
 static bool clip_linear(double alpha, double beta, double *a, double *b)
 {
     if (beta > 0.0)
-        *a = fmax(*a, -alpha / beta);
+        *a = dmax(*a, -alpha / beta);
     else if (beta < 0.0)
-        *b = fmin(*b, -alpha / beta);
+        *b = dmin(*b, -alpha / beta);
     else if (!(alpha >= 0.0))
         return false;
     return *a <= *b;
 }
 
-/* Grows face f's rectangle (u0, u1, v0, v1) by s's piece [a, b] on it. */
-static void face_piece(const pgrid_soft_light *L, const soft_seg *s, uint32_t f, double a, double b, double rect[4])
+/* The ends of s's piece [a, b] on face f, projected (face coordinates in
+ * [-1, 1]): false when the piece misses the face's pyramid.  A line
+ * projects to a line, so the piece's projection is the segment between
+ * them. */
+static bool face_segment(const pgrid_soft_light *L, const soft_seg *s, uint32_t f, double a, double b, double xy[2][2])
 {
     const uint32_t axis = f / 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
     const double sign = (f & 1u) ? -1.0 : 1.0;
@@ -82,13 +94,23 @@ static void face_piece(const pgrid_soft_light *L, const soft_seg *s, uint32_t f,
     if (!clip_linear(ma - L->near, mb, &a, &b) || !clip_linear(ma - s->o[u], mb - s->d[u], &a, &b) ||
         !clip_linear(ma + s->o[u], mb + s->d[u], &a, &b) || !clip_linear(ma - s->o[v], mb - s->d[v], &a, &b) ||
         !clip_linear(ma + s->o[v], mb + s->d[v], &a, &b))
-        return;
+        return false;
     const double t[2] = {a, b};
     for (int e = 0; e < 2; e++) {
         const double major = ma + t[e] * mb;
-        const double x = (s->o[u] + t[e] * s->d[u]) / major, y = (s->o[v] + t[e] * s->d[v]) / major;
-        rect[0] = fmin(rect[0], x), rect[1] = fmax(rect[1], x);
-        rect[2] = fmin(rect[2], y), rect[3] = fmax(rect[3], y);
+        xy[e][0] = (s->o[u] + t[e] * s->d[u]) / major, xy[e][1] = (s->o[v] + t[e] * s->d[v]) / major;
+    }
+    return true;
+}
+
+/* Grows face f's rectangle (u0, u1, v0, v1) by s's piece [a, b] on it. */
+static void face_piece(const pgrid_soft_light *L, const soft_seg *s, uint32_t f, double a, double b, double rect[4])
+{
+    double xy[2][2];
+    if (!face_segment(L, s, f, a, b, xy)) return;
+    for (int e = 0; e < 2; e++) {
+        rect[0] = dmin(rect[0], xy[e][0]), rect[1] = dmax(rect[1], xy[e][0]);
+        rect[2] = dmin(rect[2], xy[e][1]), rect[3] = dmax(rect[3], xy[e][1]);
     }
 }
 
@@ -123,12 +145,53 @@ typedef struct mailbox_entry {
     uint32_t tri, packet, lanes;
 } mailbox_entry;
 
+/* A ray's cells on one face, column by column (the column scan below):
+ * columns x0 .. x1, in column x the rows lo[x - x0] .. hi[x - x0]. */
+enum { COVER_RES_MAX = 512 }; /* finer grids take the rectangles */
+typedef struct cover {
+    uint32_t x0, x1;
+    uint16_t lo[COVER_RES_MAX], hi[COVER_RES_MAX];
+} cover;
+
 typedef struct soft_packet {
     bvh_packet rays;
     bvh_wt_shears shears;
     uint32_t id;
     mailbox_entry mailbox[MAILBOX];
+    cover covers[BVH_W];
 } soft_packet;
+
+/* The cells of the face that the segment xy[0] - xy[1] crosses, widened by
+ * 1e-9 of the face's coordinates (the rectangles' margin) across and
+ * along: per column the rows of the segment's part over the column's
+ * widened span.  About |dx| + |dy| + 1 cells, where the rectangle around
+ * the segment has |dx| |dy|. */
+static void cover_of(const double xy[2][2], uint32_t res, cover *c)
+{
+    const int lo_end = xy[0][0] <= xy[1][0] ? 0 : 1;
+    const double xa = xy[lo_end][0], ya = xy[lo_end][1], xb = xy[1 - lo_end][0], yb = xy[1 - lo_end][1];
+    const double margin = 1e-9, span = xb - xa;
+    c->x0 = cell_of(xa - margin, res), c->x1 = cell_of(xb + margin, res);
+    for (uint32_t x = c->x0; x <= c->x1; x++) {
+        /* the column's face coordinates [-1 + 2x/res, -1 + 2(x+1)/res], widened */
+        const double left = dmax(xa, -1.0 + 2.0 * x / res - margin), right = dmin(xb, -1.0 + 2.0 * (x + 1) / res + margin);
+        double ylo = ya, yhi = yb;
+        if (span > 0.0) {
+            const double ul = dmin(dmax((left - xa) / span, 0.0), 1.0), ur = dmin(dmax((right - xa) / span, 0.0), 1.0);
+            ylo = ya + ul * (yb - ya), yhi = ya + ur * (yb - ya);
+        }
+        if (ylo > yhi) {
+            const double swap = ylo;
+            ylo = yhi, yhi = swap;
+        }
+        c->lo[x - c->x0] = (uint16_t)cell_of(ylo - margin, res), c->hi[x - c->x0] = (uint16_t)cell_of(yhi + margin, res);
+    }
+}
+
+static inline bool cover_holds(const cover *c, uint32_t x, uint32_t y)
+{
+    return c->x0 <= x && x <= c->x1 && c->lo[x - c->x0] <= y && y <= c->hi[x - c->x0];
+}
 
 /* The lanes of `want` that a triangle of list[0 .. count) occludes, each
  * triangle meeting each lane once per packet. */
@@ -157,13 +220,14 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                          uint8_t *occluded, pgrid_soft_counts *counts)
 {
     const pgrid_soft_light *L = &grids->lights[light];
-    static _Thread_local soft_packet p; /* 12 KB of mailbox: off the stack, reset by packet id */
+    static _Thread_local soft_packet packet; /* 45 KB of mailbox and covers: off the stack, reset by packet id */
+    soft_packet *const pp = &packet;         /* the thread-local address once, not at every use */
     for (uint32_t first = 0; first < count;) {
-        if (++p.id == 0) memset(p.mailbox, 0, sizeof p.mailbox), p.id = 1;
+        if (++pp->id == 0) memset(pp->mailbox, 0, sizeof pp->mailbox), pp->id = 1;
         uint32_t n = 1;
         while (n < BVH_W && first + n < count && memcmp(rays[first + n].org, rays[first].org, sizeof rays->org) == 0)
             n++;
-        uint32_t live = bvh_packet_load(&p.rays, rays + first, n);
+        uint32_t live = bvh_packet_load(&pp->rays, rays + first, n);
         uint32_t hit = 0;
         soft_seg seg[BVH_W];
         double reach = 0.0;
@@ -178,13 +242,13 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                 s->t0 = 1.0, s->t1 = 0.0; /* empty: only the near list */
                 continue;
             }
-            s->t0 = fmax(s->t0, a), s->t1 = fmin(s->t1, b);
+            s->t0 = dmax(s->t0, a), s->t1 = dmin(s->t1, b);
             /* the farthest the ray reaches from L (the distance is convex along it: an end) */
             for (int e = 0; e < 2; e++) {
                 const double t = e ? s->t1 : s->t0;
                 double d2 = 0.0;
                 for (int c = 0; c < 3; c++) d2 += (s->o[c] + t * s->d[c]) * (s->o[c] + t * s->d[c]);
-                reach = fmax(reach, sqrt(d2));
+                reach = dmax(reach, sqrt(d2));
             }
         }
         if (counts) {
@@ -192,16 +256,16 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
             for (uint32_t bits = live; bits; bits &= bits - 1u) counts->steps += ray_steps(L, &seg[__builtin_ctz(bits)]);
         }
         if (live) {
-            bvh_wt_prepare(&p.rays, live, &p.shears);
+            bvh_wt_prepare(&pp->rays, live, &pp->shears);
             if (L->near_count)
-                hit = test_list(grids, L, L->near_list, L->near_count, &p, live, INFINITY, counts);
+                hit = test_list(grids, L, L->near_list, L->near_count, pp, live, INFINITY, counts);
             /* origins beyond the grid's magnitude: every triangle (pgrid_soft.h) */
             uint32_t wild = 0;
             for (uint32_t l = 0; l < n; l++)
                 for (int a = 0; a < 3; a++)
                     if (!(fabs((double)rays[first + l].org[a]) <= L->magnitude)) wild |= (live >> l & 1u) << l;
             for (uint32_t t = 0; wild & ~hit && t < grids->tri_count; t++)
-                hit |= bvh_occluded_watertight(&grids->tris[t], &p.rays, &p.shears, wild & ~hit);
+                hit |= bvh_occluded_watertight(&grids->tris[t], &pp->rays, &pp->shears, wild & ~hit);
             live &= ~wild;
         }
         /* the slices from the origins' side towards the light */
@@ -211,16 +275,17 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
             /* each live ray's cell rectangle per face (x0, x1, y0, y1; empty: x0 > x1), and their union */
             uint32_t cell[PGRID_LIGHT_FACES][BVH_W][4], any[PGRID_LIGHT_FACES][4];
             double far[BVH_W]; /* the farthest each ray's piece in this slice reaches from L */
+            double piece_a[BVH_W], piece_b[BVH_W]; /* each ray's piece in this slice */
             for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) any[f][0] = any[f][2] = UINT32_MAX, any[f][1] = any[f][3] = 0;
             for (uint32_t l = 0; l < n; l++) {
-                double a, b;
+                double a = 0.0, b = 0.0;
                 const bool piece = ((live & ~hit) >> l & 1u) && slice_piece(L, &seg[l], k, &a, &b);
-                far[l] = 0.0;
+                far[l] = 0.0, piece_a[l] = a, piece_b[l] = b;
                 for (int e = 0; piece && e < 2; e++) { /* the distance is convex along the ray: an end */
                     const double t = e ? b : a;
                     double d2 = 0.0;
                     for (int c = 0; c < 3; c++) d2 += (seg[l].o[c] + t * seg[l].d[c]) * (seg[l].o[c] + t * seg[l].d[c]);
-                    far[l] = fmax(far[l], sqrt(d2) + L->slack);
+                    far[l] = dmax(far[l], sqrt(d2) + L->slack);
                 }
                 for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) {
                     uint32_t *c = cell[f][l];
@@ -237,6 +302,49 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                     if (c[3] > any[f][3]) any[f][3] = c[3];
                 }
             }
+            if (L->res <= COVER_RES_MAX) {
+                /* each ray's own cells (a column scan of its segment), each cell once per packet: a cell
+                 * an earlier lane's scan went through was tested then for every lane whose scan holds it */
+                for (uint32_t f = 0; f < PGRID_LIGHT_FACES && (hit & live) != live; f++) {
+                    if (any[f][0] > any[f][1]) continue;
+                    uint32_t scanned = 0, lanes = 0;
+                    for (uint32_t l = 0; l < n; l++) {
+                        double xy[2][2];
+                        if (cell[f][l][0] > cell[f][l][1] || !face_segment(L, &seg[l], f, piece_a[l], piece_b[l], xy))
+                            continue;
+                        cover_of(xy, L->res, &pp->covers[l]);
+                        lanes |= 1u << l;
+                    }
+                    for (uint32_t order = lanes; order && (hit & live) != live; order &= order - 1u) {
+                        const uint32_t l = (uint32_t)__builtin_ctz(order);
+                        const cover *c = &pp->covers[l];
+                        for (uint32_t x = c->x0; x <= c->x1 && (hit & live) != live; x++)
+                            for (uint32_t y = c->lo[x - c->x0]; y <= c->hi[x - c->x0] && (hit & live) != live; y++) {
+                                const size_t at = (((size_t)k * PGRID_LIGHT_FACES + f) * L->res + y) * L->res + x;
+                                const uint32_t begin = L->cell_first[at], end = L->cell_first[at + 1];
+                                if (begin == end && !counts) continue; /* an empty cell: nothing to test */
+                                bool done = false;
+                                for (uint32_t e = scanned; e && !done; e &= e - 1u) done = cover_holds(&pp->covers[__builtin_ctz(e)], x, y);
+                                if (done) continue;
+                                uint32_t want = 0;
+                                double reach = 0.0;
+                                for (uint32_t bits = lanes & live & ~hit; bits; bits &= bits - 1u) {
+                                    const uint32_t m = (uint32_t)__builtin_ctz(bits);
+                                    if (m == l || cover_holds(&pp->covers[m], x, y)) {
+                                        want |= 1u << m;
+                                        reach = far[m] > reach ? far[m] : reach;
+                                    }
+                                }
+                                if (!want) continue;
+                                if (counts) counts->cells += (uint32_t)__builtin_popcount(want);
+                                if (begin != end)
+                                    hit |= test_list(grids, L, L->refs + begin, end - begin, pp, want, reach, counts);
+                            }
+                        scanned |= 1u << l;
+                    }
+                }
+                continue;
+            }
             for (uint32_t f = 0; f < PGRID_LIGHT_FACES && (hit & live) != live; f++) {
                 if (any[f][0] > any[f][1]) continue;
                 for (uint32_t y = any[f][2]; y <= any[f][3] && (hit & live) != live; y++)
@@ -248,12 +356,12 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                         for (uint32_t bits = live & ~hit; bits; bits &= bits - 1u) {
                             const uint32_t l = (uint32_t)__builtin_ctz(bits);
                             const uint32_t *c = cell[f][l];
-                            if (c[0] <= x && x <= c[1] && c[2] <= y && y <= c[3]) want |= 1u << l, reach = fmax(reach, far[l]);
+                            if (c[0] <= x && x <= c[1] && c[2] <= y && y <= c[3]) want |= 1u << l, reach = dmax(reach, far[l]);
                         }
                         if (!want) continue;
                         if (counts) counts->cells += (uint32_t)__builtin_popcount(want);
                         if (begin != end)
-                            hit |= test_list(grids, L, L->refs + begin, end - begin, &p, want, reach, counts);
+                            hit |= test_list(grids, L, L->refs + begin, end - begin, pp, want, reach, counts);
                     }
             }
         }
