@@ -272,46 +272,31 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
         uint32_t top = L->slices - 1;
         while (top > 0 && L->bound[top] > reach + 4.0 * L->slack) top--;
         for (uint32_t k = top + 1; k-- > 0 && (hit & live) != live;) {
-            /* each live ray's cell rectangle per face (x0, x1, y0, y1; empty: x0 > x1), and their union */
-            uint32_t cell[PGRID_LIGHT_FACES][BVH_W][4], any[PGRID_LIGHT_FACES][4];
             double far[BVH_W]; /* the farthest each ray's piece in this slice reaches from L */
             double piece_a[BVH_W], piece_b[BVH_W]; /* each ray's piece in this slice */
-            for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) any[f][0] = any[f][2] = UINT32_MAX, any[f][1] = any[f][3] = 0;
+            uint32_t pieces = 0;                   /* the live rays with a piece in it */
             for (uint32_t l = 0; l < n; l++) {
                 double a = 0.0, b = 0.0;
                 const bool piece = ((live & ~hit) >> l & 1u) && slice_piece(L, &seg[l], k, &a, &b);
-                far[l] = 0.0, piece_a[l] = a, piece_b[l] = b;
+                far[l] = 0.0, piece_a[l] = a, piece_b[l] = b, pieces |= (uint32_t)piece << l;
                 for (int e = 0; piece && e < 2; e++) { /* the distance is convex along the ray: an end */
                     const double t = e ? b : a;
                     double d2 = 0.0;
                     for (int c = 0; c < 3; c++) d2 += (seg[l].o[c] + t * seg[l].d[c]) * (seg[l].o[c] + t * seg[l].d[c]);
                     far[l] = dmax(far[l], sqrt(d2) + L->slack);
                 }
-                for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) {
-                    uint32_t *c = cell[f][l];
-                    c[0] = 1, c[1] = 0;
-                    if (!piece) continue;
-                    double rect[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-                    face_piece(L, &seg[l], f, a, b, rect);
-                    if (!(rect[0] <= rect[1])) continue;
-                    c[0] = cell_of(rect[0] - 1e-9, L->res), c[1] = cell_of(rect[1] + 1e-9, L->res);
-                    c[2] = cell_of(rect[2] - 1e-9, L->res), c[3] = cell_of(rect[3] + 1e-9, L->res);
-                    if (c[0] < any[f][0]) any[f][0] = c[0];
-                    if (c[1] > any[f][1]) any[f][1] = c[1];
-                    if (c[2] < any[f][2]) any[f][2] = c[2];
-                    if (c[3] > any[f][3]) any[f][3] = c[3];
-                }
             }
             if (L->res <= COVER_RES_MAX) {
                 /* each ray's own cells (a column scan of its segment), each cell once per packet: a cell
                  * an earlier lane's scan went through was tested then for every lane whose scan holds it */
                 for (uint32_t f = 0; f < PGRID_LIGHT_FACES && (hit & live) != live; f++) {
-                    if (any[f][0] > any[f][1]) continue;
                     uint32_t scanned = 0, lanes = 0;
-                    for (uint32_t l = 0; l < n; l++) {
+                    for (uint32_t bits = pieces; bits; bits &= bits - 1u) {
+                        const uint32_t l = (uint32_t)__builtin_ctz(bits);
                         double xy[2][2];
-                        if (cell[f][l][0] > cell[f][l][1] || !face_segment(L, &seg[l], f, piece_a[l], piece_b[l], xy))
-                            continue;
+                        if (!face_segment(L, &seg[l], f, piece_a[l], piece_b[l], xy) || xy[0][0] != xy[0][0] ||
+                            xy[0][1] != xy[0][1] || xy[1][0] != xy[1][0] || xy[1][1] != xy[1][1])
+                            continue; /* off the face, or a NaN end (as face_piece leaves its rectangle empty) */
                         cover_of(xy, L->res, &pp->covers[l]);
                         lanes |= 1u << l;
                     }
@@ -344,6 +329,25 @@ void pgrid_soft_occluded(const pgrid_soft *grids, uint32_t light, const rtt_ray 
                     }
                 }
                 continue;
+            }
+            /* finer grids: each live ray's cell rectangle per face (x0, x1, y0, y1; empty: x0 > x1), and their union */
+            uint32_t cell[PGRID_LIGHT_FACES][BVH_W][4], any[PGRID_LIGHT_FACES][4];
+            for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) any[f][0] = any[f][2] = UINT32_MAX, any[f][1] = any[f][3] = 0;
+            for (uint32_t l = 0; l < n; l++) {
+                for (uint32_t f = 0; f < PGRID_LIGHT_FACES; f++) {
+                    uint32_t *c = cell[f][l];
+                    c[0] = 1, c[1] = 0;
+                    if (!(pieces >> l & 1u)) continue;
+                    double rect[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+                    face_piece(L, &seg[l], f, piece_a[l], piece_b[l], rect);
+                    if (!(rect[0] <= rect[1])) continue;
+                    c[0] = cell_of(rect[0] - 1e-9, L->res), c[1] = cell_of(rect[1] + 1e-9, L->res);
+                    c[2] = cell_of(rect[2] - 1e-9, L->res), c[3] = cell_of(rect[3] + 1e-9, L->res);
+                    if (c[0] < any[f][0]) any[f][0] = c[0];
+                    if (c[1] > any[f][1]) any[f][1] = c[1];
+                    if (c[2] < any[f][2]) any[f][2] = c[2];
+                    if (c[3] > any[f][3]) any[f][3] = c[3];
+                }
             }
             for (uint32_t f = 0; f < PGRID_LIGHT_FACES && (hit & live) != live; f++) {
                 if (any[f][0] > any[f][1]) continue;
