@@ -61,6 +61,7 @@ typedef struct bvh_tree {
     bvh_node *nodes;
     kd_triangle *triangles;   /* records in leaf order */
     bvh_corners *corners;     /* per record, the same order */
+    void *arrays;             /* the one allocation holding nodes, triangles and corners (engine/pages.h) */
     uint32_t node_count, triangle_count;
     bvh_child root;           /* the root's box and reference (count 0 and node 0, or a leaf) */
     bool watertight;          /* the triangle test: false projected (records), true watertight (corners) */
