@@ -422,6 +422,81 @@ static void test_kernels_on_shadow_rays(void **state)
     free(rays);
 }
 
+/* Shadow rays leaving an axis-aligned floor (a map's common case): origins
+ * exactly in the plane z = 0 of a tiled floor, towards points above, so the
+ * floor's triangles under a ray have all three corners in its origin's kz
+ * plane (T = 0: the watertight test's double path, which the packet kernels
+ * answer without asking when tnear >= 0).  Every kernel at every ISA, closest
+ * hit and occlusion, against the records' scalar test, with tnear 0, 1e-4
+ * and -1e-3 (below zero the floor itself is crossed at t = +-0, a hit). */
+static void test_kernels_on_shadow_rays_leaving_an_axis_aligned_floor(void **state)
+{
+    (void)state;
+    enum { TILES = 8, OCCLUDERS = 40, RAYS = 3 * 1024 };
+    const uint32_t count = 2 * TILES * TILES + OCCLUDERS;
+    float *xyz = malloc(9 * (size_t)count * sizeof *xyz);
+    assert_non_null(xyz);
+    uint32_t t = 0;
+    for (int y = 0; y < TILES; y++)
+        for (int x = 0; x < TILES; x++) {
+            const float x0 = (float)(x - TILES / 2), y0 = (float)(y - TILES / 2), x1 = x0 + 1.0f, y1 = y0 + 1.0f;
+            const float quad[2][9] = {{x0, y0, 0, x1, y0, 0, x1, y1, 0}, {x0, y0, 0, x1, y1, 0, x0, y1, 0}};
+            for (int k = 0; k < 2; k++, t++) memcpy(&xyz[9 * t], quad[k], sizeof quad[k]);
+        }
+    rng r = {0x5EEDF100Aull};
+    for (; t < count; t++) {
+        const float c[3] = {rng_range(&r, -4, 4), rng_range(&r, -4, 4), rng_range(&r, 0.5f, 3.0f)};
+        for (int v = 0; v < 3; v++)
+            for (int a = 0; a < 3; a++) xyz[9 * t + 3 * v + a] = c[a] + rng_range(&r, -0.6f, 0.6f);
+    }
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, count, &err);
+    free(xyz);
+    if (!scene) fail_msg("scene: %s", err.message);
+    bvh_tree tree;
+    build(scene, 4, 0, 1, &tree);
+    tree.watertight = true;
+    rtt_ray *rays = malloc(RAYS * sizeof *rays);
+    rtt_hit *want = malloc(RAYS * sizeof *want), *got = malloc(RAYS * sizeof *got);
+    uint8_t *occ = malloc(RAYS);
+    assert_true(rays && want && got && occ);
+    const float tnears[3] = {0.0f, 1e-4f, -1e-3f};
+    uint32_t floor_hits = 0, blocked = 0;
+    for (uint32_t i = 0; i < RAYS; i++) {
+        const float org[3] = {rng_range(&r, -3.9f, 3.9f), rng_range(&r, -3.9f, 3.9f), 0.0f};
+        const float to[3] = {rng_range(&r, -6, 6), rng_range(&r, -6, 6), rng_range(&r, 4, 6)};
+        const float d[3] = {to[0] - org[0], to[1] - org[1], to[2] - org[2]};
+        const float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        rays[i] = (rtt_ray){{org[0], org[1], org[2]}, {d[0] / len, d[1] / len, d[2] / len}, tnears[i % 3], len * 0.999f};
+        want[i] = bvh_records_closest(&tree, &rays[i]);
+        floor_hits += want[i].prim != RTT_MISS && want[i].prim < 2 * TILES * TILES;
+        blocked += want[i].prim != RTT_MISS;
+    }
+    assert_true(floor_hits > 0);          /* the rays of tnear < 0 cross their floor */
+    assert_true(blocked > floor_hits);    /* and some rays meet an occluder */
+    assert_true(blocked < RAYS);          /* and some see the light */
+    const bvh_kernel *row;
+    for (uint32_t k = 0; (row = bvh_kernel_row_at(k)); k++) {
+        if (!isa_runs(row->isa)) continue;
+        row->trace(&tree, &(bvh_query){.rays = rays, .count = RAYS, .hits = got});
+        row->trace(&tree, &(bvh_query){.rays = rays, .count = RAYS, .occluded = occ});
+        for (uint32_t i = 0; i < RAYS; i++) {
+            if (memcmp(&got[i], &want[i], sizeof got[i]) != 0)
+                fail_msg("%s (%s) ray %u (tnear %g): prim %u t %a, the records' test prim %u t %a", row->name,
+                         rtt_isa_name(row->isa), i, (double)rays[i].tnear, got[i].prim, (double)got[i].t, want[i].prim,
+                         (double)want[i].t);
+            if (occ[i] != (want[i].prim != RTT_MISS))
+                fail_msg("%s (%s) ray %u (tnear %g): occluded %u, the records' test says %u", row->name,
+                         rtt_isa_name(row->isa), i, (double)rays[i].tnear, occ[i], want[i].prim != RTT_MISS);
+        }
+        print_message("%-11s %-7s %u rays off a floor: %u stopped by their floor, %u blocked, all as the records' test\n",
+                      row->name, rtt_isa_name(row->isa), RAYS, floor_hits, blocked);
+    }
+    free(rays), free(want), free(got), free(occ);
+    bvh_tree_free(&tree);
+    rtt_scene_free(scene);
+}
+
 /* ---- back-face culling on the camera path ---- */
 
 static void build_with_solids(const rtt_scene *scene, bvh_tree *tree)
@@ -700,6 +775,7 @@ int main(void)
                                         setup_scratch, remove_scratch),
         cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
+        cmocka_unit_test(test_kernels_on_shadow_rays_leaving_an_axis_aligned_floor),
         cmocka_unit_test_setup_teardown(
             test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh, setup_bvh_octahedron,
             teardown_bvh),

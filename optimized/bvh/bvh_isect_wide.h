@@ -162,7 +162,16 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     uint32_t valid = inside & normal & vm_bits(vm_and(vm_and(vf_gt(t, r->tnear), vf_lt(t, r->tfar)), vf_le(t, tbest)));
     vf bu = zero, bv = zero;
     if (want_uv && valid) bu = vf_div(v, det), bv = vf_div(w, det);
-    const uint32_t slow = active & ~normal;
+    uint32_t slow = active & ~normal;
+    /* A lane whose three corners lie in its origin's kz plane (az = bz = cz
+     * = 0: a map's axis-aligned floor under a shadow ray's own origin, the
+     * common case of the double path) has T = 0 in double too, so t = +-0,
+     * never above a tnear >= 0: the scalar form's answer is no, without
+     * asking it (the perspective grid's shadow kernel does the same). */
+    if (slow) {
+        const vm flat = vm_and(vm_and(vf_eq(az, zero), vf_eq(bz, zero)), vm_and(vf_eq(cz, zero), vf_ge(r->tnear, zero)));
+        slow &= ~vm_bits(flat);
+    }
     if (slow) { /* rare: those lanes decided as the scalar form decides them */
         float lane[9][BVH_W], tl[BVH_W], ul[BVH_W], vl[BVH_W], tn[BVH_W], tf[BVH_W], tb[BVH_W];
         const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
