@@ -619,17 +619,17 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     subtree_task *tasks = scratch ? malloc((size_t)(BVH_TASKS_PER_THREAD * threads + 2u) * sizeof *tasks) : NULL;
     if (!tasks) goto out_of_memory;
     uint32_t n = 0;
-        for (uint32_t i = 0; i < n_tri; i++) {
-            rtt_vec3 p[3];
-            rtt_scene_triangle(scene, i, p);
-            if (!kd_triangle_record(&records[n], p, i)) continue;
-            const __m128 a = _mm_setr_ps(p[0].x, p[0].y, p[0].z, 0.0f), b1 = _mm_setr_ps(p[1].x, p[1].y, p[1].z, 0.0f),
-                         c = _mm_setr_ps(p[2].x, p[2].y, p[2].z, 0.0f);
-            refs[n].lo = _mm_insert_ps(_mm_min_ps(a, _mm_min_ps(b1, c)), _mm_castsi128_ps(_mm_cvtsi32_si128((int)n)),
-                                       0x30); /* record index into lane 3 */
-            refs[n].hi = _mm_max_ps(a, _mm_max_ps(b1, c));
-            n++;
-        }
+    for (uint32_t i = 0; i < n_tri; i++) {
+        rtt_vec3 p[3];
+        rtt_scene_triangle(scene, i, p);
+        if (!kd_triangle_record(&records[n], p, i)) continue;
+        const __m128 a = _mm_setr_ps(p[0].x, p[0].y, p[0].z, 0.0f), b1 = _mm_setr_ps(p[1].x, p[1].y, p[1].z, 0.0f),
+                     c = _mm_setr_ps(p[2].x, p[2].y, p[2].z, 0.0f);
+        refs[n].lo = _mm_insert_ps(_mm_min_ps(a, _mm_min_ps(b1, c)), _mm_castsi128_ps(_mm_cvtsi32_si128((int)n)),
+                                   0x30); /* record index into lane 3 */
+        refs[n].hi = _mm_max_ps(a, _mm_max_ps(b1, c));
+        n++;
+    }
     b.refs = refs, b.slots = slots;
 
     /* the top, breadth first on this thread, until there are enough subtrees */

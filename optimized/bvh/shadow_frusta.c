@@ -26,8 +26,9 @@
  *    group with their shears for its later tests, and tested with the
  *    triangle test the tree names (bvh_isect_wide.h: projected or
  *    watertight) in packets of BVH_W, only the samples not yet occluded.
- *    Making them once instead of at every test: czest3ctf 47 -> 73 Mrays/s,
- *    oa_dm4 52-69 -> 106-109, bunny00 63 -> 74 (bench/results/frusta.md).
+ *    Making them once instead of at every test (with the floor lanes of
+ *    bvh_isect_wide.h): oa_dm4 69 -> 107 Mrays/s, czest3ctf 47 -> 63-72,
+ *    bunny00 64 -> 75 (bench/results/frusta.md).
  *  - Occlusion bits are packed in a mask per point (N <= 32); a frustum is
  *    terminated as soon as all its rays are occluded.
  *  - Frustum shrinking (the paper's 5.3, "CR"): after a leaf in which some
