@@ -373,7 +373,9 @@ static float subnormal_rescale(const rtt_ray *r)
 }
 
 /* Rays with subnormal direction components are traced scaled
- * (subnormal_rescale) and their t scaled back; the others as they are. */
+ * (subnormal_rescale) and their t scaled back; the others as they are.  A
+ * hit whose t overflows when scaled back is no hit, as for the reference
+ * (fuzz/regressions/kd_build/subnormal_direction_overflowing_t). */
 static void trace_rescaled(const optimized_engine *e, const rtt_ray *rays, size_t n, rtt_hit *hits, uint8_t *occluded)
 {
     size_t first = 0;
@@ -396,7 +398,10 @@ static void trace_rescaled(const optimized_engine *e, const rtt_ray *rays, size_
         if (scales[i] == 1.0f) continue;
         for (int k = 0; k < 3; k++) scaled[i].dir[k] *= scales[i];
         scaled[i].tnear /= scales[i];
-        scaled[i].tfar /= scales[i];
+        /* a t past FLT_MAX is infinite where the ray is (never below its
+         * tfar): the scaled ray stops where t * scale would overflow,
+         * 2^128 / scale, exclusive (FLT_MAX itself still counts) */
+        scaled[i].tfar = rays[i].tfar > FLT_MAX ? 0x1p127f / scales[i] * 2.0f : rays[i].tfar / scales[i];
     }
     trace_rays(e, scaled, n, hits, occluded);
     for (size_t i = 0; hits && i < n; i++)
