@@ -15,8 +15,8 @@ void *rtt_alloc_pages(size_t bytes, size_t align)
 {
     if (align < sizeof(void *)) align = sizeof(void *);
     if (bytes < RTT_HUGE_PAGE_FROM) {
-        const size_t rounded = bytes ? (bytes + align - 1) & ~(align - 1) : align;
-        return rounded < bytes ? NULL : aligned_alloc(align, rounded);
+        /* below 1 MiB, rounding up to `align` cannot wrap */
+        return aligned_alloc(align, bytes ? (bytes + align - 1) & ~(align - 1) : align);
     }
     if (bytes > SIZE_MAX - RTT_HUGE_PAGE) return NULL;
     const size_t rounded = (bytes + RTT_HUGE_PAGE - 1) & ~(RTT_HUGE_PAGE - 1);

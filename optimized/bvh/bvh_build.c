@@ -579,18 +579,15 @@ void bvh_tree_free(bvh_tree *tree)
     memset(tree, 0, sizeof *tree);
 }
 
-/* Arrays laid out one after another in one allocation, each aligned. */
-typedef struct block_layout {
-    size_t bytes;
-} block_layout;
-
-/* Where an array of `count` elements goes in the block (`align` a power of
- * two).  Counts are at most 2^32 and elements a few cache lines, so no sum
+/* Arrays laid out one after another in one allocation, each aligned:
+ * where an array of `count` elements goes in a block whose arrays so far
+ * end at *bytes (`align` a power of two); *bytes then ends after it.
+ * Counts are at most 2^32 and elements a few cache lines, so no sum
  * overflows a 64-bit size. */
-static size_t block_array(block_layout *l, size_t count, size_t element, size_t align)
+static size_t block_array(size_t *bytes, size_t count, size_t element, size_t align)
 {
-    const size_t at = (l->bytes + align - 1) & ~(align - 1);
-    l->bytes = at + count * element;
+    const size_t at = (*bytes + align - 1) & ~(align - 1);
+    *bytes = at + count * element;
     return at;
 }
 
@@ -608,11 +605,11 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     const uint32_t top_slots = 2u * BVH_TASKS_PER_THREAD * threads + 2u;
     /* the build's own arrays, one allocation: references, records in scene
      * order, inner-node slots (a subtree of n triangles has at most n - 1) */
-    block_layout scratch_layout = {0};
-    const size_t refs_at = block_array(&scratch_layout, n_tri, sizeof(prim_ref), 64);
-    const size_t slots_at = block_array(&scratch_layout, (size_t)top_slots + n_tri, sizeof(bvh_node), 64);
-    const size_t records_at = block_array(&scratch_layout, n_tri, sizeof(kd_triangle), 64);
-    char *scratch = rtt_alloc_pages(scratch_layout.bytes, 64);
+    size_t scratch_bytes = 0;
+    const size_t refs_at = block_array(&scratch_bytes, n_tri, sizeof(prim_ref), 64);
+    const size_t slots_at = block_array(&scratch_bytes, (size_t)top_slots + n_tri, sizeof(bvh_node), 64);
+    const size_t records_at = block_array(&scratch_bytes, n_tri, sizeof(kd_triangle), 64);
+    char *scratch = rtt_alloc_pages(scratch_bytes, 64);
     prim_ref *refs = scratch ? (prim_ref *)(scratch + refs_at) : NULL;
     bvh_node *slots = scratch ? (bvh_node *)(scratch + slots_at) : NULL;
     kd_triangle *records = scratch ? (kd_triangle *)(scratch + records_at) : NULL;
@@ -668,11 +665,11 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
         depth = tasks[i].counted.depth > depth ? tasks[i].counted.depth : depth;
     }
     /* the tree's arrays, one allocation: nodes (a cache line each), records, corners */
-    block_layout tree_layout = {0};
-    const size_t nodes_at = block_array(&tree_layout, node_count, sizeof(bvh_node), 64);
-    const size_t triangles_at = block_array(&tree_layout, n, sizeof(kd_triangle), 64);
-    const size_t corners_at = block_array(&tree_layout, n, sizeof(bvh_corners), 64);
-    char *arrays = rtt_alloc_pages(tree_layout.bytes, 64);
+    size_t tree_bytes = 0;
+    const size_t nodes_at = block_array(&tree_bytes, node_count, sizeof(bvh_node), 64);
+    const size_t triangles_at = block_array(&tree_bytes, n, sizeof(kd_triangle), 64);
+    const size_t corners_at = block_array(&tree_bytes, n, sizeof(bvh_corners), 64);
+    char *arrays = rtt_alloc_pages(tree_bytes, 64);
     if (!arrays) goto out_of_memory;
     tree->arrays = arrays;
     tree->nodes = (bvh_node *)(arrays + nodes_at);

@@ -27,6 +27,7 @@
 
 #include "bvh_packet.h"
 #include "bvh_tree.h"
+#include "bvh_wt_lanes.h"
 #include "isect_projected_bary.h"
 #include "isect_woop_watertight.h"
 
@@ -115,13 +116,6 @@ static inline void bvh_wt_prepare(const bvh_packet *r, uint32_t live, bvh_wt_she
     }
 }
 
-/* Normal floats: neither zero, subnormal, infinite nor NaN. */
-static inline vm bvh_wt_normal(vf x)
-{
-    const vf a = vf_abs(x);
-    return vm_and(vf_ge(a, vf_set1(FLT_MIN)), vf_lt(a, vf_set1(INFINITY)));
-}
-
 /* The lanes `active` (inside group g of s) whose ray hits `tri` with
  * tnear < t < tfar and t <= tbest; t, u, v of those lanes in the outputs
  * (u, v only when `want_uv`).  isect4_watertight_mask at packet width. */
@@ -163,15 +157,8 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     vf bu = zero, bv = zero;
     if (want_uv && valid) bu = vf_div(v, det), bv = vf_div(w, det);
     uint32_t slow = active & ~normal;
-    /* A lane whose three corners lie in its origin's kz plane (az = bz = cz
-     * = 0: a map's axis-aligned floor under a shadow ray's own origin, the
-     * common case of the double path) has T = 0 in double too, so t = +-0,
-     * never above a tnear >= 0: the scalar form's answer is no, without
-     * asking it (the perspective grid's shadow kernel does the same). */
-    if (slow) {
-        const vm flat = vm_and(vm_and(vf_eq(az, zero), vf_eq(bz, zero)), vm_and(vf_eq(cz, zero), vf_ge(r->tnear, zero)));
-        slow &= ~vm_bits(flat);
-    }
+    /* the flat lanes' answer is no, without asking the scalar form */
+    if (slow) slow &= ~bvh_wt_flat_lanes(az, bz, cz, r->tnear);
     if (slow) { /* rare: those lanes decided as the scalar form decides them */
         float lane[9][BVH_W], tl[BVH_W], ul[BVH_W], vl[BVH_W], tn[BVH_W], tf[BVH_W], tb[BVH_W];
         const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};

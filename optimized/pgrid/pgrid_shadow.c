@@ -19,19 +19,13 @@
 #include <string.h>
 
 #include "bvh_simd.h"
+#include "bvh_wt_lanes.h"
 #include "isect_woop_watertight.h"
 #include "pgrid_isa.h"
 #include "pgrid_light.h"
 
 /* the vector vocabulary at this copy's width, shared with the BVH kernels */
 #define LANES BVH_W
-
-/* Normal floats: neither zero, subnormal, infinite nor NaN. */
-static inline vm vm_normal(vf x)
-{
-    const vf a = vf_abs(x);
-    return vm_and(vf_ge(a, vf_set1(FLT_MIN)), vf_lt(a, vf_set1(INFINITY)));
-}
 
 /* One packet: LANES rays of one kz, structure of arrays. */
 typedef struct shadow_packet {
@@ -100,7 +94,7 @@ static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_co
     const vf zero = vf_set1(0.0f);
     const vm positive = vm_and(vm_and(vf_gt(u, zero), vf_gt(v, zero)), vf_gt(w, zero));
     const vm negative = vm_and(vm_and(vf_lt(u, zero), vf_lt(v, zero)), vf_lt(w, zero));
-    const vm edges_normal = vm_and(vm_and(vm_normal(u), vm_normal(v)), vm_normal(w));
+    const vm edges_normal = vm_and(vm_and(bvh_wt_normal(u), bvh_wt_normal(v)), bvh_wt_normal(w));
     const vm act = vm_of_bits(active);
     const uint32_t inside = vm_bits(vm_and(act, vm_or(positive, negative)));
     const uint32_t odd = active & ~vm_bits(edges_normal);
@@ -109,7 +103,7 @@ static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_co
     const vf az = vf_mul(sz, akz), bz = vf_mul(sz, bkz), cz = vf_mul(sz, ckz);
     const vf det = vf_add(vf_add(u, v), w);
     const vf t_scaled = vf_add(vf_add(vf_mul(u, az), vf_mul(v, bz)), vf_mul(w, cz));
-    const vm normal = vm_and(edges_normal, vm_and(vm_normal(det), vm_normal(t_scaled)));
+    const vm normal = vm_and(edges_normal, vm_and(bvh_wt_normal(det), bvh_wt_normal(t_scaled)));
     const vf t = vf_div(t_scaled, det);
     const vm in_range = vm_and(vf_gt(t, tnear), vf_lt(t, r->tfar));
     uint32_t hit = inside & vm_bits(vm_and(normal, in_range));
@@ -118,15 +112,9 @@ static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_co
         *entering |= inside & vm_bits(vm_and(normal, window));
     }
     uint32_t slow = active & ~vm_bits(normal);
-    /* A lane whose three corners lie in its origin's kz plane (az = bz = cz
-     * = 0: the axis-aligned floor of a map under the ray's own origin, the
-     * common case of the double path) has T = 0 in double too, so t = +-0,
-     * never above a tnear >= 0: the reference's answer is no, without asking
-     * it (unless `entering` wants the window around 0). */
-    if (slow && !entering) {
-        const vm flat = vm_and(vm_and(vf_eq(az, zero), vf_eq(bz, zero)), vm_and(vf_eq(cz, zero), vf_ge(tnear, zero)));
-        slow &= ~vm_bits(flat);
-    }
+    /* the flat lanes' answer is no, without asking the reference's test
+     * (unless `entering` wants the window around 0) */
+    if (slow && !entering) slow &= ~bvh_wt_flat_lanes(az, bz, cz, tnear);
     if (slow) {
         _Alignas(64) float parts[9][LANES];
         const vf values[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
