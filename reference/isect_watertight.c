@@ -104,7 +104,11 @@ bool rtt_watertight_intersect(const rtt_watertight_ray *ray, const rtt_vec3 tri[
     const double detd = ud + vd + wd;
     if (detd == 0.0) return false; /* the ray lies in the triangle's plane */
     const double td = (ud * az + vd * bz + wd * cz) / detd;
-    return accept_hit(ray, tri, (float)td, (float)(vd / detd), (float)(wd / detd), t_out, u_out, v_out);
+    /* + 0.0f: a zero t, u or v is +0 whichever sign detd has (the kernels
+     * wind the edge functions by kz alone, not by dir[kz]'s sign, so their
+     * detd may have the other sign; the values agree, and so must the bits) */
+    return accept_hit(ray, tri, (float)td + 0.0f, (float)(vd / detd) + 0.0f, (float)(wd / detd) + 0.0f, t_out, u_out,
+                      v_out);
 }
 
 bool rtt_reference_intersect_triangle(const rtt_ray *ray, const rtt_vec3 tri[3], float *t, float *u, float *v)

@@ -115,8 +115,9 @@ static inline bool wt_decide1(const wt_lane *l, float tnear, float tfar, float *
         if ((ud < 0.0 || vd < 0.0 || wd < 0.0) && (ud > 0.0 || vd > 0.0 || wd > 0.0)) return false;
         const double detd = ud + vd + wd;
         if (detd == 0.0) return false; /* the ray lies in the triangle's plane */
-        t = (float)((ud * l->az + vd * l->bz + wd * l->cz) / detd);
-        bu = (float)(vd / detd), bv = (float)(wd / detd);
+        /* + 0.0f: a zero as +0 whichever way the edges are wound (as the reference does) */
+        t = (float)((ud * l->az + vd * l->bz + wd * l->cz) / detd) + 0.0f;
+        bu = (float)(vd / detd) + 0.0f, bv = (float)(wd / detd) + 0.0f;
     }
     if (!(t > tnear && t < tfar)) return false; /* also rejects NaN */
     *t_out = t, *u_out = bu, *v_out = bv;
