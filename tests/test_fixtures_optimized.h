@@ -100,6 +100,52 @@ static inline int setup_soup_with(void **state, uint32_t count, float size, uint
     return rc;
 }
 
+/* `count` tiny triangles, 4e-6 to 4e-4 across, near the origin (within
+ * 0.01), every fourth in an axis plane y = c (a fuzzed scene's case). */
+static inline float *tiny_far_triangles(uint32_t count, uint64_t seed)
+{
+    float *xyz = malloc(9 * (size_t)count * sizeof *xyz);
+    assert_non_null(xyz);
+    rng r = {seed};
+    for (uint32_t t = 0; t < count; t++) {
+        const float size = 4e-6f * powf(100.0f, rng_float(&r));
+        const float c[3] = {rng_range(&r, -0.01f, 0.01f), rng_range(&r, -0.01f, 0.01f), rng_range(&r, -0.01f, 0.01f)};
+        for (int v = 0; v < 3; v++)
+            for (int a = 0; a < 3; a++) xyz[9 * t + 3 * v + a] = c[a] + size * rng_range(&r, -1.0f, 1.0f);
+        if (t % 4 == 0)
+            for (int v = 0; v < 3; v++) xyz[9 * t + 3 * v + 1] = c[1];
+    }
+    return xyz;
+}
+
+/* Rays at tiny_far_triangles from about 20 units off: sixteen per origin
+ * (8 to 14 from the centre per axis), each aimed at a point of a random
+ * triangle (every fourth within 1e-3 of an edge), t in [0, inf); every
+ * fourth origin's directions unnormalised (the point minus the origin).
+ * Seen from there the edge planes through the origin are cross products of
+ * long, nearly parallel vectors, and the slab distances to a triangle's box
+ * are rounded on the scale of the origin's distance, not the box's size. */
+static inline rtt_ray *rays_at_tiny_far_triangles(const float *xyz, uint32_t tris, uint32_t count, uint64_t seed)
+{
+    rtt_ray *rays = malloc((size_t)count * sizeof *rays);
+    assert_non_null(rays);
+    rng r = {seed};
+    float org[3] = {0};
+    for (uint32_t i = 0; i < count; i++) {
+        if (i % 16 == 0)
+            for (int a = 0; a < 3; a++) org[a] = rng_range(&r, 8.0f, 14.0f) * (rng_float(&r) < 0.5f ? -1.0f : 1.0f);
+        const float *v = &xyz[9 * ((uint32_t)(rng_float(&r) * (float)tris) % tris)];
+        float a = rng_float(&r), b = rng_float(&r);
+        if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+        if (i % 4 == 0) b = 1e-3f * b; /* near the edge from v0 to v1 */
+        float d[3];
+        for (int k = 0; k < 3; k++) d[k] = v[k] + a * (v[3 + k] - v[k]) + b * (v[6 + k] - v[k]) - org[k];
+        const float len = (i / 16) % 4 ? sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) : 1.0f;
+        rays[i] = (rtt_ray){{org[0], org[1], org[2]}, {d[0] / len, d[1] / len, d[2] / len}, 0.0f, INFINITY};
+    }
+    return rays;
+}
+
 static inline int setup_soup(void **state, uint32_t count, float size, uint64_t seed)
 {
     return setup_soup_with(state, count, size, seed, RTT_ISECT_DEFAULT);

@@ -497,6 +497,61 @@ static void test_kernels_on_shadow_rays_leaving_an_axis_aligned_floor(void **sta
     rtt_scene_free(scene);
 }
 
+/* Tiny triangles far from the rays' common origin: 4e-6 to 4e-4 across,
+ * about 20 units off (a fuzzed scene's case), so the edge planes through the
+ * origin are cross products of long, nearly parallel vectors, rounded to a
+ * large fraction of their own length.  Sixteen rays per origin, each aimed
+ * at a point of a different triangle (some within 1e-3 of an edge): the
+ * frusta kernels' culling must lose none of their hits.  Every kernel at
+ * every ISA, closest hit and occlusion, against the records' scalar test. */
+static void test_kernels_on_tiny_triangles_far_from_a_common_origin(void **state)
+{
+    (void)state;
+    enum { TRIS = 256, RAYS = 16 * 256 };
+    float *xyz = tiny_far_triangles(TRIS, 0x71A7ull);
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, TRIS, &err);
+    if (!scene) fail_msg("scene: %s", err.message);
+    bvh_tree tree;
+    build(scene, 4, 0, 1, &tree);
+    tree.watertight = true;
+    rtt_ray *rays = rays_at_tiny_far_triangles(xyz, TRIS, RAYS, 0x71A8ull);
+    free(xyz);
+    rtt_hit *want = malloc(RAYS * sizeof *want), *got = malloc(RAYS * sizeof *got);
+    uint8_t *occ = malloc(RAYS);
+    assert_true(want && got && occ);
+    uint32_t hits = 0;
+    for (uint32_t i = 0; i < RAYS; i++) {
+        want[i] = bvh_records_closest(&tree, &rays[i]);
+        hits += want[i].prim != RTT_MISS;
+    }
+    /* aimed inside: most hit (3120 of 4096); rounding the direction moves the
+     * aim by about 1e-6 here, off many of the smallest triangles */
+    assert_true(hits > RAYS / 2);
+    uint32_t failed = 0;
+    const bvh_kernel *row;
+    for (uint32_t k = 0; (row = bvh_kernel_row_at(k)); k++) {
+        if (!isa_runs(row->isa)) continue;
+        row->trace(&tree, &(bvh_query){.rays = rays, .count = RAYS, .hits = got});
+        row->trace(&tree, &(bvh_query){.rays = rays, .count = RAYS, .occluded = occ});
+        uint32_t lost = 0, occ_bad = 0;
+        for (uint32_t i = 0; i < RAYS; i++) {
+            if (memcmp(&got[i], &want[i], sizeof got[i]) != 0 && lost++ < 3)
+                print_message("%s (%s) ray %u: prim %u t %a, the records' test prim %u t %a\n", row->name,
+                              rtt_isa_name(row->isa), i, got[i].prim, (double)got[i].t, want[i].prim,
+                              (double)want[i].t);
+            occ_bad += occ[i] != (want[i].prim != RTT_MISS);
+        }
+        print_message("%-11s %-7s %u rays at tiny far triangles (%u hits): %u answered otherwise than the records' "
+                      "test, %u occluded wrong\n", row->name, rtt_isa_name(row->isa), RAYS, hits, lost, occ_bad);
+        failed += lost + occ_bad;
+    }
+    assert_int_equal(failed, 0);
+    free(rays), free(want), free(got), free(occ);
+    bvh_tree_free(&tree);
+    rtt_scene_free(scene);
+}
+
 /* ---- back-face culling on the camera path ---- */
 
 static void build_with_solids(const rtt_scene *scene, bvh_tree *tree)
@@ -776,6 +831,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_kernels_on_random_rays_with_specials, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_kernels_on_shadow_rays, setup_bvh, teardown_bvh),
         cmocka_unit_test(test_kernels_on_shadow_rays_leaving_an_axis_aligned_floor),
+        cmocka_unit_test(test_kernels_on_tiny_triangles_far_from_a_common_origin),
         cmocka_unit_test_setup_teardown(
             test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh, setup_bvh_octahedron,
             teardown_bvh),

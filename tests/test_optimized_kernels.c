@@ -31,6 +31,16 @@
 
 static int setup_large_triangles(void **state) { return setup_soup(state, 300, 0.6f, 0x1234567ull); }
 
+#define TINY_FAR_TRIANGLES 256u
+#define TINY_FAR_SEED 0x71A7ull
+static int setup_tiny_far_triangles(void **state)
+{
+    float *xyz = tiny_far_triangles(TINY_FAR_TRIANGLES, TINY_FAR_SEED);
+    const int rc = setup_triangles(state, xyz, TINY_FAR_TRIANGLES);
+    free(xyz);
+    return rc;
+}
+
 /* One triangle: the tree is a single leaf. */
 static int setup_one_triangle(void **state)
 {
@@ -261,6 +271,42 @@ static void test_watertight_kernels_answer_every_ray_bit_for_bit_as_the_referenc
         assert_int_equal(bit_differences(f, &kernels[k], plane, plane_count), 0);
     }
     free(camera), free(random), free(shadow), free(plane);
+}
+
+/* Tiny triangles far from the rays' origins (test_fixtures_optimized.h):
+ * the reference's answers are the brute force's over every triangle with
+ * its own test, and every kernel's are the reference's, to the bit. */
+static void test_rays_at_tiny_far_triangles_match_the_brute_force_and_the_reference(void **state)
+{
+    const fixture *f = *state;
+    enum { RAYS = 4096 };
+    float *xyz = tiny_far_triangles(TINY_FAR_TRIANGLES, TINY_FAR_SEED); /* the fixture's scene */
+    rtt_ray *rays = rays_at_tiny_far_triangles(xyz, TINY_FAR_TRIANGLES, RAYS, TINY_FAR_SEED + 1u);
+    free(xyz);
+    rtt_hit *want = malloc(RAYS * sizeof *want);
+    assert_non_null(want);
+    rtt_engine_intersect(f->reference, rays, want, RAYS);
+    uint32_t hits = 0, lost = 0;
+    for (uint32_t i = 0; i < RAYS; i++) {
+        rtt_hit truth = {INFINITY, 0.0f, 0.0f, RTT_MISS};
+        for (uint32_t prim = 0; prim < f->scene->triangle_count; prim++) {
+            rtt_vec3 tri[3];
+            rtt_scene_triangle(f->scene, prim, tri);
+            float t, u, v;
+            if (rtt_reference_intersect_triangle(&rays[i], tri, &t, &u, &v) && t < truth.t)
+                truth = (rtt_hit){t, u, v, prim};
+        }
+        hits += truth.prim != RTT_MISS;
+        if (memcmp(&truth, &want[i], sizeof truth) != 0 && lost++ < 5)
+            print_message("ray %u: reference prim %u t %a, brute force prim %u t %a\n", i, want[i].prim,
+                          (double)want[i].t, truth.prim, (double)truth.t);
+    }
+    print_message("%u rays at tiny far triangles, %u hits: the reference answers %u otherwise than the brute force\n",
+                  RAYS, hits, lost);
+    assert_int_equal(lost, 0);
+    assert_true(hits > RAYS / 2);
+    for (size_t k = 0; k < kernel_count; k++) assert_int_equal(bit_differences(f, &kernels[k], rays, RAYS), 0);
+    free(rays), free(want);
 }
 
 /* From inside a closed mesh, rays aimed exactly at its corners, at its
@@ -589,6 +635,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(
             test_watertight_kernels_let_no_ray_aimed_at_corners_or_edges_out_of_a_closed_mesh, setup_octahedron,
             teardown),
+        cmocka_unit_test_setup_teardown(test_rays_at_tiny_far_triangles_match_the_brute_force_and_the_reference,
+                                        setup_tiny_far_triangles, teardown),
         /* the projected test, against the reference within tolerance */
         cmocka_unit_test_setup_teardown(test_camera_rays_match_reference, setup_small_soup_projected, teardown),
         cmocka_unit_test_setup_teardown(test_random_rays_with_nan_inf_zero_and_empty_intervals_match_reference,

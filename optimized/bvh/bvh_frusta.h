@@ -24,14 +24,17 @@ typedef struct mft_bounds {
      * contains zero, and of those the ones with some d > 0 and some d < 0 */
     vm negative[3], up[3], down[3];
     uint32_t straddle[3];
+    vf dl1;                            /* sum over axes of max(|dlo|, |dhi|): a bound on |d|_1 */
 } mft_bounds;
 
-/* The per-axis classes of every frustum's direction box, once per group
- * (the box test reads them at every node). */
+/* The per-axis classes of every frustum's direction box and its dl1, once
+ * per group (the box test reads them at every node). */
 static inline void mft_bounds_classify(mft_bounds *g)
 {
     const vf zero = vf_set1(0.0f);
+    g->dl1 = zero;
     for (int k = 0; k < 3; k++) {
+        g->dl1 = vf_add(g->dl1, vf_max(vf_abs(g->dlo[k]), vf_abs(g->dhi[k])));
         g->negative[k] = vf_lt(g->dhi[k], zero);
         g->up[k] = vf_gt(g->dhi[k], zero);
         g->down[k] = vf_lt(g->dlo[k], zero);
@@ -71,59 +74,80 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
         t0 = vf_max(in, t0);
         t1 = vf_min(out, t1);
     }
-    const vf slack = vf_set1(0x1p-20f);
-    t0 = vf_sub(t0, vf_mul(vf_abs(t0), slack));
-    t1 = vf_add(t1, vf_mul(vf_abs(t1), slack));
     *entry = t0;
-    return vm_and(active, vf_le(t0, t1));
+    return vm_and(active, bvh_interval_holds(t0, t1));
 }
 
 /* Per frustum: the triangle's corners relative to its origin, the normal
- * of each edge plane through the origin (edge e: rel[e+1] x rel[e+2]) and
- * D = rel[0] . n[0] with det_mag the magnitudes of its terms. */
-static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, vf rel[3][3], vf n[3][3], vf *det,
-                                vf *det_mag)
+ * of each edge plane through the origin (edge e: rel[e+1] x rel[e+2],
+ * computed as rel[e+1] x E[e] with E[e] = v[e+2] - v[e+1], the triangle's
+ * own edge) and D = rel[0] . n[0] with det_mag the magnitudes of its terms.
+ * Rounding: each of rel, E and their products is rounded by 2^-24 of
+ * itself, so n is known to 2^-22 (|rel_j E_k| + |rel_k E_j|) per
+ * component, at most cross_error = 2^-20 reach edge (twice that): reach
+ * the largest |rel| component, edge the largest |E| component.  Crossing
+ * the corners' differences instead, rel[e+1] x rel[e+2], would err by
+ * 2^-21 reach^2, which for a triangle small and far from the origin (a
+ * fuzzed 4e-5 triangle 20 units away; armadillo's far triangles under
+ * camera frusta) is many times |n| itself and turns edge planes round.
+ * Every margin below carries cross_error. */
+typedef struct frusta_tri {
+    vf rel[3][3], n[3][3];
+    vf det, det_mag, reach, cross_error;
+    float area; /* |(v1 - v0) x (v2 - v0)|_1, the triangle's own */
+} frusta_tri;
+
+static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, frusta_tri *t)
 {
+    float edge[3][3], edge_max = 0.0f;
+    for (int e = 0; e < 3; e++)
+        for (int k = 0; k < 3; k++) {
+            edge[e][k] = tri->v[(e + 2) % 3][k] - tri->v[(e + 1) % 3][k];
+            edge_max = fmaxf(edge_max, fabsf(edge[e][k]));
+        }
+    /* (v1 - v0) x (v2 - v0) = E[2] x -E[1] */
+    const float nx = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
+    const float ny = edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2];
+    const float nz = edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0];
+    t->area = fabsf(nx) + fabsf(ny) + fabsf(nz);
+    t->reach = vf_set1(0.0f);
     for (int v = 0; v < 3; v++)
-        for (int k = 0; k < 3; k++) rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+        for (int k = 0; k < 3; k++) {
+            t->rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
+            t->reach = vf_max(t->reach, vf_abs(t->rel[v][k]));
+        }
+    t->cross_error = vf_mul(t->reach, vf_set1(edge_max * 0x1p-20f));
     for (int e = 0; e < 3; e++) {
-        const vf *a = rel[(e + 1) % 3], *b = rel[(e + 2) % 3]; /* edge e: the corners other than e */
-        n[e][0] = vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1]));
-        n[e][1] = vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2]));
-        n[e][2] = vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]));
+        const vf *a = t->rel[(e + 1) % 3];
+        const vf b[3] = {vf_set1(edge[e][0]), vf_set1(edge[e][1]), vf_set1(edge[e][2])};
+        t->n[e][0] = vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1]));
+        t->n[e][1] = vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2]));
+        t->n[e][2] = vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]));
     }
-    *det = *det_mag = vf_set1(0.0f);
+    t->det = t->det_mag = vf_set1(0.0f);
     for (int k = 0; k < 3; k++) {
-        const vf x = vf_mul(rel[0][k], n[0][k]);
-        *det = vf_add(*det, x);
-        *det_mag = vf_add(*det_mag, vf_abs(x));
+        const vf x = vf_mul(t->rel[0][k], t->n[0][k]);
+        t->det = vf_add(t->det, x);
+        t->det_mag = vf_add(t->det_mag, vf_abs(x));
     }
 }
 
-/* Which frusta see the triangle (corners rel[v], relative to each origin)
- * facing them and which backing: D = rel[0] . (rel[1] x rel[2]) given as
- * det with det_mag its terms' magnitudes. */
-static inline void frusta_orientation(const vf rel[3][3], vf det, vf det_mag, uint32_t *facing, uint32_t *backing)
+/* Which frusta see the triangle facing them (D > 0) and which backing,
+ * from frusta_edges' D. */
+static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uint32_t *backing)
 {
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
     /* D decides the orientation only when the origin lies clear of the
      * triangle's plane on the scale of its corners: D = 2 area x distance,
-     * so the distance must pass eps times the farthest corner (the
-     * reference's watertight test rounds on that scale; an origin on an
-     * edge of a long sliver has |D| = det_mag yet sits on the triangle) */
-    vf area = zero, reach = zero;
-    {
-        vf e1[3], e2[3];
-        for (int k = 0; k < 3; k++) e1[k] = vf_sub(rel[1][k], rel[0][k]), e2[k] = vf_sub(rel[2][k], rel[0][k]);
-        const vf nx = vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1]));
-        const vf ny = vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2]));
-        const vf nz = vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0]));
-        area = vf_add(vf_add(vf_abs(nx), vf_abs(ny)), vf_abs(nz)); /* L1 >= L2: a larger bound */
-        for (int v = 0; v < 3; v++)
-            reach = vf_max(reach, vf_add(vf_add(vf_abs(rel[v][0]), vf_abs(rel[v][1])), vf_abs(rel[v][2])));
-    }
-    const vf det_margin = vf_max(vf_mul(det_mag, eps), vf_mul(vf_mul(area, reach), eps));
-    *facing = vm_bits(vf_gt(det, det_margin)), *backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+     * so the distance must pass eps times the farthest corner, |rel|_2 <=
+     * sqrt(3) reach (the reference's watertight test rounds on that scale;
+     * an origin on an edge of a long sliver has |D| = det_mag yet sits on
+     * the triangle), and D must pass its own rounding: n[0]'s error
+     * (cross_error per component) times |rel[0]|_1 <= 3 reach */
+    const vf reach = t->reach;
+    const vf det_margin = vf_add(vf_max(vf_mul(t->det_mag, eps), vf_mul(reach, vf_set1(t->area * 1.7321f * 1e-4f))),
+                                 vf_mul(t->cross_error, vf_mul(reach, vf_set1(3.0f))));
+    *facing = vm_bits(vf_gt(t->det, det_margin)), *backing = vm_bits(vf_lt(t->det, vf_sub(zero, det_margin)));
 }
 
 /* The frusta of `active` some of whose directions may cross the triangle
@@ -139,12 +163,19 @@ static inline void frusta_orientation(const vf rel[3][3], vf det, vf det_mag, ui
 static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
                                                vf slack, vm active)
 {
-    vf rel[3][3], normals[3][3], det, det_mag;
-    frusta_edges(tri, g, rel, normals, &det, &det_mag);
+    frusta_tri t;
+    frusta_edges(tri, g, &t);
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
+    vf dl1 = g->dl1; /* |d|_1 over the directions tested */
+    if (corner) {
+        dl1 = zero;
+        for (int c = 0; c < 4; c++)
+            dl1 = vf_max(dl1, vf_add(vf_add(vf_abs(corner[c][0]), vf_abs(corner[c][1])), vf_abs(corner[c][2])));
+    }
+    const vf normal_error = vf_mul(t.cross_error, dl1); /* n's rounding, |dn.d| <= cross_error |d|_1 */
     vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
     for (int e = 0; e < 3; e++) {
-        const vf *n = normals[e];
+        const vf *n = t.n[e];
         vf hi = zero, lo = zero, mag = zero;
         const vf spread = vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2]));
         if (corner) { /* over the cone of four corner directions: n.d at its corners */
@@ -166,12 +197,13 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
                 mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
             }
         }
-        const vf margin = vf_add(vf_mul(mag, eps), vf_mul(spread, slack)); /* directions known to slack per axis */
+        /* directions known to slack per axis, normals to cross_error */
+        const vf margin = vf_add(vf_add(vf_mul(mag, eps), vf_mul(spread, slack)), normal_error);
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
     uint32_t facing, backing;
-    frusta_orientation(rel, det, det_mag, &facing, &backing);
+    frusta_orientation(&t, &facing, &backing);
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 
@@ -190,6 +222,7 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
 typedef struct mft_cone {
     vf corner[4][3];
     vf scale;
+    vf l1;  /* the largest |corner|_1: the normals' rounding scales with it */
 } mft_cone;
 
 /* frusta_triangle_bounded's edge test over the four corner vectors, with
@@ -204,24 +237,25 @@ typedef struct mft_cone {
 static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_bounds *g, const mft_cone *cone,
                                                int cull, vm active)
 {
-    vf rel[3][3], normals[3][3], det, det_mag;
-    frusta_edges(tri, g, rel, normals, &det, &det_mag);
-    const vf zero = vf_set1(0.0f);
+    frusta_tri t;
+    frusta_edges(tri, g, &t);
+    const vf zero = vf_set1(0.0f), normal_error = vf_mul(t.cross_error, cone->l1);
     vm below = vm_of_bits(0), above = vm_of_bits(0);
     for (int e = 0; e < 3; e++) {
-        const vf *n = normals[e];
+        const vf *n = t.n[e];
         vf hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
         for (int c = 0; c < 4; c++) {
             const vf dot = vf_add(vf_add(vf_mul(n[0], cone->corner[c][0]), vf_mul(n[1], cone->corner[c][1])),
                                   vf_mul(n[2], cone->corner[c][2]));
             hi = vf_max(dot, hi), lo = vf_min(dot, lo);
         }
-        const vf margin = vf_mul(vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])), cone->scale);
+        const vf margin =
+            vf_add(vf_mul(vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])), cone->scale), normal_error);
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
     uint32_t facing, backing;
-    frusta_orientation(rel, det, det_mag, &facing, &backing);
+    frusta_orientation(&t, &facing, &backing);
     const uint32_t back = cull > 0 ? facing : cull < 0 ? backing : 0;
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)) | back);
 }

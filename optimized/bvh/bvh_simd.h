@@ -215,6 +215,23 @@ static inline float vf_hmax(vf a)
 /* |x|; NaN stays NaN (the second operand of the max) */
 static inline vf vf_abs(vf x) { return vf_max(x, vf_sub(vf_set1(0.0f), x)); }
 
+/* BVH_SLAB_SLACK: the relative slack of every kernel's box test.  A slab
+ * distance (box plane - origin) / d is rounded three times, so it is off by
+ * up to 3 ulps of itself: of the origin's distance, which the builder's
+ * widening of the boxes (by their own size and coordinates) does not
+ * cover, so a tiny box far from the origin would lose a ray that grazes
+ * it.  bvh_interval_holds tests the interval [t0, t1] with t1 moved out by
+ * 2^-19 of itself, which covers both ends' rounding (t0 <= t1 exactly
+ * implies computed t0 <= t1 + 6 ulps of |t1| when both have one sign, and
+ * t0 < 0 <= t1 otherwise): one multiply-max more per box, not four. */
+#define BVH_SLAB_SLACK 0x1p-19f
+
+static inline vm bvh_interval_holds(vf t0, vf t1)
+{
+    const vf grown = vf_max(vf_mul(t1, vf_set1(1.0f + BVH_SLAB_SLACK)), vf_mul(t1, vf_set1(1.0f - BVH_SLAB_SLACK)));
+    return vf_le(t0, grown);
+}
+
 #define BVH_LANES_ALL ((uint32_t)((1ull << BVH_W) - 1u))
 
 #endif

@@ -469,15 +469,19 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
 {
     const vf zero = vf_set1(0.0f);
     vf cmax = zero, size = zero;
+    cone->l1 = zero;
     for (int c = 0; c < 4; c++) {
+        vf l1 = zero;
         const vf px = vf_add(fx, vf_set1(c & 1 ? 3.5f : 0.5f)), py = vf_add(fy, vf_set1(c & 2 ? 3.5f : 0.5f));
         for (int k = 0; k < 3; k++) {
             const vf su = vf_mul(vf_set1(b->du[k]), px), sv = vf_mul(vf_set1(b->dv[k]), py);
             const vf d = vf_add(vf_set1(b->corner[k]), vf_add(su, sv));
             cone->corner[c][k] = d;
             cmax = vf_max(cmax, vf_abs(d));
+            l1 = vf_add(l1, vf_abs(d));
             size = vf_max(size, vf_add(vf_add(vf_set1(fabsf(b->corner[k])), vf_abs(su)), vf_abs(sv)));
         }
+        cone->l1 = vf_max(cone->l1, l1);
     }
     cone->scale = vf_add(vf_mul(vf_set1(1e-4f), cmax), vf_mul(size, vf_set1(0x1p-16f)));
     *size_out = size;

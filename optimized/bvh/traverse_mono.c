@@ -18,7 +18,8 @@
 
 /* The entry distance of the ray's interval [t0, t1] into the box, or NaN
  * when it misses.  A NaN slab (0 * inf: a ray in a face's plane) leaves the
- * interval as it is. */
+ * interval as it is; the interval is tested with t1 moved out by
+ * BVH_SLAB_SLACK of itself (bvh_simd.h: the slab distances' rounding). */
 static inline float slab1(const bvh_child *c, const float org[3], const float inv[3], float t0, float t1)
 {
     for (int k = 0; k < 3; k++) {
@@ -27,7 +28,8 @@ static inline float slab1(const bvh_child *c, const float org[3], const float in
         t0 = lo > t0 ? lo : t0;
         t1 = hi < t1 ? hi : t1;
     }
-    return t0 <= t1 ? t0 : NAN;
+    const float grown = fmaxf(t1 * (1.0f + BVH_SLAB_SLACK), t1 * (1.0f - BVH_SLAB_SLACK));
+    return t0 <= grown ? t0 : NAN;
 }
 
 typedef struct mono_entry {

@@ -20,7 +20,11 @@
 #include "bvh_traverse.h"
 
 /* The lanes of `active` whose interval [tnear, tfar] enters the box, and
- * their entry distances. */
+ * their entry distances.  Each slab distance is rounded three times (the
+ * difference, the reciprocal, the product), so by up to 3 ulps of itself
+ * -- of the origin's distance, not of the box's size, which the builder's
+ * widening covers: a tiny box far from the origin loses a ray grazing it
+ * unless the interval is tested grown (bvh_interval_holds). */
 static inline vm slab_w(const bvh_child *c, const bvh_packet *p, vf tfar, vm active, vf *entry)
 {
     vf t0 = p->tnear, t1 = tfar;
@@ -31,7 +35,7 @@ static inline vm slab_w(const bvh_child *c, const bvh_packet *p, vf tfar, vm act
         t1 = vf_min(vf_max(a, b), t1);
     }
     *entry = t0;
-    return vm_and(active, vf_le(t0, t1));
+    return vm_and(active, bvh_interval_holds(t0, t1));
 }
 
 typedef struct packet_entry {
