@@ -103,7 +103,8 @@ static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, fru
     for (int e = 0; e < 3; e++)
         for (int k = 0; k < 3; k++) {
             edge[e][k] = tri->v[(e + 2) % 3][k] - tri->v[(e + 1) % 3][k];
-            edge_max = fmaxf(edge_max, fabsf(edge[e][k]));
+            const float size = fabsf(edge[e][k]); /* not fmaxf: a call into libm here */
+            edge_max = size > edge_max ? size : edge_max;
         }
     /* (v1 - v0) x (v2 - v0) = E[2] x -E[1] */
     const float nx = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
