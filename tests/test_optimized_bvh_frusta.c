@@ -14,6 +14,7 @@
 #include <float.h>
 #include <stdio.h>
 
+#include "bvh_build.h"
 #include "bvh_kernels.h"
 #include "rtt/image.h"
 #include "rtt/interleaved.h"
@@ -226,6 +227,128 @@ static void test_soft_shadow_frusta_every_sample_count_and_light(void **state)
     check_soft_shadows(f, &near, 16, 300); /* a light among the triangles */
 }
 
+/* Soft shadows from points on a floor (a map's common case): a tiled
+ * floor, axis-aligned (z = 0, points exactly on it) or tilted (points
+ * where vertical rays meet it, off its plane by their rounding, or 1e-6
+ * above or below), a sphere light above, and every eighth point 2e-3 under
+ * the floor.  Without occluders only those points' frusta may reach a
+ * ray-triangle test: the floor's triangles hold the other points in their
+ * plane, so only beside_plane (shadow_frusta.c) culls them.  With
+ * occluders every sample's answer must be the records' brute force's, at
+ * every ISA under both triangle tests. */
+static bvh_shadow_point *floor_points(const rtt_light *light, float slope, uint32_t n, uint64_t seed)
+{
+    rng r = {seed};
+    bvh_shadow_point *pts = malloc(n * sizeof *pts);
+    assert_non_null(pts);
+    for (uint32_t i = 0; i < n; i++) {
+        const float x = rng_range(&r, -3.5f, 3.5f), y = rng_range(&r, -3.5f, 3.5f);
+        /* the floor z = slope x: a vertical ray from z = 10 meets it at t = 10 - slope x */
+        float z = slope == 0.0f ? 0.0f : 10.0f + -1.0f * (10.0f - slope * x);
+        if (slope != 0.0f && i % 3) z += i % 3 == 1 ? 1e-6f : -1e-6f;
+        if (i % 8 == 7) z -= 2e-3f; /* under the floor: it shadows every sample */
+        const rtt_vec3 p = rtt_v3(x, y, z);
+        const rtt_light_frame fr = rtt_light_sample_frame(light, p);
+        pts[i] = (bvh_shadow_point){{p.x, p.y, p.z}, {fr.base.x, fr.base.y, fr.base.z}, {fr.du.x, fr.du.y, fr.du.z},
+                                    {fr.dv.x, fr.dv.y, fr.dv.z}, i % 16};
+    }
+    return pts;
+}
+
+static rtt_scene *floor_scene(float slope, uint32_t occluders, uint64_t seed)
+{
+    enum { TILES = 8 };
+    const uint32_t count = 2 * TILES * TILES + occluders;
+    float *xyz = malloc(9 * (size_t)count * sizeof *xyz);
+    assert_non_null(xyz);
+    uint32_t t = 0;
+    for (int y = 0; y < TILES; y++)
+        for (int x = 0; x < TILES; x++) {
+            const float x0 = (float)(x - TILES / 2), y0 = (float)(y - TILES / 2), x1 = x0 + 1.0f, y1 = y0 + 1.0f;
+            const float quad[2][9] = {{x0, y0, slope * x0, x1, y0, slope * x1, x1, y1, slope * x1},
+                                      {x0, y0, slope * x0, x1, y1, slope * x1, x0, y1, slope * x0}};
+            for (int k = 0; k < 2; k++, t++) memcpy(&xyz[9 * t], quad[k], sizeof quad[k]);
+        }
+    rng r = {seed};
+    for (; t < count; t++) {
+        const float c[3] = {rng_range(&r, -3, 3), rng_range(&r, -3, 3), rng_range(&r, 0.3f, 1.5f)};
+        for (int v = 0; v < 3; v++)
+            for (int a = 0; a < 3; a++) xyz[9 * t + 3 * v + a] = c[a] + rng_range(&r, -0.4f, 0.4f);
+        for (int v = 0; v < 3; v++) xyz[9 * t + 3 * v + 2] += slope * xyz[9 * t + 3 * v];
+    }
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, count, &err);
+    free(xyz);
+    if (!scene) fail_msg("scene: %s", err.message);
+    return scene;
+}
+
+static void test_soft_shadow_frusta_from_points_on_a_floor(void **state)
+{
+    (void)state;
+    const rtt_light light = {.type = RTT_LIGHT_SPHERE, .position = {0.5f, -0.3f, 6.0f}, .radius = 1.0f};
+    const uint32_t n = 1024, samples = 16;
+    const float eps = 1e-4f;
+    bvh_shadow_sets *sets = calloc(1, sizeof *sets);
+    assert_non_null(sets);
+    sets->samples = samples;
+    float xy[BVH_SHADOW_MAX_SAMPLES][2];
+    for (uint32_t s = 0; s < 16; s++) {
+        rtt_interleaved_coords(&light, s, samples, xy);
+        for (uint32_t k = 0; k < samples; k++) sets->x[s][k] = xy[k][0], sets->y[s][k] = xy[k][1];
+        rtt_interleaved_bounds(&light, s, samples, sets->lo[s], sets->hi[s]);
+    }
+    uint32_t *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
+    assert_non_null(want), assert_non_null(got);
+    const float slopes[2] = {0.0f, 0.37f};
+    for (int sl = 0; sl < 2; sl++)
+        for (uint32_t occluders = 0; occluders <= 30; occluders += 30) {
+            rtt_scene *scene = floor_scene(slopes[sl], occluders, 0xF100Dull + occluders);
+            bvh_shadow_point *pts = floor_points(&light, slopes[sl], n, 0xF1002ull + (uint64_t)sl);
+            bvh_build_options bo = {.leaf_size = 4, .max_depth = 0, .threads = 1};
+            rtt_error err = {{0}};
+            bvh_tree tree;
+            if (!bvh_build_sah(scene, &bo, &tree, &err)) fail_msg("build: %s", err.message);
+            for (int wt = 0; wt < 2; wt++) {
+                tree.watertight = wt == 0;
+                uint32_t occluded = 0;
+                for (uint32_t i = 0; i < n; i++) {
+                    want[i] = 0;
+                    for (uint32_t k = 0; k < samples; k++) {
+                        rtt_ray ray;
+                        if (sample_ray(&pts[i], sets, k, eps, &ray) && bvh_records_occlude(&tree, &ray))
+                            want[i] |= 1u << k, occluded++;
+                    }
+                }
+                const bvh_shadow_kernel *row;
+                for (uint32_t r = 0; (row = bvh_shadow_kernel_row_at(r)); r++) {
+                    if (!isa_runs(row->isa)) continue;
+                    bvh_counters counters = {0};
+                    row->trace(&tree, &(bvh_shadow_query){.points = pts, .count = n, .sets = sets, .epsilon = eps,
+                                                            .occluded = got, .counters = &counters});
+                    uint32_t lost = 0;
+                    for (uint32_t i = 0; i < n; i++)
+                        if (got[i] != want[i] && lost++ < 5)
+                            print_message("point %u: mask %08x, records %08x\n", i, got[i], want[i]);
+                    print_message("frusta:16 %-7s %-10s floor slope %.2f, %2u occluders: %u of %u samples occluded, "
+                                  "%u points wrong; %llu frusta at triangles, %llu ray-packet tests\n",
+                                  rtt_isa_name(row->isa), bvh_tree_test_name(&tree), (double)slopes[sl], occluders,
+                                  occluded, n * samples, lost, (unsigned long long)counters.triangles,
+                                  (unsigned long long)counters.isect_tests);
+                    assert_int_equal(lost, 0);
+                    assert_true(counters.triangles > 0);
+                    if (occluders == 0) assert_true(counters.isect_tests <= 2 * (n / 8)); /* the points under it */
+                }
+                if (occluders) assert_true(occluded > n * samples / 8 && occluded < n * samples / 2);
+                else assert_int_equal(occluded, n / 8 * samples);
+            }
+            bvh_tree_free(&tree);
+            rtt_scene_free(scene);
+            free(pts);
+        }
+    free(sets), free(want), free(got);
+}
+
 /* ---- the renderer ---- */
 
 static rtt_image *render_scene(rtt_engine *engine, const rtt_render_options *opt)
@@ -338,6 +461,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_hard_shadows_through_the_apex_frusta, setup_bvh, teardown_bvh),
         cmocka_unit_test_setup_teardown(test_soft_shadow_frusta_every_sample_count_and_light, setup_bvh, teardown_bvh),
+        cmocka_unit_test(test_soft_shadow_frusta_from_points_on_a_floor),
         cmocka_unit_test(test_renders_equal_interleaved_and_packet_hard_shadows),
         cmocka_unit_test(test_frusta_is_refused_without_the_bvh),
     };

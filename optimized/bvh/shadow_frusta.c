@@ -19,8 +19,9 @@
  *    active frustum at once over the cone of its four corner rays (the
  *    vectors to the 2D bounds' corners: every target is a convex
  *    combination of them; bvh_frusta.h), with a margin for the corners'
- *    rounding; then, only for the survivors
- *    (bitscan), the frustum's rays are generated from the point, its light
+ *    rounding, and a plane test for what the edges cannot cull (a point in
+ *    the triangle's plane, as on a floor: beside_plane); then, only for the
+ *    survivors (bitscan), the frustum's rays are generated from the point, its light
  *    frame and the set's domain coordinates at its first triangle test
  *    (on demand: a frustum no triangle reaches makes none), kept in the
  *    group with their shears for its later tests, and tested with the
@@ -183,6 +184,58 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
         for (int k = 0; k < 3; k++) g->corner[c][k] = vf_load(g->corner_at[c][k]);
 }
 
+/* The frusta of `lanes` whose sample rays all stay on one side of the
+ * triangle's plane from their tnear = eps on: the case the edge test
+ * cannot cull, a point on a floor (in the plane of the floor's triangles,
+ * so every edge plane through it is that plane) with the light above it.
+ * With N the triangle's normal as computed, h = N.(org - v0) the origin's
+ * height over its plane and every sample vector d (a convex combination of
+ * the corner vectors, up to corner_grow per axis) climbing at N.d >= lo
+ * over |d| <= dmax, a ray's height at t >= eps is at least h + eps lo /
+ * dmax; the triangle lies within `thick` of the plane (N's rounding,
+ * 2^-21 E^2 per component for edge components up to E, times |x - v0|_1 <=
+ * 6E) and h is known to 2^-20 of its terms.  A frustum is dropped when
+ * that bound clears the slab twice over (the ray meets the plane, if at
+ * all, before eps / 2) and eps passes 2^-16 of the corners' distance (the
+ * watertight test's t, a weighted mean of the corners' distances along
+ * the ray, is off by far less than eps / 2 then); likewise below. */
+static inline uint32_t beside_plane(const bvh_corners *tri, const sf_group *g, float eps, uint32_t lanes)
+{
+    float e1[3], e2[3], edge = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        e1[k] = tri->v[1][k] - tri->v[0][k], e2[k] = tri->v[2][k] - tri->v[0][k];
+        const float m = fabsf(e1[k]) > fabsf(e2[k]) ? fabsf(e1[k]) : fabsf(e2[k]);
+        edge = m > edge ? m : edge;
+    }
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const float n1 = fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]);
+    const float thick = 0x1p-18f * edge * edge * edge * (n1 > 0.0f);
+    const vf zero = vf_set1(0.0f);
+    vf below = zero, below_mag = zero, reach = zero; /* below = -h = N.(v0 - org) */
+    for (int k = 0; k < 3; k++) {
+        const vf rel = vf_sub(vf_set1(tri->v[0][k]), g->b.org[k]), x = vf_mul(vf_set1(n[k]), rel);
+        below = vf_add(below, x), below_mag = vf_add(below_mag, vf_abs(x));
+        reach = vf_max(reach, vf_abs(rel));
+    }
+    vf lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY), dmax = zero;
+    for (int c = 0; c < 4; c++) {
+        const vf *d = g->corner[c];
+        const vf dot = vf_add(vf_add(vf_mul(vf_set1(n[0]), d[0]), vf_mul(vf_set1(n[1]), d[1])), vf_mul(vf_set1(n[2]), d[2]));
+        lo = vf_min(lo, dot), hi = vf_max(hi, dot);
+        dmax = vf_max(dmax, vf_add(vf_add(vf_abs(d[0]), vf_abs(d[1])), vf_abs(d[2])));
+    }
+    const vf grow = g->corner_grow;
+    dmax = vf_add(dmax, vf_mul(grow, vf_set1(3.0f)));
+    const vf slack = vf_mul(vf_set1(n1), vf_add(vf_add(grow, grow), vf_mul(dmax, vf_set1(0x1p-20f))));
+    const vf err = vf_add(vf_mul(below_mag, vf_set1(0x1p-20f)), vf_set1(thick));
+    const vf e = vf_set1(eps), twice_d = vf_add(dmax, dmax);
+    const vf up = vf_sub(lo, slack), down = vf_sub(zero, vf_add(hi, slack));
+    const vm rising = vm_and(vf_gt(up, zero), vf_gt(vf_mul(e, up), vf_mul(twice_d, vf_add(err, below))));
+    const vm falling = vm_and(vf_gt(down, zero), vf_gt(vf_mul(e, down), vf_mul(twice_d, vf_sub(err, below))));
+    const vm near = vf_gt(e, vf_mul(reach, vf_set1(0x1p-16f)));
+    return lanes & vm_bits(vm_and(near, vm_or(rising, falling)));
+}
+
 static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets, float eps,
                         bvh_counters *counters)
 {
@@ -200,6 +253,7 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
             uint32_t survive = frusta_triangle_cone(&tree->corners[rec], &g->b, g->corner, g->corner_grow,
                                                     vm_of_bits(lanes));
+            if (survive) survive &= ~beside_plane(&tree->corners[rec], g, eps, survive);
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
