@@ -118,6 +118,22 @@ static inline int bvh_records_occlude(const bvh_tree *tree, const rtt_ray *r)
     return 0;
 }
 
+/* A floor of tiles x tiles unit squares (two triangles each) centred on
+ * the origin in the plane z = slope x, into xyz (9 floats a triangle);
+ * returns the triangles written, 2 tiles^2. */
+static inline uint32_t tiled_floor(float *xyz, int tiles, float slope)
+{
+    uint32_t t = 0;
+    for (int y = 0; y < tiles; y++)
+        for (int x = 0; x < tiles; x++) {
+            const float x0 = (float)(x - tiles / 2), y0 = (float)(y - tiles / 2), x1 = x0 + 1.0f, y1 = y0 + 1.0f;
+            const float quad[2][9] = {{x0, y0, slope * x0, x1, y0, slope * x1, x1, y1, slope * x1},
+                                      {x0, y0, slope * x0, x1, y1, slope * x1, x0, y1, slope * x0}};
+            for (int k = 0; k < 2; k++, t++) memcpy(&xyz[9 * t], quad[k], sizeof quad[k]);
+        }
+    return t;
+}
+
 static inline int teardown_bvh(void **state)
 {
     bvh_fixture *f = *state;

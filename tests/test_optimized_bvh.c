@@ -436,13 +436,7 @@ static void test_kernels_on_shadow_rays_leaving_an_axis_aligned_floor(void **sta
     const uint32_t count = 2 * TILES * TILES + OCCLUDERS;
     float *xyz = malloc(9 * (size_t)count * sizeof *xyz);
     assert_non_null(xyz);
-    uint32_t t = 0;
-    for (int y = 0; y < TILES; y++)
-        for (int x = 0; x < TILES; x++) {
-            const float x0 = (float)(x - TILES / 2), y0 = (float)(y - TILES / 2), x1 = x0 + 1.0f, y1 = y0 + 1.0f;
-            const float quad[2][9] = {{x0, y0, 0, x1, y0, 0, x1, y1, 0}, {x0, y0, 0, x1, y1, 0, x0, y1, 0}};
-            for (int k = 0; k < 2; k++, t++) memcpy(&xyz[9 * t], quad[k], sizeof quad[k]);
-        }
+    uint32_t t = tiled_floor(xyz, TILES, 0.0f);
     rng r = {0x5EEDF100Aull};
     for (; t < count; t++) {
         const float c[3] = {rng_range(&r, -4, 4), rng_range(&r, -4, 4), rng_range(&r, 0.5f, 3.0f)};

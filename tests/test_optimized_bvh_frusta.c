@@ -107,6 +107,22 @@ static void test_hard_shadows_through_the_apex_frusta(void **state)
 
 /* ---- soft-shadow frusta ---- */
 
+/* The 16 interleaved sets of `samples` samples of the light (4x4 pixels),
+ * each with its 2D bounds, as the renderer's frusta:N path makes them. */
+static bvh_shadow_sets *interleaved_sets(const rtt_light *light, uint32_t samples)
+{
+    bvh_shadow_sets *sets = calloc(1, sizeof *sets);
+    assert_non_null(sets);
+    sets->samples = samples;
+    float xy[BVH_SHADOW_MAX_SAMPLES][2];
+    for (uint32_t s = 0; s < 16; s++) {
+        rtt_interleaved_coords(light, s, samples, xy);
+        for (uint32_t k = 0; k < samples; k++) sets->x[s][k] = xy[k][0], sets->y[s][k] = xy[k][1];
+        rtt_interleaved_bounds(light, s, samples, sets->lo[s], sets->hi[s]);
+    }
+    return sets;
+}
+
 /* n points on patches of 16 (a 4x4 block each: sets 0..15), the light's
  * frame from each. */
 static bvh_shadow_point *shadow_points(const rtt_light *light, uint32_t n, uint64_t seed)
@@ -147,15 +163,7 @@ static void check_soft_shadows_on(const bvh_fixture *f, const bvh_tree *tree, co
 {
     const uint32_t n = test_sweep(1024);
     const float eps = 1e-4f;
-    bvh_shadow_sets *sets = calloc(1, sizeof *sets);
-    assert_non_null(sets);
-    sets->samples = samples;
-    float xy[BVH_SHADOW_MAX_SAMPLES][2];
-    for (uint32_t s = 0; s < 16; s++) {
-        rtt_interleaved_coords(light, s, samples, xy);
-        for (uint32_t k = 0; k < samples; k++) sets->x[s][k] = xy[k][0], sets->y[s][k] = xy[k][1];
-        rtt_interleaved_bounds(light, s, samples, sets->lo[s], sets->hi[s]);
-    }
+    bvh_shadow_sets *sets = interleaved_sets(light, samples);
     bvh_shadow_point *pts = shadow_points(light, n, seed);
     uint32_t *want = calloc(n, sizeof *want), *got = malloc(n * sizeof *got);
     rtt_ray *rays = malloc((size_t)n * samples * sizeof *rays);
@@ -261,14 +269,7 @@ static rtt_scene *floor_scene(float slope, uint32_t occluders, uint64_t seed)
     const uint32_t count = 2 * TILES * TILES + occluders;
     float *xyz = malloc(9 * (size_t)count * sizeof *xyz);
     assert_non_null(xyz);
-    uint32_t t = 0;
-    for (int y = 0; y < TILES; y++)
-        for (int x = 0; x < TILES; x++) {
-            const float x0 = (float)(x - TILES / 2), y0 = (float)(y - TILES / 2), x1 = x0 + 1.0f, y1 = y0 + 1.0f;
-            const float quad[2][9] = {{x0, y0, slope * x0, x1, y0, slope * x1, x1, y1, slope * x1},
-                                      {x0, y0, slope * x0, x1, y1, slope * x1, x0, y1, slope * x0}};
-            for (int k = 0; k < 2; k++, t++) memcpy(&xyz[9 * t], quad[k], sizeof quad[k]);
-        }
+    uint32_t t = tiled_floor(xyz, TILES, slope);
     rng r = {seed};
     for (; t < count; t++) {
         const float c[3] = {rng_range(&r, -3, 3), rng_range(&r, -3, 3), rng_range(&r, 0.3f, 1.5f)};
@@ -289,15 +290,7 @@ static void test_soft_shadow_frusta_from_points_on_a_floor(void **state)
     const rtt_light light = {.type = RTT_LIGHT_SPHERE, .position = {0.5f, -0.3f, 6.0f}, .radius = 1.0f};
     const uint32_t n = 1024, samples = 16;
     const float eps = 1e-4f;
-    bvh_shadow_sets *sets = calloc(1, sizeof *sets);
-    assert_non_null(sets);
-    sets->samples = samples;
-    float xy[BVH_SHADOW_MAX_SAMPLES][2];
-    for (uint32_t s = 0; s < 16; s++) {
-        rtt_interleaved_coords(&light, s, samples, xy);
-        for (uint32_t k = 0; k < samples; k++) sets->x[s][k] = xy[k][0], sets->y[s][k] = xy[k][1];
-        rtt_interleaved_bounds(&light, s, samples, sets->lo[s], sets->hi[s]);
-    }
+    bvh_shadow_sets *sets = interleaved_sets(&light, samples);
     uint32_t *want = malloc(n * sizeof *want), *got = malloc(n * sizeof *got);
     assert_non_null(want), assert_non_null(got);
     const float slopes[2] = {0.0f, 0.37f};
