@@ -192,24 +192,28 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
  * height over its plane and every sample vector d (a convex combination of
  * the corner vectors, up to corner_grow per axis) climbing at N.d >= lo
  * over |d| <= dmax, a ray's height at t >= eps is at least h + eps lo /
- * dmax; the triangle lies within `thick` of the plane (N's rounding,
- * 2^-21 E^2 per component for edge components up to E, times |x - v0|_1 <=
- * 6E) and h is known to 2^-20 of its terms.  A frustum is dropped when
+ * dmax; the triangle lies within `thick` of the plane (the larger of its
+ * other corners' heights N.(v - v0), N being rounded, and their rounding:
+ * the heights are linear, so the triangle, their hull, lies between them)
+ * and h is known to 2^-20 of its terms.  A frustum is dropped when
  * that bound clears the slab twice over (the ray meets the plane, if at
  * all, before eps / 2) and eps passes 2^-16 of the corners' distance (the
  * watertight test's t, a weighted mean of the corners' distances along
  * the ray, is off by far less than eps / 2 then); likewise below. */
 static inline uint32_t beside_plane(const bvh_corners *tri, const sf_group *g, float eps, uint32_t lanes)
 {
-    float e1[3], e2[3], edge = 0.0f;
-    for (int k = 0; k < 3; k++) {
-        e1[k] = tri->v[1][k] - tri->v[0][k], e2[k] = tri->v[2][k] - tri->v[0][k];
-        const float m = fabsf(e1[k]) > fabsf(e2[k]) ? fabsf(e1[k]) : fabsf(e2[k]);
-        edge = m > edge ? m : edge;
-    }
+    float e1[3], e2[3];
+    for (int k = 0; k < 3; k++) e1[k] = tri->v[1][k] - tri->v[0][k], e2[k] = tri->v[2][k] - tri->v[0][k];
     const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     const float n1 = fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]);
-    const float thick = 0x1p-18f * edge * edge * edge * (n1 > 0.0f);
+    /* the corners' heights over the plane through v0 as computed: the
+     * triangle, their hull, lies within the larger (and its rounding) */
+    float h1 = 0.0f, h2 = 0.0f, terms = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        h1 += n[k] * e1[k], h2 += n[k] * e2[k];
+        terms += fabsf(n[k] * e1[k]) + fabsf(n[k] * e2[k]);
+    }
+    const float thick = (fabsf(h1) > fabsf(h2) ? fabsf(h1) : fabsf(h2)) + terms * 0x1p-20f;
     const vf zero = vf_set1(0.0f);
     vf below = zero, below_mag = zero, reach = zero; /* below = -h = N.(v0 - org) */
     for (int k = 0; k < 3; k++) {
