@@ -202,8 +202,12 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
  * the ray, is off by far less than eps / 2 then); likewise below. */
 static inline uint32_t beside_plane(const bvh_corners *tri, const sf_group *g, float eps, uint32_t lanes)
 {
-    float e1[3], e2[3];
-    for (int k = 0; k < 3; k++) e1[k] = tri->v[1][k] - tri->v[0][k], e2[k] = tri->v[2][k] - tri->v[0][k];
+    float e1[3], e2[3], edge = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        e1[k] = tri->v[1][k] - tri->v[0][k], e2[k] = tri->v[2][k] - tri->v[0][k];
+        const float m = fabsf(e1[k]) > fabsf(e2[k]) ? fabsf(e1[k]) : fabsf(e2[k]);
+        edge = m > edge ? m : edge;
+    }
     const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     const float n1 = fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]);
     /* the corners' heights over the plane through v0 as computed: the
@@ -215,12 +219,15 @@ static inline uint32_t beside_plane(const bvh_corners *tri, const sf_group *g, f
     }
     const float thick = (fabsf(h1) > fabsf(h2) ? fabsf(h1) : fabsf(h2)) + terms * 0x1p-20f;
     const vf zero = vf_set1(0.0f);
-    vf below = zero, below_mag = zero, reach = zero; /* below = -h = N.(v0 - org) */
+    /* below = -h = N.(v0 - org); reach: the corners' largest distance from
+     * the origin per axis, at most v0's plus the largest edge component */
+    vf below = zero, below_mag = zero, reach = zero;
     for (int k = 0; k < 3; k++) {
         const vf rel = vf_sub(vf_set1(tri->v[0][k]), g->b.org[k]), x = vf_mul(vf_set1(n[k]), rel);
         below = vf_add(below, x), below_mag = vf_add(below_mag, vf_abs(x));
         reach = vf_max(reach, vf_abs(rel));
     }
+    reach = vf_add(reach, vf_set1(edge));
     vf lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY), dmax = zero;
     for (int c = 0; c < 4; c++) {
         const vf *d = g->corner[c];
