@@ -28,7 +28,8 @@ static inline float slab1(const bvh_child *c, const float org[3], const float in
         t0 = lo > t0 ? lo : t0;
         t1 = hi < t1 ? hi : t1;
     }
-    const float grown = fmaxf(t1 * (1.0f + BVH_SLAB_SLACK), t1 * (1.0f - BVH_SLAB_SLACK));
+    const float up = t1 * (1.0f + BVH_SLAB_SLACK), down = t1 * (1.0f - BVH_SLAB_SLACK);
+    const float grown = up > down ? up : down; /* not fmaxf: a call into libm per box (both NaN or neither) */
     return t0 <= grown ? t0 : NAN;
 }
 
