@@ -94,23 +94,27 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
 typedef struct frusta_tri {
     vf rel[3][3], n[3][3];
     vf det, det_mag, reach, cross_error;
-    float area; /* |(v1 - v0) x (v2 - v0)|_1, the triangle's own */
+    float edge[3][3];  /* E[e] = v[e+2] - v[e+1] */
+    float edge_max;    /* the largest |E| component */
+    float normal[3];   /* (v1 - v0) x (v2 - v0) = E[2] x -E[1], as computed */
+    float area;        /* |normal|_1 */
 } frusta_tri;
 
 static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, frusta_tri *t)
 {
-    float edge[3][3], edge_max = 0.0f;
+    float (*edge)[3] = t->edge, edge_max = 0.0f;
     for (int e = 0; e < 3; e++)
         for (int k = 0; k < 3; k++) {
             edge[e][k] = tri->v[(e + 2) % 3][k] - tri->v[(e + 1) % 3][k];
             const float size = fabsf(edge[e][k]); /* not fmaxf: a call into libm here */
             edge_max = size > edge_max ? size : edge_max;
         }
+    t->edge_max = edge_max;
     /* (v1 - v0) x (v2 - v0) = E[2] x -E[1] */
-    const float nx = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
-    const float ny = edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2];
-    const float nz = edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0];
-    t->area = fabsf(nx) + fabsf(ny) + fabsf(nz);
+    t->normal[0] = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
+    t->normal[1] = edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2];
+    t->normal[2] = edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0];
+    t->area = fabsf(t->normal[0]) + fabsf(t->normal[1]) + fabsf(t->normal[2]);
     t->reach = vf_set1(0.0f);
     for (int v = 0; v < 3; v++)
         for (int k = 0; k < 3; k++) {
@@ -157,26 +161,20 @@ static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uin
  * that is iff (B x C).d, (C x A).d and (A x B).d all have the sign of D (the
  * triangle's orientation as the origin sees it: Benthin & Wald's back-face
  * test decides which sign the edge tests must have).  A frustum is culled
- * when over its whole direction box one edge's n.d has the wrong sign; an
+ * when over all its directions (its direction box, or with `corner` the
+ * cone of its four corner vectors) one edge's n.d has the wrong sign; an
  * origin (nearly) in the triangle's plane -- within 1e-4 of its farthest
  * corner's distance -- culls nothing.  The margin is 1e-4 of n.d's terms
- * plus |n|_1 slack: a direction known only to within slack per axis. */
-static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, const vf (*corner)[3],
-                                               vf slack, vm active)
+ * plus |n|_1 slack (a direction known only to within slack per axis) plus
+ * n's rounding over |d|_1 <= dl1. */
+static inline uint32_t frusta_cull(const frusta_tri *t, const mft_bounds *g, const vf (*corner)[3], vf dl1, vf slack,
+                                   vm active)
 {
-    frusta_tri t;
-    frusta_edges(tri, g, &t);
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
-    vf dl1 = g->dl1; /* |d|_1 over the directions tested */
-    if (corner) {
-        dl1 = zero;
-        for (int c = 0; c < 4; c++)
-            dl1 = vf_max(dl1, vf_add(vf_add(vf_abs(corner[c][0]), vf_abs(corner[c][1])), vf_abs(corner[c][2])));
-    }
-    const vf normal_error = vf_mul(t.cross_error, dl1); /* n's rounding, |dn.d| <= cross_error |d|_1 */
+    const vf normal_error = vf_mul(t->cross_error, dl1); /* n's rounding, |dn.d| <= cross_error |d|_1 */
     vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
     for (int e = 0; e < 3; e++) {
-        const vf *n = t.n[e];
+        const vf *n = t->n[e];
         vf hi = zero, lo = zero, mag = zero;
         const vf spread = vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2]));
         if (corner) { /* over the cone of four corner directions: n.d at its corners */
@@ -204,13 +202,22 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
         above = vm_or(above, vf_gt(lo, margin));
     }
     uint32_t facing, backing;
-    frusta_orientation(&t, &facing, &backing);
+    frusta_orientation(t, &facing, &backing);
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
+}
+
+/* frusta_cull over each frustum's direction box (|d|_1 <= dl1), the
+ * directions known to slack per axis. */
+static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft_bounds *g, vf slack, vm active)
+{
+    frusta_tri t;
+    frusta_edges(tri, g, &t);
+    return frusta_cull(&t, g, NULL, g->dl1, slack, active);
 }
 
 static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds *g, vm active)
 {
-    return frusta_triangle_bounded(tri, g, NULL, vf_set1(0.0f), active);
+    return frusta_triangle_bounded(tri, g, vf_set1(0.0f), active);
 }
 
 /* Pinhole frusta (primary rays made from the camera frame): every ray
@@ -263,13 +270,14 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
 
 /* The same test over the cone of four corner directions per frustum
  * (corner[c][axis], each known to within corner_grow per axis, as are the
- * rays' directions on the corners' scale): every
- * direction of the frustum is a positive combination of them (the paper's
- * corner rays), a tighter bound than their box. */
-static inline uint32_t frusta_triangle_cone(const bvh_corners *tri, const mft_bounds *g, const vf corner[4][3],
-                                            vf corner_grow, vm active)
+ * rays' directions on the corners' scale; corner_l1 the largest
+ * |corner|_1): every direction of the frustum is a positive combination of
+ * them (the paper's corner rays), a tighter bound than their box.  The
+ * caller makes t (frusta_edges) and may read its normal after. */
+static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const mft_bounds *g, const vf corner[4][3],
+                                            vf corner_l1, vf corner_grow, vm active)
 {
-    return frusta_triangle_bounded(tri, g, corner, corner_grow, active);
+    return frusta_cull(t, g, corner, corner_l1, corner_grow, active);
 }
 
 typedef struct mft_entry {

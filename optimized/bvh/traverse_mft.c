@@ -133,7 +133,7 @@ static inline uint32_t frusta_triangle_apex(const bvh_corners *tri, const mft_bo
     const vm far = vf_gt(clear, zero);
     const vf slack = vf_blend(far, vf_set1(INFINITY), vf_div(vf_mul(two_grow, reach), clear));
     const uint32_t near_lanes = reached & ~vm_bits(far);
-    return near_lanes | frusta_triangle_bounded(tri, b, NULL, slack, vm_of_bits(reached & vm_bits(far)));
+    return near_lanes | frusta_triangle_bounded(tri, b, slack, vm_of_bits(reached & vm_bits(far)));
 }
 
 static float frustum_dist(const mft_group *g, uint32_t f, bool closest)

@@ -19,25 +19,6 @@
 #include "bvh_kernels.h"
 #include "bvh_traverse.h"
 
-/* The lanes of `active` whose interval [tnear, tfar] enters the box, and
- * their entry distances.  Each slab distance is rounded three times (the
- * difference, the reciprocal, the product), so by up to 3 ulps of itself
- * -- of the origin's distance, not of the box's size, which the builder's
- * widening covers: a tiny box far from the origin loses a ray grazing it
- * unless the interval is tested grown (bvh_interval_holds). */
-static inline vm slab_w(const bvh_child *c, const bvh_packet *p, vf tfar, vm active, vf *entry)
-{
-    vf t0 = p->tnear, t1 = tfar;
-    for (int k = 0; k < 3; k++) {
-        const vf a = vf_mul(vf_sub(vf_set1(c->lo[k]), p->org[k]), p->inv_dir[k]);
-        const vf b = vf_mul(vf_sub(vf_set1(c->hi[k]), p->org[k]), p->inv_dir[k]);
-        t0 = vf_max(vf_min(a, b), t0);
-        t1 = vf_min(vf_max(a, b), t1);
-    }
-    *entry = t0;
-    return vm_and(active, bvh_interval_holds(t0, t1));
-}
-
 typedef struct packet_entry {
     const bvh_child *child;
     uint32_t lanes;
@@ -55,15 +36,15 @@ void bvh_trace_packet(const bvh_tree *tree, const bvh_packet *p, uint32_t live, 
     while (top > 0) {
         const packet_entry e = stack[--top];
         vf entry;
-        uint32_t lanes = vm_bits(slab_w(e.child, p, tfar, vm_of_bits(e.lanes & ~occ), &entry));
+        uint32_t lanes = vm_bits(bvh_packet_box(e.child, p, tfar, vm_of_bits(e.lanes & ~occ), &entry));
         if (counters) counters->aabb_tests++;
         const bvh_child *c = e.child;
         while (lanes && c->count == 0) {
             const bvh_node *node = &tree->nodes[c->index];
             vf e0, e1;
             const vm active = vm_of_bits(lanes);
-            const uint32_t l0 = vm_bits(slab_w(&node->child[0], p, tfar, active, &e0));
-            const uint32_t l1 = vm_bits(slab_w(&node->child[1], p, tfar, active, &e1));
+            const uint32_t l0 = vm_bits(bvh_packet_box(&node->child[0], p, tfar, active, &e0));
+            const uint32_t l1 = vm_bits(bvh_packet_box(&node->child[1], p, tfar, active, &e1));
             if (counters) counters->aabb_tests += 2;
             if (l0 && l1) {
                 const uint32_t both = l0 & l1;
