@@ -156,11 +156,9 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     uint32_t valid = inside & normal & vm_bits(vm_and(vm_and(vf_gt(t, r->tnear), vf_lt(t, r->tfar)), vf_le(t, tbest)));
     vf bu = zero, bv = zero;
     if (want_uv && valid) bu = vf_div(v, det), bv = vf_div(w, det);
-    uint32_t slow = active & ~normal;
-    /* the flat lanes' answer is no, and the short lanes' (t below tnear),
-     * without asking the scalar form */
-    if (slow) slow &= ~bvh_wt_flat_lanes(az, bz, cz, r->tnear);
-    if (slow) slow &= ~bvh_wt_short_lanes(ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, r->tnear);
+    /* the flat and short lanes' answer is no, without asking the scalar form */
+    const uint32_t slow =
+        bvh_wt_undecided(active & ~normal, ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, r->tnear);
     if (slow) { /* rare: those lanes decided as the scalar form decides them */
         float lane[9][BVH_W], tl[BVH_W], ul[BVH_W], vl[BVH_W], tn[BVH_W], tf[BVH_W], tb[BVH_W];
         const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};

@@ -60,4 +60,15 @@ static inline uint32_t bvh_wt_short_lanes(vf ax, vf ay, vf az, vf bx, vf by, vf 
     return vm_bits(vm_and(vf_gt(tnear, zero), vm_and(vf_gt(det_bound, zero), vf_lt(t_bound, reach))));
 }
 
+/* Of the lanes `slow` the float path could not decide, those still owed
+ * to the double path: less the flat and the short lanes, which it would
+ * answer no (the short lanes' bound only when flat ones leave some). */
+static inline uint32_t bvh_wt_undecided(uint32_t slow, vf ax, vf ay, vf az, vf bx, vf by, vf bz, vf cx, vf cy, vf cz,
+                                        vf det, vf t_scaled, vf tnear)
+{
+    if (slow) slow &= ~bvh_wt_flat_lanes(az, bz, cz, tnear);
+    if (slow) slow &= ~bvh_wt_short_lanes(ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, tnear);
+    return slow;
+}
+
 #endif

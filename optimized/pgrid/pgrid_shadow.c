@@ -112,11 +112,9 @@ static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_co
         *entering |= inside & vm_bits(vm_and(normal, window));
     }
     uint32_t slow = active & ~vm_bits(normal);
-    /* the flat lanes' answer is no, and the short lanes' (t below tnear),
-     * without asking the reference's test (unless `entering` wants the
-     * window around 0) */
-    if (slow && !entering) slow &= ~bvh_wt_flat_lanes(az, bz, cz, tnear);
-    if (slow && !entering) slow &= ~bvh_wt_short_lanes(ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, tnear);
+    /* the flat and short lanes' answer is no, without asking the
+     * reference's test (unless `entering` wants the window around 0) */
+    if (!entering) slow = bvh_wt_undecided(slow, ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, tnear);
     if (slow) {
         _Alignas(64) float parts[9][LANES];
         const vf values[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
