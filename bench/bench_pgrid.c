@@ -176,6 +176,7 @@ bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, c
               (f.answers = malloc((size_t)f.batches.first[f.batches.cells] + 1)) != NULL &&
               pgrid_shadows_prepare(&f.grids, scene, degenerate, &err);
     if (ok) {
+        f.grids.prints = f.kernel->light_prints;
         bench_time_frames(run_shadow_frame, &f, spec->warmup, spec->frames, row);
         snprintf(row->variant, sizeof row->variant, "%s/%s light %u", f.kernel->name, rtt_isa_name(f.kernel->isa),
                  f.grids.lights[0].res);

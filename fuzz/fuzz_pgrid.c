@@ -246,6 +246,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const float position[3] = {light_at.x, light_at.y, light_at.z};
     if (!pgrid_light_build(&light, &grids, scene, position, res)) fuzz_fail("light grid: out of memory");
     check_invariants(&grids, &light);
+    /* every instruction set's footprint stage (vectors of doubles) builds the scalar stage's grid, bit for bit */
+    for (rtt_isa isa = RTT_ISA_SSE4; isa < RTT_ISA_COUNT; isa = (rtt_isa)(isa + 1)) {
+        if (!rtt_isa_supported(isa)) continue;
+        pgrid_shadows vector = grids;
+        vector.prints = pgrid_kernel_find("", isa)->light_prints;
+        pgrid_light other;
+        if (!pgrid_light_build(&other, &vector, scene, position, res)) fuzz_fail("light grid: out of memory");
+        const size_t cells = (size_t)PGRID_LIGHT_FACES * light.res * light.res, n = grids.corner_count;
+        if (other.ref_count != light.ref_count || other.near_count != light.near_count ||
+            memcmp(other.cell_first, light.cell_first, (cells + 1) * sizeof *light.cell_first) ||
+            memcmp(other.cell_front, light.cell_front, cells * sizeof *light.cell_front) ||
+            memcmp(other.cell_min, light.cell_min, cells * sizeof *light.cell_min) ||
+            (light.ref_count && memcmp(other.refs, light.refs, light.ref_count * sizeof *light.refs)) ||
+            (n && (memcmp(other.prints, light.prints, n * PGRID_LIGHT_FACES * sizeof *light.prints) ||
+                   memcmp(other.bound, light.bound, n * sizeof *light.bound) ||
+                   memcmp(other.face_mask, light.face_mask, n) || memcmp(other.record_front, light.record_front, n))))
+            fuzz_fail("light grid (%s, res %u): the vector footprint stage's grid differs from the scalar one's",
+                      rtt_isa_name(isa), light.res);
+        pgrid_light_free(&other);
+    }
     pgrid_shadows one = grids;
     one.lights = &light, one.light_count = 1;
 

@@ -102,8 +102,9 @@ static inline rtt_vec3 *shadow_origins(const rtt_scene *s, rtt_engine *ref, uint
     return points;
 }
 
-/* 300 random triangles around the origin, every tenth huge, every third tiny. */
-static inline rtt_scene *triangle_soup(uint32_t *seed)
+/* 300 random triangles around the origin, every tenth huge, every third
+ * tiny, their coordinates times `scale`. */
+static inline rtt_scene *triangle_soup_scaled(uint32_t *seed, float scale)
 {
     enum { COUNT = 300 };
     float *xyz = malloc(COUNT * 9 * sizeof *xyz);
@@ -111,7 +112,7 @@ static inline rtt_scene *triangle_soup(uint32_t *seed)
     for (uint32_t i = 0; i < COUNT; i++) {
         const float size = i % 10 == 0 ? 4.0f : i % 3 == 0 ? 0.01f : 0.3f;
         const float c[3] = {random_in(seed, -1, 1), random_in(seed, -1, 1), random_in(seed, -1, 1)};
-        for (int k = 0; k < 9; k++) xyz[9 * i + k] = c[k % 3] + random_in(seed, -size, size);
+        for (int k = 0; k < 9; k++) xyz[9 * i + k] = (c[k % 3] + random_in(seed, -size, size)) * scale;
     }
     rtt_error err = {{0}};
     rtt_scene *s = rtt_scene_from_triangles(xyz, COUNT, &err);
@@ -119,5 +120,7 @@ static inline rtt_scene *triangle_soup(uint32_t *seed)
     if (!s) fail_msg("soup: %s", err.message);
     return s;
 }
+
+static inline rtt_scene *triangle_soup(uint32_t *seed) { return triangle_soup_scaled(seed, 1.0f); }
 
 #endif

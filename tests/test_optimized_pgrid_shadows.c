@@ -172,7 +172,37 @@ static void test_light_grid_rays_match_reference_and_brute_force(void **state)
     sweep_lights(check_light, 1);
 }
 
-/* The grid of one light built on one thread, then rebuilt on 2 and 3. */
+/* The footprint stage of every instruction set (pgrid_light_prints.c, its
+ * vectors of doubles) against the scalar one (pgrid_light_print_record):
+ * the same footprints, bounds, flags and so the same grid, bit for bit.
+ * Returns how many records the vectors took (not near, one face, unclipped). */
+static uint32_t check_prints(const rtt_scene *s, const pgrid_shadows *grids, const pgrid_light *scalar,
+                             const float position[3], uint32_t res)
+{
+    const uint32_t n = grids->corner_count;
+    uint32_t one_face = 0;
+    for (uint32_t i = 0; i < n; i++) one_face += scalar->face_mask[i] && !(scalar->face_mask[i] & (scalar->face_mask[i] - 1u));
+    for (rtt_isa isa = TEST_ISA_FIRST; isa < RTT_ISA_COUNT; isa = isa_next(isa)) {
+        if (!isa_runs(isa)) continue;
+        const pgrid_kernel *k = pgrid_kernel_find("", isa);
+        assert_non_null(k);
+        pgrid_shadows vector = *grids;
+        vector.prints = k->light_prints;
+        pgrid_light grid;
+        assert_true(pgrid_light_build(&grid, &vector, s, position, res));
+        assert_same_grid(scalar, &grid, s, n);
+        if (n) {
+            assert_memory_equal(scalar->prints, grid.prints, (size_t)n * PGRID_LIGHT_FACES * sizeof *grid.prints);
+            assert_memory_equal(scalar->face_mask, grid.face_mask, n);
+            assert_memory_equal(scalar->record_front, grid.record_front, n);
+        }
+        pgrid_light_free(&grid);
+    }
+    return one_face;
+}
+
+/* The grid of one light built on one thread, then rebuilt on 2 and 3, and
+ * with each instruction set's footprint stage. */
 static void check_light_rebuild(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows *grids,
                                 const rtt_vec3 *points, const uint32_t *point_prims, uint32_t point_count,
                                 uint32_t res, rtt_vec3 light, const char *what)
@@ -182,7 +212,40 @@ static void check_light_rebuild(const rtt_scene *s, rtt_engine *ref, const pgrid
     const float position[3] = {light.x, light.y, light.z};
     assert_true(pgrid_light_build(&grid, grids, s, position, res));
     check_rebuild(s, grids, &grid, position, res);
+    check_prints(s, grids, &grid, position, res);
     pgrid_light_free(&grid);
+}
+
+/* The vector footprint stage on triangle soups scaled by 2^-60 .. 2^60,
+ * lights among them, on corners and far away: the scalar stage's grid. */
+static void test_light_grid_footprints_in_vectors_equal_scalar(void **state)
+{
+    (void)state;
+    uint32_t seed = 777u, vector_records = 0, records = 0;
+    for (int e = -60; e <= 60; e += 15) {
+        const float scale = ldexpf(1.0f, e);
+        rtt_scene *s = triangle_soup_scaled(&seed, scale);
+        rtt_error err = {{0}};
+        pgrid_shadows grids;
+        assert_true(pgrid_shadows_build(&grids, s, NULL, 0, &err));
+        for (int l = 0; l < 6; l++) {
+            rtt_vec3 light = {random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f), random_in(&seed, -1.2f, 1.2f)};
+            if (l == 4) light = rtt_v3_scale(light, 1e4f); /* far: every triangle on one or two faces */
+            light = rtt_v3_scale(light, scale);
+            if (l == 5) light = s->vertices[s->triangles[l].v[0]]; /* on a corner: near ones */
+            const float position[3] = {light.x, light.y, light.z};
+            const uint32_t res = l % 2 ? 200 : 13;
+            pgrid_light grid;
+            assert_true(pgrid_light_build(&grid, &grids, s, position, res));
+            vector_records += check_prints(s, &grids, &grid, position, res);
+            records += grids.corner_count;
+            pgrid_light_free(&grid);
+        }
+        pgrid_shadows_free(&grids);
+        rtt_scene_free(s);
+    }
+    print_message("%u of %u records on one face\n", vector_records, records);
+    assert_true(vector_records > records / 4); /* the vectors' case was exercised */
 }
 
 static void test_light_grid_rebuilt_on_threads_equals_one_thread(void **state)
@@ -334,6 +397,9 @@ static void test_light_grid_culling_on_the_bunny(void **state)
     assert_int_equal(grids.lights[0].res, pgrid_light_res_rule(grids.corner_count));
     assert_int_equal(pgrid_light_res_rule(grids.corner_count), 200);
     assert_int_equal(pgrid_light_res_rule(4093), 100);
+    /* the vector footprint stage on a culled mesh (front flags): the scalar's grid */
+    const uint32_t one_face = check_prints(s, &grids, &grids.lights[0], position, 0);
+    assert_true(one_face > grids.corner_count / 2);
     uint32_t n = 0, blocked = 0;
     for (uint32_t i = 0; i < SIDE * SIDE; i++) {
         if (hits[i].prim == RTT_MISS) continue;
@@ -387,6 +453,7 @@ int main(void)
         cmocka_unit_test(test_light_grid_rays_match_reference_and_brute_force),
         cmocka_unit_test(test_light_grid_rebuilt_on_threads_equals_one_thread),
         cmocka_unit_test(test_light_grid_on_a_triangle_soup),
+        cmocka_unit_test(test_light_grid_footprints_in_vectors_equal_scalar),
         cmocka_unit_test(test_light_grid_culling_on_the_bunny),
         cmocka_unit_test(test_render_pgrid_shadows_equal_hard),
         cmocka_unit_test(test_pgrid_shadow_method_name_and_refusals),

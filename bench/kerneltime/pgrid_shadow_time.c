@@ -78,6 +78,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "pgrid_shadow_time: out of memory\n");
         } else {
             double best_frame = 1e30, best_build = 1e30;
+            grids.prints = kernel->light_prints;
             status = 0;
             for (int f = 0; f < frames && status == 0; f++) {
                 const double t0 = kerneltime_thread_seconds();

@@ -191,6 +191,7 @@ typedef struct pgrid_kernel {
     pgrid_resolve_fn resolve_cell;
     pgrid_occluded_fn shadow_occluded; /* --shadows pgrid: shadow rays through the light grids (pgrid_light.h) */
     pgrid_soft_occluded_fn soft_occluded; /* --shadows pgrid:N: the slice traverser (pgrid_soft.h) */
+    pgrid_prints_fn light_prints;  /* the light grids' footprint stage (pgrid_light_prints.c), for pgrid_shadows.prints */
     uint32_t lanes;            /* pixels per packet: 16 (AVX-512), 8 (AVX2), 4 (SSE4.1) */
     rtt_isa isa;
 } pgrid_kernel;

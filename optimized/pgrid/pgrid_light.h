@@ -112,6 +112,25 @@ typedef struct pgrid_light {
     size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity;
 } pgrid_light;
 
+/* The footprint stage of a light's build (pgrid_light_build.c): for the
+ * corner records [first, end) of `grids`, each one's distance bound d_T,
+ * front flag and footprint on the six faces, written into `light`
+ * (bound, front, record_front, prints, face_mask).  E: the light's error
+ * bound (pgrid_light.h's E), res: its cells per face side. */
+struct pgrid_shadows;
+typedef struct pgrid_print_job {
+    pgrid_light *light;
+    const struct pgrid_shadows *grids;
+    double E;
+    uint32_t res, n;
+} pgrid_print_job;
+typedef void (*pgrid_prints_fn)(const pgrid_print_job *job, uint32_t first, uint32_t end);
+/* One record in scalar double: the stage's definition (the baseline's
+ * stage, and what the kernel side's copies (pgrid_light_prints.c) do for
+ * the records their vectors leave out, bit for bit the same otherwise). */
+void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i);
+void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint32_t end);
+
 /* The light grids of one frame: the scene's non-degenerate triangles'
  * corners (in global order, prim kept) and a grid per light. */
 typedef struct pgrid_shadows {
@@ -131,6 +150,8 @@ typedef struct pgrid_shadows {
     pgrid_light *lights;
     uint32_t light_count;
     uint32_t threads;              /* the per-light build's threads (0 or 1: the caller's alone) */
+    pgrid_prints_fn prints;        /* the build's footprint stage: a kernel row's light_prints (the
+                                    * caller's instruction set), or NULL for pgrid_light_prints_scalar */
     double build_seconds;
 } pgrid_shadows;
 

@@ -160,66 +160,74 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
 
 /* What a build's tasks share. */
 typedef struct light_build {
-    pgrid_light *light;
-    const pgrid_shadows *grids;
-    double E;
-    uint32_t res, bands, n;
+    pgrid_print_job job;
+    pgrid_prints_fn prints;
+    uint32_t bands;
     size_t cells;
 } light_build;
 
 enum { CHUNK = 2048 };
+
+void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
+{
+    pgrid_light *light = job->light;
+    const pgrid_shadows *grids = job->grids;
+    const float *position = light->position;
+    const double E = job->E;
+    const uint32_t n = job->n;
+    const kd_corners *k = &grids->corners[i];
+    double c[3][3];
+    for (int a = 0; a < 3; a++)
+        c[0][a] = (double)k->a[a] - position[a], c[1][a] = (double)k->b[a] - position[a],
+        c[2][a] = (double)k->c[a] - position[a];
+    const double d = distance_bound(c);
+    light->bound[i] = (float)(d * (1.0 - 1e-6));
+    const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
+    bool front = false;
+    if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
+        /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
+        double e1[3], e2[3];
+        for (int a = 0; a < 3; a++) e1[a] = c[1][a] - c[0][a], e2[a] = c[2][a] - c[0][a];
+        const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                     nz = e1[0] * e2[1] - e1[1] * e2[0];
+        const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
+        front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
+    }
+    light->front[prim] = front;
+    light->record_front[i] = front;
+    const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
+    if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
+        /* a near one: no footprint, y0 marks it for the near list */
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
+            light->prints[(size_t)face * n + i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
+        light->face_mask[i] = 0;
+        return;
+    }
+    const uint32_t only = single_face((const double(*)[3])c, mu);
+    uint8_t mask = 0;
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+        pgrid_footprint *f = &light->prints[(size_t)face * n + i];
+        if (only != PGRID_LIGHT_FACES && face != only)
+            *f = (pgrid_footprint){PGRID_FOOTPRINT_NONE, 0, 0, 0};
+        else
+            *f = face_footprint((const double(*)[3])c, face, mu, job->res);
+        if (f->x0 != PGRID_FOOTPRINT_NONE) mask |= (uint8_t)(1u << face);
+    }
+    light->face_mask[i] = mask;
+}
+
+void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint32_t end)
+{
+    for (uint32_t i = first; i < end; i++) pgrid_light_print_record(job, i);
+}
 
 /* Task: the footprints, bounds and front flags of records [CHUNK task ..). */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
     const light_build *b = context;
-    pgrid_light *light = b->light;
-    const pgrid_shadows *grids = b->grids;
-    const float *position = light->position;
-    const double E = b->E;
-    const uint32_t n = b->n, end = (task + 1) * CHUNK < n ? (task + 1) * CHUNK : n;
-    for (uint32_t i = task * CHUNK; i < end; i++) {
-        const kd_corners *k = &grids->corners[i];
-        double c[3][3];
-        for (int a = 0; a < 3; a++)
-            c[0][a] = (double)k->a[a] - position[a], c[1][a] = (double)k->b[a] - position[a],
-            c[2][a] = (double)k->c[a] - position[a];
-        const double d = distance_bound(c);
-        light->bound[i] = (float)(d * (1.0 - 1e-6));
-        const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
-        bool front = false;
-        if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
-            /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
-            double e1[3], e2[3];
-            for (int a = 0; a < 3; a++) e1[a] = c[1][a] - c[0][a], e2[a] = c[2][a] - c[0][a];
-            const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
-                         nz = e1[0] * e2[1] - e1[1] * e2[0];
-            const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
-            front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
-        }
-        light->front[prim] = front;
-        light->record_front[i] = front;
-        const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
-        if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
-            /* a near one: no footprint, y0 marks it for the near list */
-            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
-                light->prints[(size_t)face * n + i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
-            light->face_mask[i] = 0;
-            continue;
-        }
-        const uint32_t only = single_face((const double(*)[3])c, mu);
-        uint8_t mask = 0;
-        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
-            pgrid_footprint *f = &light->prints[(size_t)face * n + i];
-            if (only != PGRID_LIGHT_FACES && face != only)
-                f->x0 = PGRID_FOOTPRINT_NONE, f->y0 = 0;
-            else
-                *f = face_footprint((const double(*)[3])c, face, mu, b->res);
-            if (f->x0 != PGRID_FOOTPRINT_NONE) mask |= (uint8_t)(1u << face);
-        }
-        light->face_mask[i] = mask;
-    }
+    const uint32_t n = b->job.n, end = (task + 1) * CHUNK < n ? (task + 1) * CHUNK : n;
+    b->prints(&b->job, task * CHUNK, end);
 }
 
 /* The rows of band `task % bands` of face `task / bands`. */
@@ -227,8 +235,8 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
 {
     const uint32_t band = task % b->bands;
     *face = task / b->bands;
-    *y0 = (uint32_t)((uint64_t)b->res * band / b->bands);
-    *y1 = (uint32_t)((uint64_t)b->res * (band + 1) / b->bands);
+    *y0 = (uint32_t)((uint64_t)b->job.res * band / b->bands);
+    *y1 = (uint32_t)((uint64_t)b->job.res * (band + 1) / b->bands);
 }
 
 /* One band's cells: counted (references, front ones, distance bound;
@@ -237,10 +245,10 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
  * ones from cell_front). */
 static void band_pass(const light_build *b, uint32_t task, bool fill)
 {
-    pgrid_light *light = b->light;
+    pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
     band_rows(b, task, &face, &r0, &r1);
-    const uint32_t res = b->res;
+    const uint32_t res = b->job.res;
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
     uint32_t *cursor = light->fill;
     if (fill) {
@@ -251,7 +259,7 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
         memset(light->cell_front + first, 0, (last - first) * sizeof *light->cell_front);
         for (size_t c = first; c < last; c++) light->cell_min[c] = INFINITY;
     }
-    const size_t face_first = (size_t)face * b->n; /* face-major; no pointer into an empty (NULL) array */
+    const size_t face_first = (size_t)face * b->job.n; /* face-major; no pointer into an empty (NULL) array */
     for (uint32_t k = light->face_first[face]; k < light->face_first[face + 1]; k++) {
         const uint32_t i = light->face_records[k];
         const pgrid_footprint f = light->prints[face_first + i];
@@ -333,7 +341,9 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         return false;
     }
     memset(light->front, 0, (size_t)scene->triangle_count + 1);
-    light_build b = {.light = light, .grids = grids, .E = E, .res = res, .n = n, .cells = cells,
+    light_build b = {.job = {.light = light, .grids = grids, .E = E, .res = res, .n = n},
+                     .prints = grids->prints ? grids->prints : pgrid_light_prints_scalar,
+                     .cells = cells,
                      .bands = threads > 1 ? 2 : 1};
     rtt_parallel_run((n + CHUNK - 1) / CHUNK, threads, footprint_chunk, &b);
     /* per face the records with a footprint on it, in record order: the

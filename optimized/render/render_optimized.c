@@ -315,6 +315,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         /* the scene's half, then the lights' grids on the frame's threads */
         bool built = pgrid_shadows_prepare(&light_grids, scene, optimized_engine_degenerate(engine), err);
         light_grids.threads = rtt_thread_count(opt->threads);
+        light_grids.prints = grid_kernel->light_prints;
         if (built && !pgrid_shadows_build_lights(&light_grids, scene, 0, err)) {
             pgrid_shadows_free(&light_grids);
             built = false;
