@@ -122,10 +122,16 @@ static uint8_t brute_force(const rtt_scene *scene, const uint8_t *degenerate, co
 
 static void check_invariants(const pgrid_shadows *grids, const pgrid_light *light)
 {
-    const size_t cells = (size_t)PGRID_LIGHT_FACES * light->res * light->res;
-    if (light->cell_first[0] != 0 || light->cell_first[cells] != light->ref_count)
-        fuzz_fail("light grid: the cell ranges do not cover the references");
+    const size_t face_cells = (size_t)light->res * light->res, cells = PGRID_LIGHT_FACES * face_cells;
+    if (light->cell_first[cells] != light->ref_count) fuzz_fail("light grid: the cell ranges do not cover the references");
+    /* the kept faces' ranges tile the references in face order; the others hold no cells */
+    uint32_t covered = 0;
     for (size_t c = 0; c < cells; c++) {
+        if (!(light->faces >> (c / face_cells) & 1u)) continue;
+        if (light->cell_first[c] != covered) fuzz_fail("light grid: cell %zu's range does not follow the last", c);
+        covered = light->cell_first[c + 1];
+        if (light->cell_front[c] < light->cell_first[c] || light->cell_front[c] > light->cell_first[c + 1])
+            fuzz_fail("light grid: cell %zu's front references lie outside its range", c);
         if (light->cell_first[c] > light->cell_first[c + 1]) fuzz_fail("light grid: cell %zu's range is reversed", c);
         for (uint32_t r = light->cell_first[c]; r < light->cell_first[c + 1]; r++) {
             if (light->refs[r] >= grids->corner_count) fuzz_fail("light grid: cell %zu names triangle %u", c, light->refs[r]);
@@ -133,6 +139,9 @@ static void check_invariants(const pgrid_shadows *grids, const pgrid_light *ligh
                 fuzz_fail("light grid: cell %zu's list is not ascending", c);
         }
     }
+    if (covered != light->ref_count) fuzz_fail("light grid: the kept faces' cells do not cover the references");
+    for (uint32_t i = 0; i < grids->corner_count; i++)
+        if (light->face_mask[i] & ~light->faces) fuzz_fail("light grid: triangle %u has a footprint on a face not kept", i);
     for (uint32_t i = 0; i < light->near_count; i++)
         if (light->near[i] >= grids->corner_count) fuzz_fail("light grid: the near list names triangle %u", light->near[i]);
 }
@@ -253,11 +262,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         vector.prints = pgrid_kernel_find("", isa)->light_prints;
         pgrid_light other;
         if (!pgrid_light_build(&other, &vector, scene, position, res)) fuzz_fail("light grid: out of memory");
-        const size_t cells = (size_t)PGRID_LIGHT_FACES * light.res * light.res, n = grids.corner_count;
-        if (other.ref_count != light.ref_count || other.near_count != light.near_count ||
-            memcmp(other.cell_first, light.cell_first, (cells + 1) * sizeof *light.cell_first) ||
-            memcmp(other.cell_front, light.cell_front, cells * sizeof *light.cell_front) ||
-            memcmp(other.cell_min, light.cell_min, cells * sizeof *light.cell_min) ||
+        const size_t face_cells = (size_t)light.res * light.res, n = grids.corner_count;
+        bool cells_differ = other.faces != light.faces;
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES && !cells_differ; face++) {
+            const size_t at = face * face_cells;
+            if (light.faces >> face & 1u)
+                cells_differ = memcmp(other.cell_first + at, light.cell_first + at, (face_cells + 1) * sizeof *light.cell_first) ||
+                               memcmp(other.cell_front + at, light.cell_front + at, face_cells * sizeof *light.cell_front) ||
+                               memcmp(other.cell_min + at, light.cell_min + at, face_cells * sizeof *light.cell_min);
+        }
+        if (cells_differ || other.ref_count != light.ref_count || other.near_count != light.near_count ||
             (light.ref_count && memcmp(other.refs, light.refs, light.ref_count * sizeof *light.refs)) ||
             (n && (memcmp(other.prints, light.prints, n * PGRID_LIGHT_FACES * sizeof *light.prints) ||
                    memcmp(other.bound, light.bound, n * sizeof *light.bound) ||

@@ -78,6 +78,9 @@
  * too (pgrid README, "Hard shadows"). */
 #define PGRID_GRAZING_COSINE 0.1f
 
+/* A scene triangle's side of a light (pgrid_light.front). */
+enum { PGRID_PRIM_OPEN = 0, PGRID_PRIM_AWAY = 1, PGRID_PRIM_FACING = 2 };
+
 /* A triangle's cell rectangle on one face (inclusive; x0 = PGRID_FOOTPRINT_NONE: none). */
 #define PGRID_FOOTPRINT_NONE UINT16_MAX
 typedef struct pgrid_footprint {
@@ -91,13 +94,17 @@ typedef struct pgrid_light {
     float reach;               /* 4E: slack of the per-cell distance test */
     double magnitude;          /* 2M: a ray whose origin has a larger coordinate is tested against
                                 * every triangle (the reference's rounding follows the origin) */
-    uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] ..) */
+    uint32_t faces;            /* bit f: face f's cells are kept (some triangle has a footprint there); the
+                                * cells of the other faces hold stale words: a ray there meets the near list only */
+    uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] .. cell_first[c + 1]) */
     float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
     float *bound;              /* per corner record: its d_T (the same test per triangle) */
     uint32_t *refs;            /* indices into pgrid_shadows.corners, ascending per cell */
     size_t ref_count;
     uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */
-    uint8_t *front;            /* per scene triangle: 1 when it is one of those (a culled mesh's, facing the light) */
+    uint8_t *front;            /* per scene triangle: PGRID_PRIM_FACING when it is one of those (a culled
+                                * mesh's, facing the light), PGRID_PRIM_AWAY another culled mesh's,
+                                * PGRID_PRIM_OPEN the rest (pgrid_shadows.prim_side) */
     uint32_t *near;            /* tested by every ray */
     uint32_t near_count;
     /* the build's own, kept between rebuilds (pgrid_light_rebuild): the
@@ -146,6 +153,8 @@ typedef struct pgrid_shadows {
     uint32_t *culled;
     uint32_t culled_count;
     float (*outward_normal)[3];    /* per scene triangle of a culled mesh: its unit outward normal */
+    uint8_t *prim_side;            /* per scene triangle: PGRID_PRIM_AWAY for a culled mesh's, else
+                                    * PGRID_PRIM_OPEN (each light's front starts from it) */
     const uint32_t *triangle_mesh; /* the scene's */
     pgrid_light *lights;
     uint32_t light_count;

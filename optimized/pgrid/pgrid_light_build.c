@@ -193,7 +193,7 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
         const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
         front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
     }
-    light->front[prim] = front;
+    if (front) light->front[prim] = PGRID_PRIM_FACING;
     light->record_front[i] = front;
     const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
     if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
@@ -248,6 +248,7 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
     band_rows(b, task, &face, &r0, &r1);
+    if (light->face_first[face] == light->face_first[face + 1]) return; /* no footprint: its cells are not kept */
     const uint32_t res = b->job.res;
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
     uint32_t *cursor = light->fill;
@@ -340,7 +341,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         pgrid_light_free(light);
         return false;
     }
-    memset(light->front, 0, (size_t)scene->triangle_count + 1);
+    memcpy(light->front, grids->prim_side, (size_t)scene->triangle_count + 1);
     light_build b = {.job = {.light = light, .grids = grids, .E = E, .res = res, .n = n},
                      .prints = grids->prints ? grids->prints : pgrid_light_prints_scalar,
                      .cells = cells,
@@ -361,12 +362,24 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         if (light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
             light->near[light->near_count++] = i;
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
-    light->cell_first[0] = 0;
-    for (size_t c = 0; c < cells; c++) {
-        light->cell_first[c + 1] += light->cell_first[c];
-        light->cell_front[c] = light->cell_first[c + 1] - light->cell_front[c];
+    /* the kept faces' cells (pgrid_light.faces) in face order: the others
+     * (a mesh seen from outside lies on one or two faces) cost nothing */
+    uint32_t total = 0;
+    light->faces = 0;
+    const size_t face_cells = (size_t)res * res;
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+        if (light->face_first[face] == light->face_first[face + 1]) continue;
+        light->faces |= 1u << face;
+        const size_t first = face * face_cells;
+        light->cell_first[first] = total;
+        for (size_t c = first; c < first + face_cells; c++) {
+            light->cell_first[c + 1] += light->cell_first[c];
+            light->cell_front[c] = light->cell_first[c + 1] - light->cell_front[c];
+        }
+        total = light->cell_first[first + face_cells];
     }
-    light->ref_count = light->cell_first[cells];
+    light->cell_first[cells] = total;
+    light->ref_count = total;
     if (!grow(&light->refs, &light->ref_capacity, light->ref_count + 1, sizeof *light->refs)) {
         pgrid_light_free(light);
         return false;
@@ -385,6 +398,7 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     free(grids->mesh_box);
     free(grids->culled);
     free(grids->outward_normal);
+    free(grids->prim_side);
     memset(grids, 0, sizeof *grids);
 }
 
@@ -400,9 +414,10 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
     grids->mesh_box = calloc(scene->mesh_count + 1, sizeof *grids->mesh_box);
     grids->culled = calloc(scene->mesh_count + 1, sizeof *grids->culled);
     grids->outward_normal = calloc((size_t)scene->triangle_count + 1, sizeof *grids->outward_normal);
+    grids->prim_side = calloc((size_t)scene->triangle_count + 1, 1); /* PGRID_PRIM_OPEN */
     grids->triangle_mesh = scene->mesh_count ? scene->triangle_mesh : NULL;
     bool ok = grids->corners && grids->lights && grids->mesh_culled && grids->mesh_outward && grids->mesh_box &&
-              grids->culled && grids->outward_normal;
+              grids->culled && grids->outward_normal && grids->prim_side;
     /* a culled mesh's box, grown by four ray epsilons and 2^-12 of the coordinates' magnitude */
     const float zero[3] = {0.0f, 0.0f, 0.0f};
     const float grow = 4.0f * rtt_scene_ray_epsilon(scene) + (float)ldexp(error_bound(scene, zero), 2);
@@ -422,6 +437,7 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
             const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
             const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * grids->mesh_outward[m];
             for (int a = 0; a < 3; a++) grids->outward_normal[t][a] = len != 0.0 ? (float)(n[a] / len) : 0.0f;
+            grids->prim_side[t] = PGRID_PRIM_AWAY;
         }
         grids->mesh_culled[m] = 1;
         grids->culled[grids->culled_count++] = m;

@@ -147,12 +147,15 @@ static uint32_t occluded_list(const pgrid_shadows *g, const pgrid_light *L, cons
 static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, const rtt_ray *r, uint32_t prim)
 {
     const float *org = r->org;
-    const uint32_t own = prim != RTT_MISS && g->triangle_mesh ? g->triangle_mesh[prim] : UINT32_MAX;
-    if (own != UINT32_MAX && g->mesh_culled[own]) {
-        if (!L->front[prim]) return true;
+    /* one byte per triangle (the light's class of it), not its mesh's entries: a frame reads it once a ray */
+    const uint8_t side = prim != RTT_MISS ? L->front[prim] : PGRID_PRIM_OPEN;
+    if (side == PGRID_PRIM_AWAY) return true;
+    if (side == PGRID_PRIM_FACING) {
         const float *n = g->outward_normal[prim];
         if (!(n[0] * r->dir[0] + n[1] * r->dir[1] + n[2] * r->dir[2] >= PGRID_GRAZING_COSINE)) return true;
+        if (g->culled_count == 1) return false; /* its own mesh is the one culled */
     }
+    const uint32_t own = side != PGRID_PRIM_OPEN ? g->triangle_mesh[prim] : UINT32_MAX;
     for (uint32_t i = 0; i < g->culled_count; i++) {
         const uint32_t m = g->culled[i];
         if (m == own) continue;
@@ -284,6 +287,7 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
     float magnitude = (float)L->magnitude;
     if ((double)magnitude > L->magnitude) magnitude = nextafterf(magnitude, 0.0f);
     const vf within = vf_set1(magnitude), slack = vf_set1(L->reach);
+    const uint32_t face_cells = L->res * L->res;
     shadow_packet p;
     _Alignas(64) rtt_ray lane_rays[LANES];
     uint32_t index[LANES];
@@ -314,7 +318,9 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
         const vf reach = vf_add(vf_add(ray[6], ray[7]), slack);
         vf_store(p.reach, reach);
         uint32_t active = (1u << n) - 1u; /* n <= LANES <= 16 */
-        uint32_t reaching = active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell])));
+        /* a face no triangle's footprint meets keeps no cells: nothing there but the near list */
+        const bool kept = L->faces >> (cell / face_cells) & 1u;
+        uint32_t reaching = kept ? active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell]))) : 0;
         /* an origin beyond 2M: every triangle (pgrid_light.h) */
         const vm tame = vm_and(vm_and(vf_le(vf_abs(ray[0]), within), vf_le(vf_abs(ray[1]), within)),
                                vf_le(vf_abs(ray[2]), within));
@@ -333,14 +339,24 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
                 hit |= occluded_lanes(&grids->corners[t], &regs, &p, wild & ~hit, NULL);
         }
         active &= ~wild, reaching &= ~wild, full &= ~wild;
+        /* The front faces, for the lanes that may start inside a culled
+         * solid: first for those known now (most start on a face turned
+         * from the light, so go into the solid and leave it through a
+         * front face), then for those the kept lists find crossing a
+         * triangle at the origin (entering).  A lane's answer is whether
+         * any triangle it is tested against occludes it, so the order of
+         * the lists changes no answer, only how soon a lane is done. */
+        const uint32_t front_first = kept ? full & active : 0;
+        if (front_first)
+            hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
+                                 &p, front_first, NULL);
         uint32_t *watch = grids->culled_count ? &entering : NULL;
-        if (reaching)
+        if (reaching & ~hit)
             hit |= occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
-                                reaching, watch);
+                                reaching & ~hit, watch);
         if (L->near_count && (hit & active) != active)
             hit |= occluded_list(grids, L, L->near, L->near_count, &p, active & ~hit, watch);
-        /* the front faces, for the lanes that may start inside a culled solid */
-        const uint32_t front = (full | entering) & active & ~hit;
+        const uint32_t front = kept ? entering & ~front_first & active & ~hit : 0;
         if (front)
             hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
                                  &p, front, NULL);
