@@ -78,8 +78,14 @@
  * too (pgrid README, "Hard shadows"). */
 #define PGRID_GRAZING_COSINE 0.1f
 
-/* A scene triangle's side of a light (pgrid_light.front). */
-enum { PGRID_PRIM_OPEN = 0, PGRID_PRIM_AWAY = 1, PGRID_PRIM_FACING = 2 };
+/* A scene triangle's side of a light (pgrid_light.front): not a culled
+ * mesh's, a culled mesh's turned from the light, facing it, or facing it
+ * so steeply that no ray from the triangle to the light grazes it (the
+ * cosine with its normal PGRID_STEEP_COSINE or more from every point:
+ * with PGRID_GRAZING_COSINE 0.1, a tenth of margin for the float normal,
+ * direction and origin, so the kernel skips the normal's test). */
+enum { PGRID_PRIM_OPEN = 0, PGRID_PRIM_AWAY = 1, PGRID_PRIM_FACING = 2, PGRID_PRIM_STEEP = 3 };
+#define PGRID_STEEP_COSINE 0.11
 
 /* A triangle's cell rectangle on one face (inclusive; x0 = PGRID_FOOTPRINT_NONE: none). */
 #define PGRID_FOOTPRINT_NONE UINT16_MAX
@@ -102,8 +108,8 @@ typedef struct pgrid_light {
     uint32_t *refs;            /* indices into pgrid_shadows.corners, ascending per cell */
     size_t ref_count;
     uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */
-    uint8_t *front;            /* per scene triangle: PGRID_PRIM_FACING when it is one of those (a culled
-                                * mesh's, facing the light), PGRID_PRIM_AWAY another culled mesh's,
+    uint8_t *front;            /* per scene triangle: PGRID_PRIM_FACING or _STEEP when it is one of those (a
+                                * culled mesh's, facing the light), PGRID_PRIM_AWAY another culled mesh's,
                                 * PGRID_PRIM_OPEN the rest (pgrid_shadows.prim_side) */
     uint32_t *near;            /* tested by every ray */
     uint32_t near_count;

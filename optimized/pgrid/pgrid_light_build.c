@@ -183,7 +183,7 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
     const double d = distance_bound(c);
     light->bound[i] = (float)(d * (1.0 - 1e-6));
     const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
-    bool front = false;
+    bool front = false, steep = false;
     if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
         /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
         double e1[3], e2[3];
@@ -191,9 +191,18 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
         const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
                      nz = e1[0] * e2[1] - e1[1] * e2[0];
         const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
-        front = side > 4.0 * E * sqrt(nx * nx + ny * ny + nz * nz);
+        const double len = sqrt(nx * nx + ny * ny + nz * nz);
+        front = side > 4.0 * E * len;
+        /* every ray from the triangle to the light at a cosine of PGRID_STEEP_COSINE or more with its
+         * normal: side / len, the light's height over the plane, over its farthest corner's distance */
+        double far = 0.0;
+        for (int v = 0; v < 3; v++) {
+            const double q = c[v][0] * c[v][0] + c[v][1] * c[v][1] + c[v][2] * c[v][2];
+            far = q > far ? q : far;
+        }
+        steep = front && side > PGRID_STEEP_COSINE * len * sqrt(far);
     }
-    if (front) light->front[prim] = PGRID_PRIM_FACING;
+    if (front) light->front[prim] = steep ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING;
     light->record_front[i] = front;
     const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
     if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {

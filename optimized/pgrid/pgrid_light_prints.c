@@ -97,7 +97,7 @@ static inline vd vd_more(vd x, vd acc) { return vd_blend(vd_gt(x, acc), acc, x);
 /* What a vector of records leaves for the output loop. */
 typedef struct prints_lanes {
     double d[VD_W], a[2][VD_W], b[2][VD_W];
-    uint32_t fast, front, face[VD_W];
+    uint32_t fast, front, steep, face[VD_W];
 } prints_lanes;
 
 /* The lanes of one vector: corners c[corner][axis] relative to the light,
@@ -129,6 +129,11 @@ static void prints_vector(const vd c[3][3], vd outward, double E, uint32_t res, 
     /* front: -(n . c0) * outward > 4 E |n| (a culled mesh's triangle) */
     const vd side = vd_mul(vd_sub(zero, dot), outward);
     out->front = vd_gt(side, vd_mul(vd_set1(4.0 * E), len)) & (vd_lt(outward, zero) | vd_gt(outward, zero));
+    /* steep: side > 0.11 len |farthest corner| */
+    vd far = zero;
+    for (int v = 0; v < 3; v++)
+        far = vd_more(vd_add(vd_add(vd_mul(c[v][0], c[v][0]), vd_mul(c[v][1], c[v][1])), vd_mul(c[v][2], c[v][2])), far);
+    out->steep = out->front & vd_gt(side, vd_mul(vd_mul(vd_set1(PGRID_STEEP_COSINE), len), vd_sqrt(far)));
     /* mu, and the near ones (left to the scalar record) */
     const vd mu = vd_add(vd_set1(1e-5), vd_mul(vd_set1(4.0), vd_div(vd_set1(2.0 * E), vd_sub(d, vd_set1(2.0 * E)))));
     uint32_t fast = vd_gt(d, vd_set1(256.0 * E)) & vd_le(mu, vd_set1(4e-2));
@@ -229,7 +234,7 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
             }
             const bool front = out.front >> l & 1u;
             light->bound[r] = (float)(out.d[l] * (1.0 - 1e-6));
-            if (front) light->front[grids->corners[r].prim] = PGRID_PRIM_FACING;
+            if (front) light->front[grids->corners[r].prim] = out.steep >> l & 1u ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING;
             light->record_front[r] = front;
             const pgrid_footprint f = {cell_index(out.a[0][l], res), cell_index(out.a[1][l], res),
                                        cell_index(out.b[0][l], res), cell_index(out.b[1][l], res)};

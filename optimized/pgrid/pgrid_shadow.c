@@ -153,8 +153,8 @@ static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, cons
     if (side == PGRID_PRIM_FACING) {
         const float *n = g->outward_normal[prim];
         if (!(n[0] * r->dir[0] + n[1] * r->dir[1] + n[2] * r->dir[2] >= PGRID_GRAZING_COSINE)) return true;
-        if (g->culled_count == 1) return false; /* its own mesh is the one culled */
     }
+    if (side >= PGRID_PRIM_FACING && g->culled_count == 1) return false; /* its own mesh is the one culled */
     const uint32_t own = side != PGRID_PRIM_OPEN ? g->triangle_mesh[prim] : UINT32_MAX;
     for (uint32_t i = 0; i < g->culled_count; i++) {
         const uint32_t m = g->culled[i];
