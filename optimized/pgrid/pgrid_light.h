@@ -69,7 +69,9 @@
 
 /* Cells per face side: the paper's is 200; a caller giving 0 gets
  * pgrid_light_res_rule's choice for the scene (pgrid README, "Resolution"):
- * 100 on few large triangles, PGRID_LIGHT_RES_MESHES on many small ones. */
+ * PGRID_LIGHT_RES_MAPS on few large triangles, PGRID_LIGHT_RES_MESHES on
+ * many small ones. */
+#define PGRID_LIGHT_RES_MAPS 64u
 #define PGRID_LIGHT_RES_MESHES 300u
 #define PGRID_LIGHT_RES_MAX 2048u
 #define PGRID_LIGHT_FACES 6u

@@ -511,8 +511,10 @@ bool pgrid_shadows_build(pgrid_shadows *grids, const rtt_scene *scene, const uin
  * everywhere (its build).  Since the faces no footprint meets keep no
  * cells and the build's footprints run in vectors (a finer grid costs the
  * build less), 300 beat 200 on the three meshes by 0-20% a frame in three
- * rounds ("The light grids at this session's build"). */
+ * rounds, and 64 beat 100 on the maps by 2-8% (one thread and two, both in
+ * each run, twice; 32 and 48 lost ctf_inyard 4-15%) (bench/results/pgrid.md,
+ * fifth session). */
 uint32_t pgrid_light_res_rule(uint32_t triangles)
 {
-    return triangles < 40000u ? 100u : PGRID_LIGHT_RES_MESHES;
+    return triangles < 40000u ? PGRID_LIGHT_RES_MAPS : PGRID_LIGHT_RES_MESHES;
 }
