@@ -112,8 +112,8 @@ typedef struct pgrid_light {
     size_t ref_count;
     uint32_t *cell_front;      /* per cell: its references from here to cell_first[c + 1] face the light */
     uint8_t *front;            /* per scene triangle: PGRID_PRIM_FACING or _STEEP when it is one of those (a
-                                * culled mesh's, facing the light), PGRID_PRIM_AWAY another culled mesh's,
-                                * PGRID_PRIM_OPEN the rest (pgrid_shadows.prim_side) */
+                                * culled mesh's, facing the light), PGRID_PRIM_AWAY when it is a culled mesh's
+                                * turned from it, PGRID_PRIM_OPEN the rest (from pgrid_shadows.prim_side) */
     uint32_t *near;            /* tested by every ray */
     uint32_t near_count;
     /* the build's own, kept between rebuilds (pgrid_light_rebuild): the

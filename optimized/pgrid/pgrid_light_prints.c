@@ -9,9 +9,10 @@
  * outside that case (near the light, on two faces or more, clipped by a
  * plane, an odd value anywhere) is left to pgrid_light_print_record.
  *
- * Measured (bench/results/pgrid.md, "The light grid's footprints in
- * vectors"): the scalar stage was 60% of a mesh's light-grid build, two
- * square roots and three divisions per triangle in one dependency chain. */
+ * Measured (bench/results/pgrid.md, "fifth session: the light grid's
+ * build"): the scalar stage was 60% of a mesh's light-grid build, two
+ * square roots and three divisions per triangle in one dependency chain;
+ * in vectors the build went from 6.0 to 4.0 ms on the bunny. */
 #include <immintrin.h>
 #include <math.h>
 #include <stdint.h>
