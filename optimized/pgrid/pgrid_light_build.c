@@ -100,8 +100,10 @@ static uint32_t single_face(const double c[3][3], double mu)
 }
 
 /* A lower bound of the distance from the origin to the triangle c: the
- * larger of the distances to its box and to its plane. */
-static double distance_bound(const double c[3][3])
+ * larger of the distances to its box and to its plane; *len and *dot are
+ * its normal's (c1 - c0) x (c2 - c0) length and dot product with c0, which
+ * the front test reuses (the vector stage computes them once too). */
+static double distance_bound(const double c[3][3], double *len, double *dot)
 {
     double box = 0.0;
     for (int k = 0; k < 3; k++) {
@@ -113,8 +115,9 @@ static double distance_bound(const double c[3][3])
     double e1[3], e2[3];
     for (int k = 0; k < 3; k++) e1[k] = c[1][k] - c[0][k], e2[k] = c[2][k] - c[0][k];
     const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double plane = len > 0.0 ? fabs(n[0] * c[0][0] + n[1] * c[0][1] + n[2] * c[0][2]) / len : 0.0;
+    *len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    *dot = n[0] * c[0][0] + n[1] * c[0][1] + n[2] * c[0][2];
+    const double plane = *len > 0.0 ? fabs(*dot) / *len : 0.0;
     const double b = sqrt(box);
     return b > plane ? b : plane;
 }
@@ -180,18 +183,14 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
     for (int a = 0; a < 3; a++)
         c[0][a] = (double)k->a[a] - position[a], c[1][a] = (double)k->b[a] - position[a],
         c[2][a] = (double)k->c[a] - position[a];
-    const double d = distance_bound(c);
+    double len, dot;
+    const double d = distance_bound(c, &len, &dot);
     light->bound[i] = (float)(d * (1.0 - 1e-6));
     const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
     bool front = false, steep = false;
     if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
         /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
-        double e1[3], e2[3];
-        for (int a = 0; a < 3; a++) e1[a] = c[1][a] - c[0][a], e2[a] = c[2][a] - c[0][a];
-        const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
-                     nz = e1[0] * e2[1] - e1[1] * e2[0];
-        const double side = -(nx * c[0][0] + ny * c[0][1] + nz * c[0][2]) * grids->mesh_outward[mesh];
-        const double len = sqrt(nx * nx + ny * ny + nz * nz);
+        const double side = -dot * grids->mesh_outward[mesh];
         front = side > 4.0 * E * len;
         /* every ray from the triangle to the light at a cosine of PGRID_STEEP_COSINE or more with its
          * normal: side / len, the light's height over the plane, over its farthest corner's distance */
