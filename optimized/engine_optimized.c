@@ -223,7 +223,7 @@ static bool attach_corners(optimized_engine *e, const rtt_scene *scene, rtt_erro
         const uint32_t prim = e->tree.triangles[i].prim;
         rtt_scene_triangle(scene, prim, p);
         e->corners[i] = (kd_corners){{p[0].x, p[0].y, p[0].z}, {p[1].x, p[1].y, p[1].z},
-                                     {p[2].x, p[2].y, p[2].z}, prim, {0, 0}};
+                                     {p[2].x, p[2].y, p[2].z}, prim, 0, 0};
     }
     e->tree.corners = e->corners;
     return true;

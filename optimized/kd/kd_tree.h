@@ -78,7 +78,9 @@ _Static_assert(sizeof(kd_triangle) == 48, "kd_triangle is 48 bytes, 16-byte alig
 typedef struct kd_corners {
     float a[3], b[3], c[3];
     uint32_t prim;
-    uint32_t pad[2];
+    int32_t outward; /* the light grids' (pgrid_light.h): the outward side of a culled mesh's triangle, +1 or -1
+                      * (pgrid_shadows.mesh_outward), 0 for the others; 0 elsewhere */
+    uint32_t pad;
 } kd_corners;
 _Static_assert(sizeof(kd_corners) == 48, "kd_corners is 48 bytes, 16-byte aligned like the records");
 

@@ -186,11 +186,11 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
     double len, dot;
     const double d = distance_bound(c, &len, &dot);
     light->bound[i] = (float)(d * (1.0 - 1e-6));
-    const uint32_t prim = k->prim, mesh = grids->triangle_mesh ? grids->triangle_mesh[prim] : UINT32_MAX;
+    const uint32_t prim = k->prim;
     bool front = false, steep = false;
-    if (mesh != UINT32_MAX && grids->mesh_culled[mesh]) {
+    if (k->outward) {
         /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
-        const double side = -dot * grids->mesh_outward[mesh];
+        const double side = -dot * k->outward;
         front = side > 4.0 * E * len;
         /* every ray from the triangle to the light at a cosine of PGRID_STEEP_COSINE or more with its
          * normal: side / len, the light's height over the plane, over its farthest corner's distance */
@@ -250,46 +250,65 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
 /* One band's cells: counted (references, front ones, distance bound;
  * `fill` false) or their references placed in record order (`fill` true:
  * two cursors per cell, the main references from cell_first, the front
- * ones from cell_front). */
+ * ones from cell_front).  The arrays are read through local restrict
+ * pointers: a store through the light's own would oblige the compiler to
+ * load them again from the light after every reference (measured:
+ * bench/results/pgrid.md, "sixth session"). */
 static void band_pass(const light_build *b, uint32_t task, bool fill)
 {
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
     band_rows(b, task, &face, &r0, &r1);
     if (light->face_first[face] == light->face_first[face + 1]) return; /* no footprint: its cells are not kept */
-    const uint32_t res = b->job.res;
+    const uint32_t res = b->job.res, records_first = light->face_first[face], records_end = light->face_first[face + 1];
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
-    uint32_t *cursor = light->fill;
+    const uint32_t *restrict records = light->face_records;
+    const pgrid_footprint *restrict prints = light->prints + (size_t)face * b->job.n; /* face-major */
+    const uint8_t *restrict record_front = light->record_front;
     if (fill) {
-        memcpy(cursor + first, light->cell_first + first, (last - first) * sizeof *cursor);
-        memcpy(cursor + cells + first, light->cell_front + first, (last - first) * sizeof *cursor);
-    } else {
-        memset(light->cell_first + first + 1, 0, (last - first) * sizeof *light->cell_first);
-        memset(light->cell_front + first, 0, (last - first) * sizeof *light->cell_front);
-        for (size_t c = first; c < last; c++) light->cell_min[c] = INFINITY;
-    }
-    const size_t face_first = (size_t)face * b->job.n; /* face-major; no pointer into an empty (NULL) array */
-    for (uint32_t k = light->face_first[face]; k < light->face_first[face + 1]; k++) {
-        const uint32_t i = light->face_records[k];
-        const pgrid_footprint f = light->prints[face_first + i];
-        if (f.y1 < r0 || f.y0 >= r1) continue;
-        const bool front = light->record_front[i];
-        const float bound = light->bound[i];
-        const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
-        uint32_t *own = front ? cursor + cells : cursor;
-        for (uint32_t y = y0; y <= y1; y++)
-            for (size_t cell = ((size_t)face * res + y) * res + f.x0, end = cell + (f.x1 - f.x0); cell <= end; cell++) {
-                if (fill) {
-                    light->refs[own[cell]++] = i;
-                } else {
-                    light->cell_first[cell + 1]++;
-                    if (front) {
-                        light->cell_front[cell]++; /* for now: the cell's front count */
-                    } else if (bound < light->cell_min[cell]) {
-                        light->cell_min[cell] = bound;
-                    }
-                }
+        uint32_t *restrict main_cursor = light->fill, *restrict front_cursor = light->fill + cells;
+        uint32_t *restrict refs = light->refs;
+        memcpy(main_cursor + first, light->cell_first + first, (last - first) * sizeof *main_cursor);
+        memcpy(front_cursor + first, light->cell_front + first, (last - first) * sizeof *front_cursor);
+        for (uint32_t k = records_first; k < records_end; k++) {
+            const uint32_t i = records[k];
+            const pgrid_footprint f = prints[i];
+            if (f.y1 < r0 || f.y0 >= r1) continue;
+            uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
+            const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+            for (uint32_t y = y0; y <= y1; y++) {
+                const size_t row = ((size_t)face * res + y) * res;
+                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
             }
+        }
+        return;
+    }
+    uint32_t *restrict count = light->cell_first + 1, *restrict front_count = light->cell_front;
+    float *restrict cell_min = light->cell_min;
+    const float *restrict bound = light->bound;
+    memset(count + first, 0, (last - first) * sizeof *count);
+    memset(front_count + first, 0, (last - first) * sizeof *front_count);
+    for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
+    for (uint32_t k = records_first; k < records_end; k++) {
+        const uint32_t i = records[k];
+        const pgrid_footprint f = prints[i];
+        if (f.y1 < r0 || f.y0 >= r1) continue;
+        const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+        if (record_front[i]) {
+            for (uint32_t y = y0; y <= y1; y++) {
+                const size_t row = ((size_t)face * res + y) * res;
+                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) count[cell]++, front_count[cell]++; /* for now */
+            }
+            continue;
+        }
+        const float d = bound[i];
+        for (uint32_t y = y0; y <= y1; y++) {
+            const size_t row = ((size_t)face * res + y) * res;
+            for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) {
+                count[cell]++;
+                cell_min[cell] = d < cell_min[cell] ? d : cell_min[cell];
+            }
+        }
     }
 }
 
@@ -410,6 +429,56 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     memset(grids, 0, sizeof *grids);
 }
 
+/* Spreads the low 10 bits of x over every third bit (a Morton code's axis). */
+static uint32_t spread_bits(uint32_t x)
+{
+    x &= 0x3ffu;
+    x = (x | x << 16) & 0x030000ffu;
+    x = (x | x << 8) & 0x0300f00fu;
+    x = (x | x << 4) & 0x030c30c3u;
+    x = (x | x << 2) & 0x09249249u;
+    return x;
+}
+
+static int compare_u64(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The corner records in the Morton order of their centroids (1024 steps
+ * an axis over the scene's box; ties in scene order): a cell's triangles,
+ * and a footprint's neighbours, then lie near one another in memory, for
+ * the build's counting sort and the kernel's reads.  False when out of
+ * memory (the order is then the scene's). */
+static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
+{
+    const uint32_t n = grids->corner_count;
+    uint64_t *keys = malloc(((size_t)n + 1) * sizeof *keys);
+    kd_corners *copy = malloc(((size_t)n + 1) * sizeof *copy);
+    if (!keys || !copy) {
+        free(keys), free(copy);
+        return false;
+    }
+    const float *lo = &scene->bounds.lo.x, *hi = &scene->bounds.hi.x;
+    for (uint32_t i = 0; i < n; i++) {
+        const kd_corners *k = &grids->corners[i];
+        uint32_t code = 0;
+        for (int a = 0; a < 3; a++) {
+            const float extent = hi[a] - lo[a], centre = (k->a[a] + k->b[a] + k->c[a]) / 3.0f;
+            float step = extent > 0.0f ? (centre - lo[a]) / extent * 1024.0f : 0.0f;
+            step = step >= 0.0f ? (step < 1023.0f ? step : 1023.0f) : 0.0f; /* NaN: 0 */
+            code |= spread_bits((uint32_t)step) << a;
+        }
+        keys[i] = (uint64_t)code << 32 | i;
+    }
+    qsort(keys, n, sizeof *keys, compare_u64);
+    memcpy(copy, grids->corners, (size_t)n * sizeof *copy);
+    for (uint32_t i = 0; i < n; i++) grids->corners[i] = copy[(uint32_t)keys[i]];
+    free(keys), free(copy);
+    return true;
+}
+
 bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
 {
     memset(grids, 0, sizeof *grids);
@@ -460,7 +529,10 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
         k->b[0] = tri[1].x, k->b[1] = tri[1].y, k->b[2] = tri[1].z;
         k->c[0] = tri[2].x, k->c[1] = tri[2].y, k->c[2] = tri[2].z;
         k->prim = i;
+        const uint32_t mesh = grids->triangle_mesh ? grids->triangle_mesh[i] : UINT32_MAX;
+        k->outward = mesh != UINT32_MAX && grids->mesh_culled[mesh] ? grids->mesh_outward[mesh] : 0;
     }
+    ok = ok && order_records_in_space(grids, scene);
     if (!ok) pgrid_shadows_free(grids);
     return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
 }

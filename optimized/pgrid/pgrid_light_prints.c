@@ -219,8 +219,7 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
             for (int a = 0; a < 3; a++)
                 at[0][a][l] = (double)k->a[a] - position[a], at[1][a][l] = (double)k->b[a] - position[a],
                 at[2][a][l] = (double)k->c[a] - position[a];
-            const uint32_t mesh = grids->triangle_mesh ? grids->triangle_mesh[k->prim] : UINT32_MAX;
-            side[l] = mesh != UINT32_MAX && grids->mesh_culled[mesh] ? (double)grids->mesh_outward[mesh] : 0.0;
+            side[l] = (double)k->outward;
         }
         vd c[3][3];
         for (int v = 0; v < 3; v++)

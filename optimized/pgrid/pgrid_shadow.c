@@ -258,6 +258,7 @@ typedef struct chunk_scratch {
     uint32_t keys[CHUNK_RAYS];          /* per ray */
     uint32_t run_first[CHUNK_RAYS + 1]; /* per run of equal keys: its first ray */
     uint64_t records[CHUNK_RAYS], spare[CHUNK_RAYS];
+    uint8_t full[CHUNK_RAYS];           /* per ray: needs_front_faces */
 } chunk_scratch;
 
 /* pgrid_shadow_occluded on at most CHUNK_RAYS rays. */
@@ -282,6 +283,13 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
         if (key > hi) hi = key;
     }
     run_first[runs] = count;
+    /* which rays may start inside a culled solid, in batch order (their
+     * triangles' bytes and normals read in the batch's coherent order, not
+     * the packets') */
+    uint8_t *full_ray = scratch->full;
+    if (grids->culled_count)
+        for (uint32_t i = 0; i < count; i++)
+            full_ray[i] = needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS);
     const uint64_t *sorted = sort_keys(records, scratch->spare, runs, lo, hi);
     /* the largest float at most 2M: |org| (a float) <= 2M iff |org| <= it */
     float magnitude = (float)L->magnitude;
@@ -327,11 +335,7 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
         const uint32_t wild = active & ~vm_bits(tame);
         uint32_t full = 0;
         if (grids->culled_count)
-            for (uint32_t l = 0; l < n; l++) {
-                const uint32_t i = index[l];
-                if (needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS))
-                    full |= 1u << l;
-            }
+            for (uint32_t l = 0; l < n; l++) full |= (uint32_t)full_ray[index[l]] << l;
         uint32_t hit = 0, entering = 0;
         if (wild) {
             const packet_regs regs = packet_regs_load(&p);
