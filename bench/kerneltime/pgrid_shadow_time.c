@@ -5,9 +5,11 @@
  * primary hit of the optimized engine towards light 0's centre), in the
  * thread's CPU time, the best of FRAMES for the build and for the whole
  * frame, with a checksum of the answers (equal checksums: equal occlusion)
- * and the share of rays occluded.  One thread.
+ * and the share of rays occluded.  THREADS (default 1) above one builds
+ * the grid and traces the batches on the pool, as rtt bench's row at that
+ * many threads, and times the frame in wall-clock time.
  *
- *   pgrid_shadow_time SCENE WIDTH HEIGHT LIGHT_RES FRAMES VIEWS
+ *   pgrid_shadow_time SCENE WIDTH HEIGHT LIGHT_RES FRAMES VIEWS [THREADS]
  *
  * LIGHT_RES the light grid's cells per face side (0: pgrid_light_res_rule);
  * RTT_ISA (sse4, avx2, avx512) narrows the kernel.  One line on stdout. */
@@ -17,22 +19,44 @@
 #include <time.h>
 
 #include "bench_internal.h"
+#include "engine/clock.h"
+#include "engine/threads.h"
 #include "engine_optimized.h"
 #include "kerneltime.h"
 #include "pgrid_eye.h"
 #include "rtt/rtt.h"
 
+/* One batch (an eye-ray cell's rays) through the kernel: a task of the pool. */
+typedef struct shadow_batches_job {
+    const pgrid_kernel *kernel;
+    const pgrid_shadows *grids;
+    const bench_shadow_batches *batches;
+    uint8_t *answers;
+    _Atomic bool failed;
+} shadow_batches_job;
+
+static void trace_batch(void *context, uint32_t thread, uint32_t cell)
+{
+    (void)thread;
+    shadow_batches_job *job = context;
+    const uint32_t first = job->batches->first[cell];
+    if (!job->kernel->shadow_occluded(job->grids, 0, job->batches->rays + first, job->batches->prim + first,
+                                      job->batches->first[cell + 1] - first, job->answers + first))
+        job->failed = true;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 7) {
-        fprintf(stderr, "usage: pgrid_shadow_time SCENE WIDTH HEIGHT LIGHT_RES FRAMES VIEWS\n");
+    if (argc != 7 && argc != 8) {
+        fprintf(stderr, "usage: pgrid_shadow_time SCENE WIDTH HEIGHT LIGHT_RES FRAMES VIEWS [THREADS]\n");
         return 2;
     }
     const char *path = argv[1], *views_path = argv[6];
     const int width = atoi(argv[2]), height = atoi(argv[3]), res = atoi(argv[4]), frames = atoi(argv[5]);
+    const int threads = argc == 8 ? atoi(argv[7]) : 1;
     if (width < 8 || width > 16384 || height < 8 || height > 16384 || res < 0 || res > (int)PGRID_LIGHT_RES_MAX ||
-        frames < 1) {
-        fprintf(stderr, "pgrid_shadow_time: WIDTH and HEIGHT 8..16384, LIGHT_RES 0..%u, FRAMES >= 1\n",
+        frames < 1 || threads < 1 || threads > 256) {
+        fprintf(stderr, "pgrid_shadow_time: WIDTH and HEIGHT 8..16384, LIGHT_RES 0..%u, FRAMES >= 1, THREADS 1..256\n",
                 PGRID_LIGHT_RES_MAX);
         return 2;
     }
@@ -80,22 +104,21 @@ int main(int argc, char **argv)
             double best_frame = 1e30, best_build = 1e30;
             grids.prints = kernel->light_prints;
             status = 0;
+            /* one thread: its CPU time; on the pool: the wall clock */
+            double (*const seconds)(void) = threads > 1 ? rtt_clock_seconds : kerneltime_thread_seconds;
             for (int f = 0; f < frames && status == 0; f++) {
-                const double t0 = kerneltime_thread_seconds();
-                const bool built = pgrid_light_rebuild(&grids.lights[0], &grids, scene, position, (uint32_t)res, 1);
+                const double t0 = seconds();
+                const bool built =
+                    pgrid_light_rebuild(&grids.lights[0], &grids, scene, position, (uint32_t)res, (uint32_t)threads);
                 grids.light_count = 1;
-                const double t1 = kerneltime_thread_seconds();
-                bool traced = built;
-                for (uint32_t c = 0; traced && c < batches.cells; c++) {
-                    const uint32_t first = batches.first[c];
-                    traced = kernel->shadow_occluded(&grids, 0, batches.rays + first, batches.prim + first,
-                                                     batches.first[c + 1] - first, answers + first);
-                }
-                if (!traced) {
+                const double t1 = seconds();
+                shadow_batches_job job = {.kernel = kernel, .grids = &grids, .batches = &batches, .answers = answers};
+                if (built) rtt_parallel_run(batches.cells, (uint32_t)threads, trace_batch, &job);
+                if (!built || job.failed) {
                     fprintf(stderr, "pgrid_shadow_time: out of memory\n");
                     status = 1;
                 }
-                const double frame = kerneltime_thread_seconds() - t0;
+                const double frame = seconds() - t0;
                 if (frame < best_frame) best_frame = frame;
                 if (t1 - t0 < best_build) best_build = t1 - t0;
             }

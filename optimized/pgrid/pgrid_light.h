@@ -120,7 +120,8 @@ typedef struct pgrid_light {
      * footprints (face-major: face * corner_count + record), the fill
      * cursors, and what the arrays hold */
     pgrid_footprint *prints;
-    uint8_t *record_front;     /* per corner record: front[its prim] */
+    uint8_t *record_front;     /* per corner record: PGRID_PRIM_FACING or _STEEP when it faces the light, else 0
+                                * (the build copies it to front[its prim] after the footprint stage) */
     uint8_t *face_mask;        /* per corner record: bit f when it has a footprint on face f */
     uint32_t *face_records;    /* per face the records with a footprint on it, ascending: */
     uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* face f's are face_records[face_first[f] ..) */
@@ -130,8 +131,8 @@ typedef struct pgrid_light {
 
 /* The footprint stage of a light's build (pgrid_light_build.c): for the
  * corner records [first, end) of `grids`, each one's distance bound d_T,
- * front flag and footprint on the six faces, written into `light`
- * (bound, front, record_front, prints, face_mask).  E: the light's error
+ * front class and footprint on the six faces, written into `light`
+ * (bound, record_front, prints, face_mask).  E: the light's error
  * bound (pgrid_light.h's E), res: its cells per face side. */
 struct pgrid_shadows;
 typedef struct pgrid_print_job {

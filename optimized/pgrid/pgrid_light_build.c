@@ -186,7 +186,6 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
     double len, dot;
     const double d = distance_bound(c, &len, &dot);
     light->bound[i] = (float)(d * (1.0 - 1e-6));
-    const uint32_t prim = k->prim;
     bool front = false, steep = false;
     if (k->outward) {
         /* the light on the outer side of the plane by more than 4E: every ray towards it leaves the solid there */
@@ -201,8 +200,7 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
         }
         steep = front && side > PGRID_STEEP_COSINE * len * sqrt(far);
     }
-    if (front) light->front[prim] = steep ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING;
-    light->record_front[i] = front;
+    light->record_front[i] = front ? (steep ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
     const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
     if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
         /* a near one: no footprint, y0 marks it for the near list */
@@ -377,8 +375,12 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     /* per face the records with a footprint on it, in record order: the
      * bands read those, not every record (most triangles meet one face) */
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
-    for (uint32_t i = 0; i < n; i++)
+    for (uint32_t i = 0; i < n; i++) {
         for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1) at[__builtin_ctz(mask) + 1]++;
+        /* the kernel's byte by triangle, here: written by the stage's tasks, records in space order (prims
+         * at random) would share cache lines between threads */
+        if (light->record_front[i]) light->front[grids->corners[i].prim] = light->record_front[i];
+    }
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
     for (uint32_t i = 0; i < n; i++)

@@ -234,8 +234,7 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
             }
             const bool front = out.front >> l & 1u;
             light->bound[r] = (float)(out.d[l] * (1.0 - 1e-6));
-            if (front) light->front[grids->corners[r].prim] = out.steep >> l & 1u ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING;
-            light->record_front[r] = front;
+            light->record_front[r] = front ? (out.steep >> l & 1u ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
             const pgrid_footprint f = {cell_index(out.a[0][l], res), cell_index(out.a[1][l], res),
                                        cell_index(out.b[0][l], res), cell_index(out.b[1][l], res)};
             for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
