@@ -153,6 +153,12 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 typedef struct pgrid_shadows {
     kd_corners *corners;
     uint32_t corner_count;
+    /* the same corners as structure of arrays for the footprint stage's
+     * vectors: coordinate a of corner v of record i at
+     * corner_lanes[(3 v + a) * corner_stride + i], then the records'
+     * outward sides (kd_corners.outward) as floats at 9 corner_stride */
+    float *corner_lanes;
+    size_t corner_stride;
     /* back-face culling: per mesh 1 when it is closed and consistently
      * oriented (every directed edge's reverse used once, by vertex index),
      * its outward side (+1: the winding's normal, -1: the opposite) and

@@ -375,21 +375,22 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     /* per face the records with a footprint on it, in record order: the
      * bands read those, not every record (most triangles meet one face) */
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
+    light->near_count = 0;
     for (uint32_t i = 0; i < n; i++) {
-        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1) at[__builtin_ctz(mask) + 1]++;
+        const uint32_t face_mask = light->face_mask[i];
+        for (uint32_t mask = face_mask; mask; mask &= mask - 1) at[__builtin_ctz(mask) + 1]++;
         /* the kernel's byte by triangle, here: written by the stage's tasks, records in space order (prims
          * at random) would share cache lines between threads */
         if (light->record_front[i]) light->front[grids->corners[i].prim] = light->record_front[i];
+        /* a near one has no footprint, and y0 marks it */
+        if (!face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
+            light->near[light->near_count++] = i;
     }
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
     for (uint32_t i = 0; i < n; i++)
         for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1)
             light->face_records[at[__builtin_ctz(mask)]++] = i;
-    light->near_count = 0;
-    for (uint32_t i = 0; i < n; i++)
-        if (light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
-            light->near[light->near_count++] = i;
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
     /* the kept faces' cells (pgrid_light.faces) in face order: the others
      * (a mesh seen from outside lies on one or two faces) cost nothing */
@@ -422,6 +423,7 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     pgrid_shadows_free_lights(grids);
     free(grids->lights);
     free(grids->corners);
+    free(grids->corner_lanes);
     free(grids->mesh_culled);
     free(grids->mesh_outward);
     free(grids->mesh_box);
@@ -481,6 +483,24 @@ static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
     return true;
 }
 
+/* grids->corner_lanes from grids->corners (pgrid_light.h).  False when
+ * out of memory. */
+static bool corners_as_lanes(pgrid_shadows *grids)
+{
+    const size_t stride = ((size_t)grids->corner_count + 16) & ~(size_t)15; /* a vector's reach past the last record */
+    float *lanes = calloc(10 * stride, sizeof *lanes);
+    if (!lanes) return false;
+    for (uint32_t i = 0; i < grids->corner_count; i++) {
+        const kd_corners *k = &grids->corners[i];
+        for (int a = 0; a < 3; a++)
+            lanes[(size_t)a * stride + i] = k->a[a], lanes[(size_t)(3 + a) * stride + i] = k->b[a],
+                                   lanes[(size_t)(6 + a) * stride + i] = k->c[a];
+        lanes[9 * stride + i] = (float)k->outward;
+    }
+    grids->corner_lanes = lanes, grids->corner_stride = stride;
+    return true;
+}
+
 bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const uint8_t *degenerate, rtt_error *err)
 {
     memset(grids, 0, sizeof *grids);
@@ -534,7 +554,7 @@ bool pgrid_shadows_prepare(pgrid_shadows *grids, const rtt_scene *scene, const u
         const uint32_t mesh = grids->triangle_mesh ? grids->triangle_mesh[i] : UINT32_MAX;
         k->outward = mesh != UINT32_MAX && grids->mesh_culled[mesh] ? grids->mesh_outward[mesh] : 0;
     }
-    ok = ok && order_records_in_space(grids, scene);
+    ok = ok && order_records_in_space(grids, scene) && corners_as_lanes(grids);
     if (!ok) pgrid_shadows_free(grids);
     return ok || rtt_error_set(err, "%s: out of memory building the light grids", scene->path);
 }

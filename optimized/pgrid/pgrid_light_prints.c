@@ -29,6 +29,7 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
 typedef __m512d vd;
 static inline vd vd_set1(double x) { return _mm512_set1_pd(x); }
 static inline vd vd_load(const double *p) { return _mm512_loadu_pd(p); }
+static inline vd vd_load_floats(const float *p) { return _mm512_cvtps_pd(_mm256_loadu_ps(p)); }
 static inline void vd_store(double *p, vd a) { _mm512_storeu_pd(p, a); }
 static inline vd vd_add(vd a, vd b) { return _mm512_add_pd(a, b); }
 static inline vd vd_sub(vd a, vd b) { return _mm512_sub_pd(a, b); }
@@ -43,11 +44,16 @@ static inline uint32_t vd_le(vd a, vd b) { return _mm512_cmp_pd_mask(a, b, _CMP_
 static inline vd vd_blend(uint32_t m, vd a, vd b) { return _mm512_mask_blend_pd((__mmask8)m, a, b); }
 /* fabs: the sign bit cleared */
 static inline vd vd_abs(vd a) { return _mm512_abs_pd(a); }
+static inline vd vd_min(vd a, vd b) { return _mm512_min_pd(a, b); }
+static inline vd vd_max(vd a, vd b) { return _mm512_max_pd(a, b); }
+/* truncated towards zero, as (int32_t) does */
+static inline void vd_store_trunc(int32_t *p, vd a) { _mm256_storeu_si256((__m256i *)p, _mm512_cvttpd_epi32(a)); }
 #elif defined(__AVX2__)
 #define VD_W 4u
 typedef __m256d vd;
 static inline vd vd_set1(double x) { return _mm256_set1_pd(x); }
 static inline vd vd_load(const double *p) { return _mm256_loadu_pd(p); }
+static inline vd vd_load_floats(const float *p) { return _mm256_cvtps_pd(_mm_loadu_ps(p)); }
 static inline void vd_store(double *p, vd a) { _mm256_storeu_pd(p, a); }
 static inline vd vd_add(vd a, vd b) { return _mm256_add_pd(a, b); }
 static inline vd vd_sub(vd a, vd b) { return _mm256_sub_pd(a, b); }
@@ -59,6 +65,9 @@ static inline uint32_t vd_ge(vd a, vd b) { return (uint32_t)_mm256_movemask_pd(_
 static inline uint32_t vd_gt(vd a, vd b) { return (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GT_OQ)); }
 static inline uint32_t vd_le(vd a, vd b) { return (uint32_t)_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_LE_OQ)); }
 static inline vd vd_abs(vd a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+static inline vd vd_min(vd a, vd b) { return _mm256_min_pd(a, b); }
+static inline vd vd_max(vd a, vd b) { return _mm256_max_pd(a, b); }
+static inline void vd_store_trunc(int32_t *p, vd a) { _mm_storeu_si128((__m128i *)p, _mm256_cvttpd_epi32(a)); }
 static inline vd vd_blend(uint32_t m, vd a, vd b)
 {
     const __m256i lane = _mm256_setr_epi64x(1, 2, 4, 8);
@@ -70,6 +79,7 @@ static inline vd vd_blend(uint32_t m, vd a, vd b)
 typedef __m128d vd;
 static inline vd vd_set1(double x) { return _mm_set1_pd(x); }
 static inline vd vd_load(const double *p) { return _mm_loadu_pd(p); }
+static inline vd vd_load_floats(const float *p) { return _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd((const double *)p))); }
 static inline void vd_store(double *p, vd a) { _mm_storeu_pd(p, a); }
 static inline vd vd_add(vd a, vd b) { return _mm_add_pd(a, b); }
 static inline vd vd_sub(vd a, vd b) { return _mm_sub_pd(a, b); }
@@ -81,6 +91,9 @@ static inline uint32_t vd_ge(vd a, vd b) { return (uint32_t)_mm_movemask_pd(_mm_
 static inline uint32_t vd_gt(vd a, vd b) { return (uint32_t)_mm_movemask_pd(_mm_cmpgt_pd(a, b)); }
 static inline uint32_t vd_le(vd a, vd b) { return (uint32_t)_mm_movemask_pd(_mm_cmple_pd(a, b)); }
 static inline vd vd_abs(vd a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
+static inline vd vd_min(vd a, vd b) { return _mm_min_pd(a, b); }
+static inline vd vd_max(vd a, vd b) { return _mm_max_pd(a, b); }
+static inline void vd_store_trunc(int32_t *p, vd a) { _mm_storel_epi64((__m128i *)p, _mm_cvttpd_epi32(a)); }
 static inline vd vd_blend(uint32_t m, vd a, vd b)
 {
     const __m128i lane = _mm_setr_epi32(1, 0, 2, 0);
@@ -97,7 +110,8 @@ static inline vd vd_more(vd x, vd acc) { return vd_blend(vd_gt(x, acc), acc, x);
 
 /* What a vector of records leaves for the output loop. */
 typedef struct prints_lanes {
-    double d[VD_W], a[2][VD_W], b[2][VD_W];
+    double d[VD_W];
+    int32_t a[2][VD_W], b[2][VD_W]; /* the footprint's first and last cells (x, y) */
     uint32_t fast, front, steep, face[VD_W];
 } prints_lanes;
 
@@ -106,6 +120,7 @@ typedef struct prints_lanes {
 static void prints_vector(const vd c[3][3], vd outward, double E, uint32_t res, prints_lanes *out)
 {
     const vd zero = vd_set1(0.0);
+    for (uint32_t l = 0; l < VD_W; l++) out->face[l] = 0; /* read for the fast lanes only */
     /* distance_bound: the box's and the plane's distances */
     vd box = zero;
     for (int k = 0; k < 3; k++) {
@@ -190,19 +205,18 @@ static void prints_vector(const vd c[3][3], vd outward, double E, uint32_t res, 
         lo[1] = vd_less(t, lo[1]), hi[1] = vd_more(t, hi[1]);
     }
     out->fast = fast;
-    const vd one = vd_set1(1.0), half = vd_set1(0.5), r = vd_set1((double)res);
+    /* face_footprint's cells: x < 0 → 0, x >= res → res - 1, else (int32_t)x; the same as truncating
+     * x clamped to [0, res - 1] for the fast lanes' values (finite) */
+    const vd one = vd_set1(1.0), half = vd_set1(0.5), r = vd_set1((double)res), zero_cell = zero,
+             last_cell = vd_set1((double)res - 1.0);
     for (int k = 0; k < 2; k++) {
-        vd_store(out->a[k], vd_mul(vd_mul(vd_add(vd_sub(lo[k], mu), one), half), r));
-        vd_store(out->b[k], vd_mul(vd_mul(vd_add(vd_add(hi[k], mu), one), half), r));
+        const vd a = vd_mul(vd_mul(vd_add(vd_sub(lo[k], mu), one), half), r);
+        const vd b = vd_mul(vd_mul(vd_add(vd_add(hi[k], mu), one), half), r);
+        vd_store_trunc(out->a[k], vd_min(vd_max(a, zero_cell), last_cell));
+        vd_store_trunc(out->b[k], vd_min(vd_max(b, zero_cell), last_cell));
     }
     for (uint32_t l = 0; l < VD_W; l++)
         out->face[l] = 2u * (axis_bits[1] >> l & 1u ? 1u : axis_bits[2] >> l & 1u ? 2u : 0u) + (negative >> l & 1u);
-}
-
-/* a cell index of face coordinate x (face_footprint's clamp) */
-static inline uint16_t cell_index(double x, uint32_t res)
-{
-    return (uint16_t)(x < 0.0 ? 0 : x >= res ? (int32_t)res - 1 : (int32_t)x);
 }
 
 void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end)
@@ -212,20 +226,16 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
     const float *position = light->position;
     const uint32_t n = job->n, res = job->res;
     uint32_t i = first;
+    const float *lanes = grids->corner_lanes;
+    const size_t stride = grids->corner_stride;
     for (; i + VD_W <= end; i += VD_W) {
-        double at[3][3][VD_W], side[VD_W];
-        for (uint32_t l = 0; l < VD_W; l++) {
-            const kd_corners *k = &grids->corners[i + l];
-            for (int a = 0; a < 3; a++)
-                at[0][a][l] = (double)k->a[a] - position[a], at[1][a][l] = (double)k->b[a] - position[a],
-                at[2][a][l] = (double)k->c[a] - position[a];
-            side[l] = (double)k->outward;
-        }
+        /* (double)corner - position[a], as the scalar record (float to double exact) */
         vd c[3][3];
         for (int v = 0; v < 3; v++)
-            for (int a = 0; a < 3; a++) c[v][a] = vd_load(at[v][a]);
+            for (int a = 0; a < 3; a++)
+                c[v][a] = vd_sub(vd_load_floats(lanes + (size_t)(3 * v + a) * stride + i), vd_set1((double)position[a]));
         prints_lanes out;
-        prints_vector((const vd(*)[3])c, vd_load(side), job->E, res, &out);
+        prints_vector((const vd(*)[3])c, vd_load_floats(lanes + 9 * stride + i), job->E, res, &out);
         for (uint32_t l = 0; l < VD_W; l++) {
             const uint32_t r = i + l;
             if (!(out.fast >> l & 1u)) {
@@ -235,8 +245,8 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
             const bool front = out.front >> l & 1u;
             light->bound[r] = (float)(out.d[l] * (1.0 - 1e-6));
             light->record_front[r] = front ? (out.steep >> l & 1u ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
-            const pgrid_footprint f = {cell_index(out.a[0][l], res), cell_index(out.a[1][l], res),
-                                       cell_index(out.b[0][l], res), cell_index(out.b[1][l], res)};
+            const pgrid_footprint f = {(uint16_t)out.a[0][l], (uint16_t)out.a[1][l], (uint16_t)out.b[0][l],
+                                       (uint16_t)out.b[1][l]};
             for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
                 light->prints[(size_t)face * n + r] =
                     face == out.face[l] ? f : (pgrid_footprint){PGRID_FOOTPRINT_NONE, 0, 0, 0};
