@@ -273,9 +273,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         if (cells_differ || other.ref_count != light.ref_count || other.near_count != light.near_count ||
             (light.ref_count && memcmp(other.refs, light.refs, light.ref_count * sizeof *light.refs)) ||
-            (n && (memcmp(other.prints, light.prints, n * PGRID_LIGHT_FACES * sizeof *light.prints) ||
-                   memcmp(other.bound, light.bound, n * sizeof *light.bound) ||
-                   memcmp(other.face_mask, light.face_mask, n) || memcmp(other.record_front, light.record_front, n))))
+            !pgrid_light_prints_equal(&light, &other, (uint32_t)n))
             fuzz_fail("light grid (%s, res %u): the vector footprint stage's grid differs from the scalar one's",
                       rtt_isa_name(isa), light.res);
         pgrid_light_free(&other);

@@ -117,8 +117,11 @@ typedef struct pgrid_light {
     uint32_t *near;            /* tested by every ray */
     uint32_t near_count;
     /* the build's own, kept between rebuilds (pgrid_light_rebuild): the
-     * footprints (face-major: face * corner_count + record), the fill
-     * cursors, and what the arrays hold */
+     * footprints (face-major: face * corner_count + record; a record's
+     * entries on the faces of its face_mask, or, when that is 0, on face 0:
+     * {NONE, NONE} for a near one, {NONE, 0} for one with no footprint; its
+     * other entries are not written), the fill cursors, and what the
+     * arrays hold */
     pgrid_footprint *prints;
     uint8_t *record_front;     /* per corner record: PGRID_PRIM_FACING or _STEEP when it faces the light, else 0
                                 * (the build copies it to front[its prim] after the footprint stage) */
@@ -147,6 +150,10 @@ typedef void (*pgrid_prints_fn)(const pgrid_print_job *job, uint32_t first, uint
  * the records their vectors leave out, bit for bit the same otherwise). */
 void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i);
 void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint32_t end);
+/* Whether two builds' footprint stages wrote the same: per record its
+ * bound, front class, face mask and the footprint entries it writes (the
+ * tests and the fuzzer compare the vector stages with the scalar one). */
+bool pgrid_light_prints_equal(const pgrid_light *a, const pgrid_light *b, uint32_t records);
 
 /* The light grids of one frame: the scene's non-degenerate triangles'
  * corners (in global order, prim kept) and a grid per light. */

@@ -203,23 +203,39 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
     light->record_front[i] = front ? (steep ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
     const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
     if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
-        /* a near one: no footprint, y0 marks it for the near list */
-        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
-            light->prints[(size_t)face * n + i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
+        /* a near one: no footprint, face 0's y0 marks it for the near list */
+        light->prints[i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
         light->face_mask[i] = 0;
         return;
     }
+    /* only the faces it has a footprint on are written (pgrid_light.prints) */
     const uint32_t only = single_face((const double(*)[3])c, mu);
     uint8_t mask = 0;
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
-        pgrid_footprint *f = &light->prints[(size_t)face * n + i];
-        if (only != PGRID_LIGHT_FACES && face != only)
-            *f = (pgrid_footprint){PGRID_FOOTPRINT_NONE, 0, 0, 0};
-        else
-            *f = face_footprint((const double(*)[3])c, face, mu, job->res);
-        if (f->x0 != PGRID_FOOTPRINT_NONE) mask |= (uint8_t)(1u << face);
+        if (only != PGRID_LIGHT_FACES && face != only) continue;
+        const pgrid_footprint f = face_footprint((const double(*)[3])c, face, mu, job->res);
+        if (f.x0 == PGRID_FOOTPRINT_NONE) continue;
+        light->prints[(size_t)face * n + i] = f;
+        mask |= (uint8_t)(1u << face);
     }
+    if (!mask) light->prints[i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, 0, 0, 0};
     light->face_mask[i] = mask;
+}
+
+bool pgrid_light_prints_equal(const pgrid_light *a, const pgrid_light *b, uint32_t records)
+{
+    if (!records) return true;
+    if (memcmp(a->bound, b->bound, records * sizeof *a->bound) || memcmp(a->record_front, b->record_front, records) ||
+        memcmp(a->face_mask, b->face_mask, records))
+        return false;
+    for (uint32_t i = 0; i < records; i++) {
+        const uint32_t mask = a->face_mask[i] ? a->face_mask[i] : 1u; /* none: face 0's marker */
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
+            if (mask >> face & 1u && memcmp(&a->prints[(size_t)face * records + i],
+                                            &b->prints[(size_t)face * records + i], sizeof *a->prints))
+                return false;
+    }
+    return true;
 }
 
 void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint32_t end)

@@ -247,9 +247,7 @@ void pgrid_light_prints(const pgrid_print_job *job, uint32_t first, uint32_t end
             light->record_front[r] = front ? (out.steep >> l & 1u ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
             const pgrid_footprint f = {(uint16_t)out.a[0][l], (uint16_t)out.a[1][l], (uint16_t)out.b[0][l],
                                        (uint16_t)out.b[1][l]};
-            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
-                light->prints[(size_t)face * n + r] =
-                    face == out.face[l] ? f : (pgrid_footprint){PGRID_FOOTPRINT_NONE, 0, 0, 0};
+            light->prints[(size_t)out.face[l] * n + r] = f; /* its one face's entry (pgrid_light.prints) */
             light->face_mask[r] = (uint8_t)(1u << out.face[l]);
         }
     }
