@@ -129,7 +129,10 @@ typedef struct pgrid_light {
     uint32_t *face_records;    /* per face the records with a footprint on it, ascending: */
     uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* face f's are face_records[face_first[f] ..) */
     uint32_t *fill;
-    size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity;
+    uint32_t *row_records;     /* per build thread, face and cell row: the records whose footprint starts there,
+                                * that thread's count (two threads or more: the face's rows are cut where
+                                * half its records have started, two bands of as many) */
+    size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity, row_capacity;
 } pgrid_light;
 
 /* The footprint stage of a light's build (pgrid_light_build.c): for the

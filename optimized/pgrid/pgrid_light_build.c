@@ -148,6 +148,7 @@ void pgrid_light_free(pgrid_light *light)
     free(light->record_front);
     free(light->face_mask);
     free(light->face_records);
+    free(light->row_records);
     memset(light, 0, sizeof *light);
 }
 
@@ -165,7 +166,8 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
 typedef struct light_build {
     pgrid_print_job job;
     pgrid_prints_fn prints;
-    uint32_t bands;
+    uint32_t bands, row_threads; /* row_threads: the threads whose rows light->row_records holds (bands > 1) */
+    uint32_t band_row[PGRID_LIGHT_FACES][3]; /* face f's band k: rows band_row[f][k] .. band_row[f][k + 1] */
     size_t cells;
 } light_build;
 
@@ -246,10 +248,19 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 /* Task: the footprints, bounds and front flags of records [CHUNK task ..). */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
 {
-    (void)thread;
     const light_build *b = context;
     const uint32_t n = b->job.n, end = (task + 1) * CHUNK < n ? (task + 1) * CHUNK : n;
     b->prints(&b->job, task * CHUNK, end);
+    if (b->bands < 2) return;
+    /* the rows the records' footprints start on, this thread's count (read back while in its cache) */
+    const pgrid_light *light = b->job.light;
+    const uint32_t res = b->job.res;
+    uint32_t *rows = light->row_records + (size_t)thread * PGRID_LIGHT_FACES * res;
+    for (uint32_t i = task * CHUNK; i < end; i++)
+        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1) {
+            const uint32_t face = (uint32_t)__builtin_ctz(mask);
+            rows[(size_t)face * res + light->prints[(size_t)face * n + i].y0]++;
+        }
 }
 
 /* The rows of band `task % bands` of face `task / bands`. */
@@ -257,8 +268,8 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
 {
     const uint32_t band = task % b->bands;
     *face = task / b->bands;
-    *y0 = (uint32_t)((uint64_t)b->job.res * band / b->bands);
-    *y1 = (uint32_t)((uint64_t)b->job.res * (band + 1) / b->bands);
+    *y0 = b->band_row[*face][band];
+    *y1 = b->band_row[*face][band + 1];
 }
 
 /* One band's cells: counted (references, front ones, distance bound;
@@ -377,7 +388,10 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
              grow(&light->face_records, &c6, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->face_records);
         if (ok) light->corner_capacity = n;
     }
-    ok = ok && grow(&light->front, &light->triangle_capacity, (size_t)scene->triangle_count + 1, 1);
+    const uint32_t row_threads = rtt_thread_count(threads);
+    ok = ok && grow(&light->front, &light->triangle_capacity, (size_t)scene->triangle_count + 1, 1) &&
+         grow(&light->row_records, &light->row_capacity, (size_t)row_threads * PGRID_LIGHT_FACES * res,
+              sizeof *light->row_records);
     if (!ok) {
         pgrid_light_free(light);
         return false;
@@ -386,7 +400,9 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     light_build b = {.job = {.light = light, .grids = grids, .E = E, .res = res, .n = n},
                      .prints = grids->prints ? grids->prints : pgrid_light_prints_scalar,
                      .cells = cells,
-                     .bands = threads > 1 ? 2 : 1};
+                     .bands = threads > 1 ? 2 : 1,
+                     .row_threads = row_threads};
+    if (b.bands > 1) memset(light->row_records, 0, (size_t)row_threads * PGRID_LIGHT_FACES * res * sizeof *light->row_records);
     rtt_parallel_run((n + CHUNK - 1) / CHUNK, threads, footprint_chunk, &b);
     /* per face the records with a footprint on it, in record order: the
      * bands read those, not every record (most triangles meet one face) */
@@ -401,6 +417,23 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         /* a near one has no footprint, and y0 marks it */
         if (!face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
             light->near[light->near_count++] = i;
+    }
+    /* two bands: cut where half the face's records have started (a mesh
+     * covers part of a face: even rows would leave one thread most of it),
+     * from the rows the footprint tasks counted per thread */
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+        uint32_t cut = res / 2;
+        if (b.bands > 1 && at[face + 1]) {
+            uint32_t seen = 0, y = 0;
+            for (; y + 1 < res; y++) {
+                uint32_t starting = 0;
+                for (uint32_t t = 0; t < b.row_threads; t++) starting += light->row_records[((size_t)t * PGRID_LIGHT_FACES + face) * res + y];
+                if (2 * (seen + starting) > at[face + 1]) break;
+                seen += starting;
+            }
+            cut = y > 0 ? y : 1;
+        }
+        b.band_row[face][0] = 0, b.band_row[face][1] = b.bands > 1 ? cut : res, b.band_row[face][2] = res;
     }
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
