@@ -126,8 +126,8 @@ typedef struct pgrid_light {
     uint8_t *record_front;     /* per corner record: PGRID_PRIM_FACING or _STEEP when it faces the light, else 0
                                 * (the build copies it to front[its prim] after the footprint stage) */
     uint8_t *face_mask;        /* per corner record: bit f when it has a footprint on face f */
-    uint32_t *face_records;    /* per face the records with a footprint on it, ascending: */
-    uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* face f's are face_records[face_first[f] ..) */
+    uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* the records with a footprint on faces before f: face f has
+                                                 * some iff face_first[f] < face_first[f + 1] */
     uint32_t *fill;
     uint32_t *row_records;     /* per build thread, face and cell row: the records whose footprint starts there,
                                 * that thread's count (two threads or more: the face's rows are cut where

@@ -147,7 +147,6 @@ void pgrid_light_free(pgrid_light *light)
     free(light->fill);
     free(light->record_front);
     free(light->face_mask);
-    free(light->face_records);
     free(light->row_records);
     memset(light, 0, sizeof *light);
 }
@@ -275,19 +274,22 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
 /* One band's cells: counted (references, front ones, distance bound;
  * `fill` false) or their references placed in record order (`fill` true:
  * two cursors per cell, the main references from cell_first, the front
- * ones from cell_front).  The arrays are read through local restrict
- * pointers: a store through the light's own would oblige the compiler to
- * load them again from the light after every reference (measured:
- * bench/results/pgrid.md, "sixth session"). */
+ * ones from cell_front), the records read in order, those without a
+ * footprint on the band's face skipped by their face mask (a list of each
+ * face's records, made serially, cost more than the scan: sixth session).
+ * The arrays are read through local restrict pointers: a store through the
+ * light's own would oblige the compiler to load them again from the light
+ * after every reference (measured: bench/results/pgrid.md, "sixth
+ * session"). */
 static void band_pass(const light_build *b, uint32_t task, bool fill)
 {
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
     band_rows(b, task, &face, &r0, &r1);
     if (light->face_first[face] == light->face_first[face + 1]) return; /* no footprint: its cells are not kept */
-    const uint32_t res = b->job.res, records_first = light->face_first[face], records_end = light->face_first[face + 1];
+    const uint32_t res = b->job.res, records_end = b->job.n;
+    const uint8_t *restrict face_mask = light->face_mask;
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
-    const uint32_t *restrict records = light->face_records;
     const pgrid_footprint *restrict prints = light->prints + (size_t)face * b->job.n; /* face-major */
     const uint8_t *restrict record_front = light->record_front;
     if (fill) {
@@ -295,8 +297,8 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
         uint32_t *restrict refs = light->refs;
         memcpy(main_cursor + first, light->cell_first + first, (last - first) * sizeof *main_cursor);
         memcpy(front_cursor + first, light->cell_front + first, (last - first) * sizeof *front_cursor);
-        for (uint32_t k = records_first; k < records_end; k++) {
-            const uint32_t i = records[k];
+        for (uint32_t i = 0; i < records_end; i++) {
+            if (!(face_mask[i] >> face & 1u)) continue;
             const pgrid_footprint f = prints[i];
             if (f.y1 < r0 || f.y0 >= r1) continue;
             uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
@@ -314,8 +316,8 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
     memset(count + first, 0, (last - first) * sizeof *count);
     memset(front_count + first, 0, (last - first) * sizeof *front_count);
     for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
-    for (uint32_t k = records_first; k < records_end; k++) {
-        const uint32_t i = records[k];
+    for (uint32_t i = 0; i < records_end; i++) {
+        if (!(face_mask[i] >> face & 1u)) continue;
         const pgrid_footprint f = prints[i];
         if (f.y1 < r0 || f.y0 >= r1) continue;
         const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
@@ -380,12 +382,11 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         if (ok) light->cell_capacity = cells;
     }
     if (ok && n > light->corner_capacity) {
-        size_t c1 = 0, c2 = 0, c3 = 0, c4 = 0, c5 = 0, c6 = 0;
+        size_t c1 = 0, c2 = 0, c3 = 0, c4 = 0, c5 = 0;
         ok = grow(&light->record_front, &c4, (size_t)n + 1, 1) && grow(&light->near, &c1, (size_t)n + 1, sizeof *light->near) &&
              grow(&light->bound, &c2, (size_t)n + 1, sizeof *light->bound) &&
              grow(&light->prints, &c3, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->prints) &&
-             grow(&light->face_mask, &c5, (size_t)n + 1, 1) &&
-             grow(&light->face_records, &c6, (size_t)n * PGRID_LIGHT_FACES + 1, sizeof *light->face_records);
+             grow(&light->face_mask, &c5, (size_t)n + 1, 1);
         if (ok) light->corner_capacity = n;
     }
     const uint32_t row_threads = rtt_thread_count(threads);
@@ -404,8 +405,8 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
                      .row_threads = row_threads};
     if (b.bands > 1) memset(light->row_records, 0, (size_t)row_threads * PGRID_LIGHT_FACES * res * sizeof *light->row_records);
     rtt_parallel_run((n + CHUNK - 1) / CHUNK, threads, footprint_chunk, &b);
-    /* per face the records with a footprint on it, in record order: the
-     * bands read those, not every record (most triangles meet one face) */
+    /* per face how many records have a footprint on it (none: its cells
+     * are not kept), the front classes, the near list */
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
     light->near_count = 0;
     for (uint32_t i = 0; i < n; i++) {
@@ -437,9 +438,6 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     }
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
-    for (uint32_t i = 0; i < n; i++)
-        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1)
-            light->face_records[at[__builtin_ctz(mask)]++] = i;
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
     /* the kept faces' cells (pgrid_light.faces) in face order: the others
      * (a mesh seen from outside lies on one or two faces) cost nothing */
