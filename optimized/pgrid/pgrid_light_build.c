@@ -491,11 +491,6 @@ static uint32_t spread_bits(uint32_t x)
     return x;
 }
 
-static int compare_u64(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
 
 /* The corner records in the Morton order of their centroids (1024 steps
  * an axis over the scene's box; ties in scene order): a cell's triangles,
@@ -505,10 +500,10 @@ static int compare_u64(const void *a, const void *b)
 static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
 {
     const uint32_t n = grids->corner_count;
-    uint64_t *keys = malloc(((size_t)n + 1) * sizeof *keys);
+    uint64_t *keys = malloc(((size_t)n + 1) * sizeof *keys), *spare = malloc(((size_t)n + 1) * sizeof *spare);
     kd_corners *copy = malloc(((size_t)n + 1) * sizeof *copy);
-    if (!keys || !copy) {
-        free(keys), free(copy);
+    if (!keys || !spare || !copy) {
+        free(keys), free(spare), free(copy);
         return false;
     }
     const float *lo = &scene->bounds.lo.x, *hi = &scene->bounds.hi.x;
@@ -523,10 +518,18 @@ static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
         }
         keys[i] = (uint64_t)code << 32 | i;
     }
-    qsort(keys, n, sizeof *keys, compare_u64);
+    /* stable radix sort on the 30-bit code, three passes of 10 bits (the renderer prepares every frame) */
+    for (uint32_t shift = 32; shift < 62; shift += 10) {
+        uint32_t start[1025] = {0};
+        for (uint32_t i = 0; i < n; i++) start[(keys[i] >> shift & 1023u) + 1]++;
+        for (uint32_t b = 0; b < 1024; b++) start[b + 1] += start[b];
+        for (uint32_t i = 0; i < n; i++) spare[start[keys[i] >> shift & 1023u]++] = keys[i];
+        uint64_t *sorted = spare;
+        spare = keys, keys = sorted;
+    }
     memcpy(copy, grids->corners, (size_t)n * sizeof *copy);
     for (uint32_t i = 0; i < n; i++) grids->corners[i] = copy[(uint32_t)keys[i]];
-    free(keys), free(copy);
+    free(keys), free(spare), free(copy);
     return true;
 }
 
