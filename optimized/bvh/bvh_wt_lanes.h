@@ -19,6 +19,16 @@ static inline vm bvh_wt_normal(vf x)
     return vm_and(vf_ge(a, vf_set1(FLT_MIN)), vf_lt(a, vf_set1(INFINITY)));
 }
 
+/* bvh_wt_normal(u) & bvh_wt_normal(v) & bvh_wt_normal(w), by the bits of
+ * |u|, |v|, |w| (ordered as the magnitudes, NaN above infinity): the
+ * smallest at least FLT_MIN's, the largest below infinity's. */
+static inline vm bvh_wt_normal3(vf u, vf v, vf w)
+{
+    const vi au = vf_abs_bits(u), av = vf_abs_bits(v), aw = vf_abs_bits(w);
+    const vi lo = vi_min_s(vi_min_s(au, av), aw), hi = vi_max_s(vi_max_s(au, av), aw);
+    return vm_and(vi_gt_s(lo, vi_set1(0x007fffffu)), vi_gt_s(vi_set1(0x7f800000u), hi));
+}
+
 /* The lanes whose three sheared corners lie in the origin's kz plane (az =
  * bz = cz = 0: a map's axis-aligned floor under a shadow ray's own origin,
  * the common case of the double path) and whose tnear >= 0: T = 0 in

@@ -92,9 +92,11 @@ static inline __attribute__((always_inline)) uint32_t occluded_lanes(const kd_co
     const vf v = vf_sub(vf_mul(ax, cy), vf_mul(ay, cx));
     const vf w = vf_sub(vf_mul(bx, ay), vf_mul(by, ax));
     const vf zero = vf_set1(0.0f);
-    const vm positive = vm_and(vm_and(vf_gt(u, zero), vf_gt(v, zero)), vf_gt(w, zero));
-    const vm negative = vm_and(vm_and(vf_lt(u, zero), vf_lt(v, zero)), vf_lt(w, zero));
-    const vm edges_normal = vm_and(vm_and(bvh_wt_normal(u), bvh_wt_normal(v)), bvh_wt_normal(w));
+    /* all three positive or all negative, by their least and greatest
+     * (exact for the lanes without a NaN; a NaN lane is not normal, so
+     * decided below by the reference's own decision whatever this says) */
+    const vm positive = vf_gt(vf_min(vf_min(u, v), w), zero), negative = vf_lt(vf_max(vf_max(u, v), w), zero);
+    const vm edges_normal = bvh_wt_normal3(u, v, w);
     const vm act = vm_of_bits(active);
     const uint32_t inside = vm_bits(vm_and(act, vm_or(positive, negative)));
     const uint32_t odd = active & ~vm_bits(edges_normal);
