@@ -146,6 +146,13 @@ typedef struct bench_shadow_batches {
 bool bench_shadow_batches_make(bench_shadow_batches *b, const bench_rays *rays, const uint32_t *origin_prim,
                                uint32_t side);
 void bench_shadow_batches_free(bench_shadow_batches *b);
+/* Every batch through the light grid's kernel (light 0), a batch a task on
+ * `threads` of the pool; answers[k] for batches.rays[k].  False when the
+ * kernel ran out of memory. */
+struct pgrid_kernel;
+struct pgrid_shadows;
+bool bench_shadow_batches_trace(const bench_shadow_batches *b, const struct pgrid_kernel *kernel,
+                                const struct pgrid_shadows *grids, uint8_t *answers, uint32_t threads);
 
 /* Times hard shadows through the light grid (bench_pgrid.c): each frame
  * the grid of light 0 and every pixel's shadow ray, batched per eye-ray

@@ -136,15 +136,32 @@ void bench_shadow_batches_free(bench_shadow_batches *b)
     memset(b, 0, sizeof *b);
 }
 
-static void trace_shadow_cell(void *context, uint32_t thread, uint32_t cell)
+/* What bench_shadow_batches_trace's tasks share. */
+typedef struct shadow_batches_job {
+    const bench_shadow_batches *batches;
+    const pgrid_kernel *kernel;
+    const pgrid_shadows *grids;
+    uint8_t *answers;
+    _Atomic bool failed;
+} shadow_batches_job;
+
+static void trace_shadow_batch(void *context, uint32_t thread, uint32_t cell)
 {
     (void)thread;
-    pgrid_shadow_frame *f = context;
-    const bench_shadow_batches *b = &f->batches;
+    shadow_batches_job *job = context;
+    const bench_shadow_batches *b = job->batches;
     const uint32_t first = b->first[cell];
-    if (!f->kernel->shadow_occluded(&f->grids, 0, b->rays + first, b->prim + first, b->first[cell + 1] - first,
-                                    f->answers + first))
-        f->failed = true;
+    if (!job->kernel->shadow_occluded(job->grids, 0, b->rays + first, b->prim + first, b->first[cell + 1] - first,
+                                      job->answers + first))
+        job->failed = true;
+}
+
+bool bench_shadow_batches_trace(const bench_shadow_batches *b, const pgrid_kernel *kernel, const pgrid_shadows *grids,
+                                uint8_t *answers, uint32_t threads)
+{
+    shadow_batches_job job = {.batches = b, .kernel = kernel, .grids = grids, .answers = answers};
+    rtt_parallel_run(b->cells, threads, trace_shadow_batch, &job);
+    return !job.failed;
 }
 
 static void run_shadow_frame(void *context)
@@ -160,7 +177,7 @@ static void run_shadow_frame(void *context)
     }
     f->grids.light_count = 1;
     f->build_seconds[f->runs++] = 1e-9 * (double)(rtt_clock_ns() - t0);
-    rtt_parallel_run(f->batches.cells, f->threads, trace_shadow_cell, f);
+    if (!bench_shadow_batches_trace(&f->batches, f->kernel, &f->grids, f->answers, f->threads)) f->failed = true;
 }
 
 bool bench_pgrid_shadow_row(const rtt_scene *scene, const uint8_t *degenerate, const bench_rays *rays,

@@ -20,30 +20,10 @@
 
 #include "bench_internal.h"
 #include "engine/clock.h"
-#include "engine/threads.h"
 #include "engine_optimized.h"
 #include "kerneltime.h"
 #include "pgrid_eye.h"
 #include "rtt/rtt.h"
-
-/* One batch (an eye-ray cell's rays) through the kernel: a task of the pool. */
-typedef struct shadow_batches_job {
-    const pgrid_kernel *kernel;
-    const pgrid_shadows *grids;
-    const bench_shadow_batches *batches;
-    uint8_t *answers;
-    _Atomic bool failed;
-} shadow_batches_job;
-
-static void trace_batch(void *context, uint32_t thread, uint32_t cell)
-{
-    (void)thread;
-    shadow_batches_job *job = context;
-    const uint32_t first = job->batches->first[cell];
-    if (!job->kernel->shadow_occluded(job->grids, 0, job->batches->rays + first, job->batches->prim + first,
-                                      job->batches->first[cell + 1] - first, job->answers + first))
-        job->failed = true;
-}
 
 int main(int argc, char **argv)
 {
@@ -112,9 +92,7 @@ int main(int argc, char **argv)
                     pgrid_light_rebuild(&grids.lights[0], &grids, scene, position, (uint32_t)res, (uint32_t)threads);
                 grids.light_count = 1;
                 const double t1 = seconds();
-                shadow_batches_job job = {.kernel = kernel, .grids = &grids, .batches = &batches, .answers = answers};
-                if (built) rtt_parallel_run(batches.cells, (uint32_t)threads, trace_batch, &job);
-                if (!built || job.failed) {
+                if (!built || !bench_shadow_batches_trace(&batches, kernel, &grids, answers, (uint32_t)threads)) {
                     fprintf(stderr, "pgrid_shadow_time: out of memory\n");
                     status = 1;
                 }

@@ -34,6 +34,7 @@
 
 #include "engine/threads.h"
 #include "pgrid_eye.h"
+#include "pgrid_sort.h"
 
 static bool grow(void **array, size_t *capacity, size_t need, size_t element)
 {
@@ -542,7 +543,6 @@ static void drawing_order(pgrid_eye *g, uint32_t chunks)
             for (uint32_t k = c * SETUP_CHUNK; k < chunk_end(g, c); k++) g->order[i++] = k;
         return;
     }
-    enum { BITS = 11, BUCKETS = 1 << BITS };
     uint64_t *keys = g->order_keys, *spare = keys + n;
     for (uint32_t c = 0, i = 0; c < chunks; c++)
         for (uint32_t k = c * SETUP_CHUNK; k < chunk_end(g, c); k++) {
@@ -551,19 +551,8 @@ static void drawing_order(pgrid_eye *g, uint32_t chunks)
             bits ^= (bits >> 31) ? 0xFFFFFFFFu : 0x80000000u; /* NaN sorts last */
             keys[i++] = (uint64_t)bits << 32 | k;
         }
-    uint32_t histogram[BUCKETS];
-    for (uint32_t shift = 32; shift < 64; shift += BITS) {
-        memset(histogram, 0, sizeof histogram);
-        for (uint32_t k = 0; k < n; k++) histogram[(keys[k] >> shift) & (BUCKETS - 1)]++;
-        for (uint32_t b = 0, sum = 0; b < BUCKETS; b++) {
-            const uint32_t count = histogram[b];
-            histogram[b] = sum, sum += count;
-        }
-        for (uint32_t k = 0; k < n; k++) spare[histogram[(keys[k] >> shift) & (BUCKETS - 1)]++] = keys[k];
-        uint64_t *sorted = spare;
-        spare = keys, keys = sorted;
-    }
-    for (uint32_t k = 0; k < n; k++) g->order[k] = (uint32_t)keys[k];
+    const uint64_t *sorted = pgrid_sort_keys(keys, spare, n, 0, UINT32_MAX);
+    for (uint32_t k = 0; k < n; k++) g->order[k] = (uint32_t)sorted[k];
 }
 
 /* The cells (inclusive) a set-up triangle's rectangle covers. */

@@ -159,7 +159,8 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 bool pgrid_light_prints_equal(const pgrid_light *a, const pgrid_light *b, uint32_t records);
 
 /* The light grids of one frame: the scene's non-degenerate triangles'
- * corners (in global order, prim kept) and a grid per light. */
+ * corners (in the Morton order of their centroids, prim kept) and a grid
+ * per light. */
 typedef struct pgrid_shadows {
     kd_corners *corners;
     uint32_t corner_count;

@@ -11,6 +11,7 @@
 #include "engine/clock.h"
 #include "engine/threads.h"
 #include "pgrid_light.h"
+#include "pgrid_sort.h"
 #include "solids.h"
 
 #define NEAR_FACTOR 256.0
@@ -244,7 +245,8 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
     for (uint32_t i = first; i < end; i++) pgrid_light_print_record(job, i);
 }
 
-/* Task: the footprints, bounds and front flags of records [CHUNK task ..). */
+/* Task: the footprints, bounds and front classes of records [CHUNK task
+ * ..), and with two bands this thread's count of the rows they start on. */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
 {
     const light_build *b = context;
@@ -491,7 +493,6 @@ static uint32_t spread_bits(uint32_t x)
     return x;
 }
 
-
 /* The corner records in the Morton order of their centroids (1024 steps
  * an axis over the scene's box; ties in scene order): a cell's triangles,
  * and a footprint's neighbours, then lie near one another in memory, for
@@ -518,17 +519,10 @@ static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
         }
         keys[i] = (uint64_t)code << 32 | i;
     }
-    /* stable radix sort on the 30-bit code, three passes of 10 bits (the renderer prepares every frame) */
-    for (uint32_t shift = 32; shift < 62; shift += 10) {
-        uint32_t start[1025] = {0};
-        for (uint32_t i = 0; i < n; i++) start[(keys[i] >> shift & 1023u) + 1]++;
-        for (uint32_t b = 0; b < 1024; b++) start[b + 1] += start[b];
-        for (uint32_t i = 0; i < n; i++) spare[start[keys[i] >> shift & 1023u]++] = keys[i];
-        uint64_t *sorted = spare;
-        spare = keys, keys = sorted;
-    }
+    /* radix, not qsort: the renderer prepares every frame */
+    const uint64_t *sorted = pgrid_sort_keys(keys, spare, n, 0, (1u << 30) - 1u);
     memcpy(copy, grids->corners, (size_t)n * sizeof *copy);
-    for (uint32_t i = 0; i < n; i++) grids->corners[i] = copy[(uint32_t)keys[i]];
+    for (uint32_t i = 0; i < n; i++) grids->corners[i] = copy[(uint32_t)sorted[i]];
     free(keys), free(spare), free(copy);
     return true;
 }

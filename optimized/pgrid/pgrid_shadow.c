@@ -23,6 +23,7 @@
 #include "isect_woop_watertight.h"
 #include "pgrid_isa.h"
 #include "pgrid_light.h"
+#include "pgrid_sort.h"
 
 /* the vector vocabulary at this copy's width, shared with the BVH kernels */
 #define LANES BVH_W
@@ -169,34 +170,6 @@ static bool needs_front_faces(const pgrid_shadows *g, const pgrid_light *L, cons
     return false;
 }
 
-/* Sorts keys (cell * 3 + kz in the high word, a run's index in the low)
- * by their high word, stably (a batch in pixel order stays so within a
- * cell): least-significant-digit radix on the high word less `lo`, the
- * batch's smallest, in as few passes of at most 11 bits as its range
- * (hi - lo) needs, the digits as even as they go (an eye-ray cell's rays
- * see a band of the light's cells: one or two passes of a few hundred
- * buckets).  The sorted keys are in keys or in spare: the pointer returned. */
-static uint64_t *sort_keys(uint64_t *keys, uint64_t *spare, uint32_t count, uint32_t lo, uint32_t hi)
-{
-    enum { MOST_BITS = 11 };
-    const uint32_t range = hi - lo, bits = range ? 32u - (uint32_t)__builtin_clz(range) : 0u;
-    const uint32_t passes = (bits + MOST_BITS - 1) / MOST_BITS, digit = passes ? (bits + passes - 1) / passes : 0u;
-    const uint32_t mask = (1u << digit) - 1u;
-    uint32_t histogram[1u << MOST_BITS];
-    for (uint32_t pass = 0, shift = 0; pass < passes; pass++, shift += digit) {
-        memset(histogram, 0, (mask + 1u) * sizeof *histogram);
-        for (uint32_t i = 0; i < count; i++) histogram[((uint32_t)(keys[i] >> 32) - lo) >> shift & mask]++;
-        for (uint32_t b = 0, sum = 0; b <= mask; b++) {
-            const uint32_t n = histogram[b];
-            histogram[b] = sum, sum += n;
-        }
-        for (uint32_t i = 0; i < count; i++) spare[histogram[((uint32_t)(keys[i] >> 32) - lo) >> shift & mask]++] = keys[i];
-        uint64_t *sorted = spare;
-        spare = keys, keys = sorted;
-    }
-    return keys;
-}
-
 /* The dominant axis of (x, y, z) per lane, by the reference's tie rule
  * (|x| >= |y|, |x| >= |z| → 0, else |y| >= |z| → 1, else 2): the masks of
  * axes 0 and 1 (the latter meaningful outside the former's lanes). */
@@ -292,7 +265,10 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
     if (grids->culled_count)
         for (uint32_t i = 0; i < count; i++)
             full_ray[i] = needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS);
-    const uint64_t *sorted = sort_keys(records, scratch->spare, runs, lo, hi);
+    /* by cell and axis, stably (a batch in pixel order stays so within a
+     * cell; an eye-ray cell's rays see a band of the light's cells: one or
+     * two passes of a few hundred buckets) */
+    const uint64_t *sorted = pgrid_sort_keys(records, scratch->spare, runs, lo, hi);
     /* the largest float at most 2M: |org| (a float) <= 2M iff |org| <= it */
     float magnitude = (float)L->magnitude;
     if ((double)magnitude > L->magnitude) magnitude = nextafterf(magnitude, 0.0f);
