@@ -226,46 +226,89 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
  * is affine in the pixel; normalising is a positive scale).  `scale` per
  * frustum is eps * cmax + grow: cmax the largest |component| of its corner
  * vectors, grow a bound per axis on the rounding of the corners and of the
- * rays' directions (scaled back to the corners' length). */
+ * rays' directions (scaled back to the corners' length).  The frusta of a
+ * camera group share one origin, the eye, and one frame (corner, du, dv),
+ * so an edge plane's n.d(x, y) = n.corner + (n.du) x + (n.dv) y is an edge
+ * function of the pixel, made once per triangle (frusta_triangle_pinhole). */
 typedef struct mft_cone {
     vf corner[4][3];
     vf scale;
-    vf l1;  /* the largest |corner|_1: the normals' rounding scales with it */
+    vf l1;             /* the largest |corner|_1: the normals' rounding scales with it */
+    vf cx, cy;         /* the centre of the block's corner pixel centres (x + 2, y + 2) */
+    vf pixel_scale;    /* scale plus the edge functions' rounding (2^-19 of the corners' terms) */
+    float eye[3], frame[3][3]; /* the common origin; corner, du, dv */
 } mft_cone;
 
-/* frusta_triangle_bounded's edge test over the four corner vectors, with
- * one margin per edge and frustum: |n.c| <= |n|_1 cmax for every corner c,
- * so |n|_1 (eps cmax + grow) is never below that test's eps * mag plus the
- * corners' and the rays' rounding.  Three dot products per corner and
- * edge, no magnitudes: cheaper than the box's bound and tighter (the cone
- * of a 4x4 pixel block, not the box around its directions).  `cull` (the
- * back-face culling of a solid's triangle, traverse_mft.c): +1 drops the
- * frusta whose origin sees the triangle facing (D > margin: behind its
- * winding's normal), -1 those that see it backing, 0 none. */
-static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_bounds *g, const mft_cone *cone,
-                                               int cull, vm active)
+/* The cull of frusta_cull for pinhole frusta (`active`, every one's origin
+ * cone->eye), in the pixel plane: per edge plane n (frusta_edges' formula,
+ * in scalars: the origin is common) the edge function's largest and least
+ * value over a frustum's corner pixel centres are its value at their centre
+ * plus and minus 1.5 (|n.du| + |n.dv|) -- the four corner vectors' dot
+ * products, exactly, in three operations per frustum instead of twelve.
+ * One margin per edge and frustum: |n.c| <= |n|_1 cmax for every corner c,
+ * so |n|_1 (eps cmax + grow) covers frusta_cull's eps * mag and the corners'
+ * and the rays' rounding; the edge function's own rounding (its three dot
+ * products with the frame, the products with the centre, the sums: under
+ * 8 ulps, 2^-21, of |n|_1 times the largest sum over an axis of the
+ * corners' terms |corner| + |du x| + |dv y|, camera_cones' `size`) is
+ * covered four times over by pixel_scale's 2^-19 size over scale, and n's
+ * by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's D and margin)
+ * is one for every frustum: a triangle facing them is culled from those
+ * whose directions all fall below an edge, a backing one from those above,
+ * one whose plane passes near the eye from none.  `cull` (the back-face
+ * culling of a solid's triangle, traverse_mft.c): +1 drops a triangle that
+ * faces the eye (D > margin: behind its winding's normal), -1 one that
+ * backs it, 0 none. */
+static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_cone *cone, int cull, uint32_t active)
 {
-    frusta_tri t;
-    frusta_edges(tri, g, &t);
-    const vf zero = vf_set1(0.0f), normal_error = vf_mul(t.cross_error, cone->l1);
-    vm below = vm_of_bits(0), above = vm_of_bits(0);
-    for (int e = 0; e < 3; e++) {
-        const vf *n = t.n[e];
-        vf hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
-        for (int c = 0; c < 4; c++) {
-            const vf dot = vf_add(vf_add(vf_mul(n[0], cone->corner[c][0]), vf_mul(n[1], cone->corner[c][1])),
-                                  vf_mul(n[2], cone->corner[c][2]));
-            hi = vf_max(dot, hi), lo = vf_min(dot, lo);
+    float rel[3][3], edge[3][3], n[3][3], reach = 0.0f, edge_max = 0.0f;
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++) {
+            rel[v][k] = tri->v[v][k] - cone->eye[k];
+            edge[v][k] = tri->v[(v + 2) % 3][k] - tri->v[(v + 1) % 3][k];
+            const float r = fabsf(rel[v][k]), e = fabsf(edge[v][k]);
+            reach = r > reach ? r : reach;
+            edge_max = e > edge_max ? e : edge_max;
         }
-        const vf margin =
-            vf_add(vf_mul(vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])), cone->scale), normal_error);
-        below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
-        above = vm_or(above, vf_gt(lo, margin));
+    for (int e = 0; e < 3; e++) {
+        const float *a = rel[(e + 1) % 3], *b = edge[e];
+        n[e][0] = a[1] * b[2] - a[2] * b[1];
+        n[e][1] = a[2] * b[0] - a[0] * b[2];
+        n[e][2] = a[0] * b[1] - a[1] * b[0];
     }
-    uint32_t facing, backing;
-    frusta_orientation(&t, &facing, &backing);
-    const uint32_t back = cull > 0 ? facing : cull < 0 ? backing : 0;
-    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)) | back);
+    float det = 0.0f, det_mag = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float x = rel[0][k] * n[0][k];
+        det += x;
+        det_mag += fabsf(x);
+    }
+    /* frusta_orientation's margin, with frusta_edges' area and cross_error */
+    const float area = fabsf(edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1]) +
+                       fabsf(edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2]) +
+                       fabsf(edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0]);
+    const float cross_error = reach * (edge_max * 0x1p-20f);
+    const float mag_margin = det_mag * 1e-4f, plane_margin = reach * (area * 1.7321f * 1e-4f);
+    const float det_margin = (mag_margin > plane_margin ? mag_margin : plane_margin) + cross_error * (reach * 3.0f);
+    const bool facing = det > det_margin, backing = det < -det_margin;
+    if (!facing && !backing) return active; /* the eye (nearly) in its plane */
+    if ((cull > 0 && facing) || (cull < 0 && backing)) return 0;
+    /* facing: culled where an edge function stays below -margin over the
+     * block; backing: where one stays above margin (its negation below) */
+    const float sign = facing ? 1.0f : -1.0f;
+    const vf normal_error = vf_mul(vf_set1(cross_error), cone->l1);
+    vm culled = vm_of_bits(0);
+    for (int e = 0; e < 3; e++) {
+        float f[3];
+        for (int j = 0; j < 3; j++)
+            f[j] = sign * (n[e][0] * cone->frame[j][0] + n[e][1] * cone->frame[j][1] + n[e][2] * cone->frame[j][2]);
+        const float spread = 1.5f * (fabsf(f[1]) + fabsf(f[2]));
+        const float n_l1 = fabsf(n[e][0]) + fabsf(n[e][1]) + fabsf(n[e][2]);
+        const vf top = vf_add(vf_add(vf_mul(vf_set1(f[1]), cone->cx), vf_mul(vf_set1(f[2]), cone->cy)),
+                              vf_set1(f[0] + spread));
+        const vf margin = vf_add(vf_mul(vf_set1(n_l1), cone->pixel_scale), normal_error);
+        culled = vm_or(culled, vf_lt(vf_add(top, margin), vf_set1(0.0f)));
+    }
+    return active & ~vm_bits(culled);
 }
 
 /* The same test over the cone of four corner directions per frustum

@@ -166,7 +166,7 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
             const uint32_t boxed = lanes & ~(g->apex | g->pinhole);
             uint32_t survive = boxed ? frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(boxed)) : 0;
             if (lanes & g->pinhole)
-                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->b, &g->cone, cull, vm_of_bits(lanes & g->pinhole));
+                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->cone, cull, lanes & g->pinhole);
             if (lanes & g->apex)
                 survive |= frusta_triangle_apex(&tree->corners[rec], &g->b, g->apex_reach, dist, vm_of_bits(lanes & g->apex));
             while (survive) {
@@ -484,6 +484,11 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
         cone->l1 = vf_max(cone->l1, l1);
     }
     cone->scale = vf_add(vf_mul(vf_set1(1e-4f), cmax), vf_mul(size, vf_set1(0x1p-16f)));
+    cone->pixel_scale = vf_add(cone->scale, vf_mul(size, vf_set1(0x1p-19f)));
+    cone->cx = vf_add(fx, vf_set1(2.0f)), cone->cy = vf_add(fy, vf_set1(2.0f));
+    for (int k = 0; k < 3; k++)
+        cone->eye[k] = b->eye[k], cone->frame[0][k] = b->corner[k], cone->frame[1][k] = b->du[k],
+        cone->frame[2][k] = b->dv[k];
     *size_out = size;
     return vm_bits(vf_eq(vf_sub(cone->scale, cone->scale), zero));
 }
