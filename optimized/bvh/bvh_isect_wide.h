@@ -116,6 +116,29 @@ static inline void bvh_wt_prepare(const bvh_packet *r, uint32_t live, bvh_wt_she
     }
 }
 
+/* The lanes `slow` of a watertight test decided as the scalar form
+ * decides them (wt_decide1, in double), from the sheared corners `parts`
+ * (ax, ay, az, bx, .. cz); `valid` with those lanes' answers, their t, u, v
+ * in *t, *u, *v.  Out of line: rare, and it keeps the float path small
+ * enough to inline into the kernels' leaf loops. */
+static __attribute__((noinline)) uint32_t bvh_wt_decide_lanes(const vf parts[9], const bvh_packet *r, vf tbest,
+                                                             uint32_t slow, uint32_t valid, vf *t, vf *u, vf *v)
+{
+    _Alignas(64) float lane[9][BVH_W], tl[BVH_W], ul[BVH_W], vl[BVH_W], tn[BVH_W], tf[BVH_W], tb[BVH_W];
+    for (int i = 0; i < 9; i++) vf_store(lane[i], parts[i]);
+    vf_store(tl, *t), vf_store(ul, *u), vf_store(vl, *v);
+    vf_store(tn, r->tnear), vf_store(tf, r->tfar), vf_store(tb, tbest);
+    for (uint32_t bits = slow; bits; bits &= bits - 1u) {
+        const uint32_t l = (uint32_t)__builtin_ctz(bits);
+        const wt_lane one = {lane[0][l], lane[1][l], lane[2][l], lane[3][l], lane[4][l],
+                             lane[5][l], lane[6][l], lane[7][l], lane[8][l]};
+        const bool hit = wt_decide1(&one, tn[l], tf[l], &tl[l], &ul[l], &vl[l]) && tl[l] <= tb[l];
+        valid = hit ? valid | 1u << l : valid & ~(1u << l);
+    }
+    *t = vf_load(tl), *u = vf_load(ul), *v = vf_load(vl);
+    return valid;
+}
+
 /* The lanes `active` (inside group g of s) whose ray hits `tri` with
  * tnear < t < tfar and t <= tbest; t, u, v of those lanes in the outputs
  * (u, v only when `want_uv`).  isect4_watertight_mask at packet width. */
@@ -139,13 +162,16 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     const vf v = vf_sub(vf_mul(ax, cy), vf_mul(ay, cx));
     const vf w = vf_sub(vf_mul(bx, ay), vf_mul(by, ax));
     const vf zero = vf_set1(0.0f);
-    /* the common case first: a miss decided by the signs alone */
-    const uint32_t positive = vm_bits(vm_and(vm_and(vf_gt(u, zero), vf_gt(v, zero)), vf_gt(w, zero)));
-    const uint32_t negative = vm_bits(vm_and(vm_and(vf_lt(u, zero), vf_lt(v, zero)), vf_lt(w, zero)));
+    /* the common case first: a miss decided by the signs alone, all three
+     * positive or all negative by their least and greatest (exact for the
+     * lanes without a NaN; a NaN lane is not normal, so decided below by
+     * the double path whatever this says) */
+    const uint32_t positive = vm_bits(vf_gt(vf_min(vf_min(u, v), w), zero));
+    const uint32_t negative = vm_bits(vf_lt(vf_max(vf_max(u, v), w), zero));
     const uint32_t inside = active & (positive | negative);
     /* a lane with a zero, subnormal, infinite or NaN edge function is the
      * double path's, whatever its signs say */
-    const uint32_t edges_normal = vm_bits(vm_and(vm_and(bvh_wt_normal(u), bvh_wt_normal(v)), bvh_wt_normal(w)));
+    const uint32_t edges_normal = vm_bits(bvh_wt_normal3(u, v, w));
     if ((inside | (active & ~edges_normal)) == 0) return 0;
     const vf sz = s->sz[g];
     const vf az = vf_mul(sz, akz), bz = vf_mul(sz, bkz), cz = vf_mul(sz, ckz);
@@ -160,19 +186,8 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     const uint32_t slow =
         bvh_wt_undecided(active & ~normal, ax, ay, az, bx, by, bz, cx, cy, cz, det, t_scaled, r->tnear);
     if (slow) { /* rare: those lanes decided as the scalar form decides them */
-        float lane[9][BVH_W], tl[BVH_W], ul[BVH_W], vl[BVH_W], tn[BVH_W], tf[BVH_W], tb[BVH_W];
         const vf parts[9] = {ax, ay, az, bx, by, bz, cx, cy, cz};
-        for (int i = 0; i < 9; i++) vf_store(lane[i], parts[i]);
-        vf_store(tl, t), vf_store(ul, bu), vf_store(vl, bv);
-        vf_store(tn, r->tnear), vf_store(tf, r->tfar), vf_store(tb, tbest);
-        for (uint32_t bits = slow; bits; bits &= bits - 1u) {
-            const uint32_t l = (uint32_t)__builtin_ctz(bits);
-            const wt_lane one = {lane[0][l], lane[1][l], lane[2][l], lane[3][l], lane[4][l],
-                                 lane[5][l], lane[6][l], lane[7][l], lane[8][l]};
-            const bool hit = wt_decide1(&one, tn[l], tf[l], &tl[l], &ul[l], &vl[l]) && tl[l] <= tb[l];
-            valid = hit ? valid | 1u << l : valid & ~(1u << l);
-        }
-        t = vf_load(tl), bu = vf_load(ul), bv = vf_load(vl);
+        valid = bvh_wt_decide_lanes(parts, r, tbest, slow, valid, &t, &bu, &bv);
     }
     *t_out = t, *u_out = bu, *v_out = bv;
     return valid;
