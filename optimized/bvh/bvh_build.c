@@ -517,6 +517,7 @@ static void copy_records(void *context, uint32_t thread, uint32_t task)
         rtt_scene_triangle(c->scene, rec->prim, p);
         bvh_corners *corners = &c->tree->corners[i];
         for (int v = 0; v < 3; v++) corners->v[v][0] = p[v].x, corners->v[v][1] = p[v].y, corners->v[v][2] = p[v].z;
+        corners->prim = rec->prim;
         c->tree->triangles[i] = *rec;
     }
 }

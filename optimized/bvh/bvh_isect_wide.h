@@ -194,10 +194,9 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
 }
 
 /* Closest hit of every group: lowers the lanes of `hits` under `active`
- * that hit `tri` closer (or as close with a smaller prim *prim_at, read
- * only once a lane hits: it lives in the projected record, another cache
- * line); returns the lanes it lowered. */
-static inline uint32_t bvh_isect_watertight(const bvh_corners *tri, const uint32_t *prim_at, const bvh_packet *r,
+ * that hit `tri` closer (or as close with a smaller prim, tri->prim);
+ * returns the lanes it lowered. */
+static inline uint32_t bvh_isect_watertight(const bvh_corners *tri, const bvh_packet *r,
                                             const bvh_wt_shears *s, bvh_hits *hits, uint32_t active)
 {
     uint32_t lowered = 0;
@@ -207,7 +206,7 @@ static inline uint32_t bvh_isect_watertight(const bvh_corners *tri, const uint32
         vf t, u, v;
         uint32_t bits = bvh_isect_watertight_mask(tri, r, s, g, lanes, hits->t, true, &t, &u, &v);
         if (!bits) continue;
-        const vi prim = vi_set1(*prim_at);
+        const vi prim = vi_set1(tri->prim);
         const vm closer = vm_or(vf_lt(t, hits->t), vm_and(vf_eq(t, hits->t), vi_lt_u(prim, hits->prim)));
         const vm valid = vm_and(vm_of_bits(bits), closer);
         hits->t = vf_blend(valid, hits->t, t);
@@ -250,7 +249,7 @@ static inline const bvh_wt_shears *bvh_record_setup(const bvh_tree *tree, const 
 static inline uint32_t bvh_isect_record(const bvh_tree *tree, uint32_t rec, const bvh_packet *r,
                                         const bvh_wt_shears *s, bvh_hits *hits, uint32_t active)
 {
-    if (s) return bvh_isect_watertight(&tree->corners[rec], &tree->triangles[rec].prim, r, s, hits, active);
+    if (s) return bvh_isect_watertight(&tree->corners[rec], r, s, hits, active);
     return bvh_isect_projected(&tree->triangles[rec], r, hits, vm_of_bits(active));
 }
 
@@ -277,7 +276,7 @@ static inline bool bvh_isect1_record(const bvh_tree *tree, uint32_t rec, const k
     float t, u, v;
     if (!isect1_watertight_corners(c->v[0], c->v[1], c->v[2], ray, s, &t, &u, &v)) return false;
     if (!hit) return true;
-    const uint32_t prim = tree->triangles[rec].prim;
+    const uint32_t prim = c->prim;
     if (t < hit->t || (t == hit->t && prim < hit->prim)) *hit = (kd_hit1){t, u, v, prim};
     return false;
 }

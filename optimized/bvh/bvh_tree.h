@@ -14,8 +14,8 @@
  * apart (a scene of one leaf has no node at all).  Each leaf record is two
  * parallel entries in leaf order, so a leaf reads them in sequence: the
  * 48-byte projected-barycentric record of optimized/isect/ (kd_triangle,
- * with the prim) and the triangle's 36-byte corners as the scene stores
- * them (bvh_corners).  `watertight` names the test every kernel runs on
+ * with the prim) and the triangle's corners as the scene stores them, with
+ * the prim again (bvh_corners, 40 bytes).  `watertight` names the test every kernel runs on
  * them, as `kd_tree.corners` does for the kd kernels: false, Wald's
  * projected test on the records; true, Woop, Benthin & Wald's watertight
  * test on the corners (optimized/isect/; both in bvh_isect_wide.h).  Either
@@ -50,12 +50,16 @@ _Static_assert(sizeof(bvh_node) == 64, "a BVH node is one 64-byte cache line");
 #define BVH_DEPTH_LIMIT RTT_KD_DEPTH_LIMIT
 #define BVH_TRAVERSAL_STACK (BVH_DEPTH_LIMIT + 1u)
 
-/* 36 bytes: a record's corners (v[0], v[1], v[2]: the scene's vertex
+/* 40 bytes: a record's corners (v[0], v[1], v[2]: the scene's vertex
  * order), for the watertight test and the frusta kernels' common-origin
- * (Pluecker) culling, which need the vertices rather than the projection. */
+ * (Pluecker) culling, which need the vertices rather than the projection,
+ * and its prim: the watertight test's hits read it from the line the
+ * corners came in (the projected record is another array). */
 typedef struct bvh_corners {
     float v[3][3];
+    uint32_t prim;
 } bvh_corners;
+_Static_assert(sizeof(bvh_corners) == 40, "a record's corners and prim are 40 bytes");
 
 typedef struct bvh_tree {
     bvh_node *nodes;

@@ -216,6 +216,7 @@ bool pgrid_soft_prepare(pgrid_soft *g, const rtt_scene *scene, const uint8_t *de
         rtt_scene_triangle(scene, t, c);
         pgrid_soft_tri *tri = &g->tris[g->tri_count++];
         for (int k = 0; k < 3; k++) tri->v[k][0] = c[k].x, tri->v[k][1] = c[k].y, tri->v[k][2] = c[k].z;
+        tri->prim = t;
     }
     return true;
 }
