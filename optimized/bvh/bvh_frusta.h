@@ -24,6 +24,10 @@ typedef struct mft_bounds {
      * contains zero, and of those the ones with some d > 0 and some d < 0 */
     vm negative[3], up[3], down[3];
     uint32_t straddle[3];
+    /* per axis, the origin moved by grow to the side a box's near (far)
+     * plane is taken from: org + grow against the low plane, org - grow
+     * against the high one (a box grown by grow on every side) */
+    vf org_near[3], org_far[3];
     vf dl1;                            /* sum over axes of max(|dlo|, |dhi|): a bound on |d|_1 */
 } mft_bounds;
 
@@ -39,6 +43,9 @@ static inline void mft_bounds_classify(mft_bounds *g)
         g->up[k] = vf_gt(g->dhi[k], zero);
         g->down[k] = vf_lt(g->dlo[k], zero);
         g->straddle[k] = BVH_LANES_ALL & ~(vm_bits(vf_gt(g->dlo[k], zero)) | vm_bits(g->negative[k]));
+        const vf org_lo = vf_add(g->org[k], g->grow), org_hi = vf_sub(g->org[k], g->grow);
+        g->org_near[k] = vf_blend(g->negative[k], org_lo, org_hi);
+        g->org_far[k] = vf_blend(g->negative[k], org_hi, org_lo);
     }
 }
 
@@ -56,12 +63,15 @@ static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm
     vf t0 = g->tnear, t1 = dist;
     const uint32_t lanes = vm_bits(active);
     for (int k = 0; k < 3; k++) {
-        const vf p = vf_sub(vf_sub(vf_set1(c->lo[k]), g->org[k]), g->grow);
-        const vf q = vf_add(vf_sub(vf_set1(c->hi[k]), g->org[k]), g->grow);
-        const vf near = vf_blend(g->negative[k], p, q), far = vf_blend(g->negative[k], q, p);
+        const vf lo = vf_set1(c->lo[k]), hi = vf_set1(c->hi[k]);
+        const vf near = vf_sub(vf_blend(g->negative[k], lo, hi), g->org_near[k]);
+        const vf far = vf_sub(vf_blend(g->negative[k], hi, lo), g->org_far[k]);
         vf in = vf_min(vf_mul(near, g->rlo[k]), vf_mul(near, g->rhi[k]));
         vf out = vf_max(vf_mul(far, g->rlo[k]), vf_mul(far, g->rhi[k]));
         if (g->straddle[k] & lanes) {
+            /* a straddling direction box is not all negative: its near
+             * plane is the low one, its far plane the high one */
+            const vf p = near, q = far;
             const vf zero = vf_set1(0.0f);
             const vf from_below = vf_blend(g->up[k], inf, vf_mul(p, g->rhi[k]));
             const vf from_above = vf_blend(g->down[k], inf, vf_mul(q, g->rlo[k]));
