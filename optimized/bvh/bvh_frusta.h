@@ -171,14 +171,12 @@ static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uin
  * that is iff (B x C).d, (C x A).d and (A x B).d all have the sign of D (the
  * triangle's orientation as the origin sees it: Benthin & Wald's back-face
  * test decides which sign the edge tests must have).  A frustum is culled
- * when over all its directions (its direction box, or with `corner` the
- * cone of its four corner vectors) one edge's n.d has the wrong sign; an
- * origin (nearly) in the triangle's plane -- within 1e-4 of its farthest
- * corner's distance -- culls nothing.  The margin is 1e-4 of n.d's terms
- * plus |n|_1 slack (a direction known only to within slack per axis) plus
- * n's rounding over |d|_1 <= dl1. */
-static inline uint32_t frusta_cull(const frusta_tri *t, const mft_bounds *g, const vf (*corner)[3], vf dl1, vf slack,
-                                   vm active)
+ * when over all its directions (its direction box) one edge's n.d has the
+ * wrong sign; an origin (nearly) in the triangle's plane -- within 1e-4 of
+ * its farthest corner's distance -- culls nothing.  The margin is 1e-4 of
+ * n.d's terms plus |n|_1 slack (a direction known only to within slack per
+ * axis) plus n's rounding over |d|_1 <= dl1. */
+static inline uint32_t frusta_cull(const frusta_tri *t, const mft_bounds *g, vf dl1, vf slack, vm active)
 {
     const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
     const vf normal_error = vf_mul(t->cross_error, dl1); /* n's rounding, |dn.d| <= cross_error |d|_1 */
@@ -187,24 +185,11 @@ static inline uint32_t frusta_cull(const frusta_tri *t, const mft_bounds *g, con
         const vf *n = t->n[e];
         vf hi = zero, lo = zero, mag = zero;
         const vf spread = vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2]));
-        if (corner) { /* over the cone of four corner directions: n.d at its corners */
-            hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
-            for (int c = 0; c < 4; c++) {
-                vf dot = zero, m = zero;
-                for (int k = 0; k < 3; k++) {
-                    const vf x = vf_mul(n[k], corner[c][k]);
-                    dot = vf_add(dot, x);
-                    m = vf_add(m, vf_abs(x));
-                }
-                hi = vf_max(dot, hi), lo = vf_min(dot, lo), mag = vf_max(m, mag);
-            }
-        } else { /* over the direction box */
-            for (int k = 0; k < 3; k++) {
-                const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
-                hi = vf_add(hi, vf_max(x, y));
-                lo = vf_add(lo, vf_min(x, y));
-                mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
-            }
+        for (int k = 0; k < 3; k++) {
+            const vf x = vf_mul(n[k], g->dlo[k]), y = vf_mul(n[k], g->dhi[k]);
+            hi = vf_add(hi, vf_max(x, y));
+            lo = vf_add(lo, vf_min(x, y));
+            mag = vf_add(mag, vf_max(vf_abs(x), vf_abs(y)));
         }
         /* directions known to slack per axis, normals to cross_error */
         const vf margin = vf_add(vf_add(vf_mul(mag, eps), vf_mul(spread, slack)), normal_error);
@@ -222,7 +207,7 @@ static inline uint32_t frusta_triangle_bounded(const bvh_corners *tri, const mft
 {
     frusta_tri t;
     frusta_edges(tri, g, &t);
-    return frusta_cull(&t, g, NULL, g->dl1, slack, active);
+    return frusta_cull(&t, g, g->dl1, slack, active);
 }
 
 static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds *g, vm active)
@@ -321,16 +306,40 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
     return active & ~vm_bits(culled);
 }
 
-/* The same test over the cone of four corner directions per frustum
+/* frusta_cull over the cone of four corner directions per frustum
  * (corner[c][axis], each known to within corner_grow per axis, as are the
- * rays' directions on the corners' scale; corner_l1 the largest
- * |corner|_1): every direction of the frustum is a positive combination of
- * them (the paper's corner rays), a tighter bound than their box.  The
- * caller makes t (frusta_edges) and may read its normal after. */
-static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const mft_bounds *g, const vf corner[4][3],
-                                            vf corner_l1, vf corner_grow, vm active)
+ * rays' directions on the corners' scale; corner_max the largest
+ * |component| and corner_l1 the largest |corner|_1 of a frustum's
+ * corners): every direction of the frustum is a positive combination of
+ * them (the paper's corner rays), a tighter bound than their box.  One
+ * margin per edge and frustum, as frusta_triangle_pinhole's: |n.c| <=
+ * |n|_1 corner_max for every corner c, so |n|_1 (eps corner_max +
+ * corner_grow) covers frusta_cull's eps times n.d's terms and the corners'
+ * rounding, and cross_error corner_l1 n's; three products an edge and
+ * corner, no magnitudes.  The caller makes t (frusta_edges) and may read
+ * its normal after. */
+static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const vf corner[4][3], vf corner_max, vf corner_l1,
+                                            vf corner_grow, vm active)
 {
-    return frusta_cull(t, g, corner, corner_l1, corner_grow, active);
+    const vf zero = vf_set1(0.0f), normal_error = vf_mul(t->cross_error, corner_l1);
+    const vf scale = vf_add(vf_mul(vf_set1(1e-4f), corner_max), corner_grow);
+    vm below = vm_of_bits(0), above = vm_of_bits(0);
+    for (int e = 0; e < 3; e++) {
+        const vf *n = t->n[e];
+        vf hi = vf_set1(-INFINITY), lo = vf_set1(INFINITY);
+        for (int c = 0; c < 4; c++) {
+            const vf dot = vf_add(vf_add(vf_mul(n[0], corner[c][0]), vf_mul(n[1], corner[c][1])),
+                                  vf_mul(n[2], corner[c][2]));
+            hi = vf_max(dot, hi), lo = vf_min(dot, lo);
+        }
+        const vf margin =
+            vf_add(vf_mul(vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])), scale), normal_error);
+        below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
+        above = vm_or(above, vf_gt(lo, margin));
+    }
+    uint32_t facing, backing;
+    frusta_orientation(t, &facing, &backing);
+    return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 
 typedef struct mft_entry {

@@ -73,6 +73,7 @@ typedef struct sf_group {
     float corner_at[4][3][SF_FRUSTA]; /* the same, lane by lane (shrinking rewrites a lane) */
     vf corner_grow;                 /* how far off they may be per axis (rounding) */
     vf corner_l1;                   /* per frustum: the largest |corner|_1 */
+    vf corner_max;                  /* per frustum: the largest |component| of its corners */
     const bvh_shadow_point *point[SF_FRUSTA];
     uint32_t occ[SF_FRUSTA];        /* occluded samples */
     uint32_t live[SF_FRUSTA];       /* samples with a ray, once known */
@@ -157,15 +158,18 @@ static void corner_vectors(const bvh_shadow_point *pt, const float lo[2], const 
     }
 }
 
-/* The group's corner vectors from corner_at, and their largest |c|_1 per
- * frustum (the edge and plane tests' bound on |d|_1). */
+/* The group's corner vectors from corner_at, and per frustum their largest
+ * |c|_1 (the edge and plane tests' bound on |d|_1) and largest |component|
+ * (the edge test's margin). */
 static void load_corners(sf_group *g)
 {
-    g->corner_l1 = vf_set1(0.0f);
+    g->corner_l1 = g->corner_max = vf_set1(0.0f);
     for (int c = 0; c < 4; c++) {
         for (int k = 0; k < 3; k++) g->corner[c][k] = vf_load(g->corner_at[c][k]);
         const vf *d = g->corner[c];
-        g->corner_l1 = vf_max(g->corner_l1, vf_add(vf_add(vf_abs(d[0]), vf_abs(d[1])), vf_abs(d[2])));
+        const vf a0 = vf_abs(d[0]), a1 = vf_abs(d[1]), a2 = vf_abs(d[2]);
+        g->corner_l1 = vf_max(g->corner_l1, vf_add(vf_add(a0, a1), a2));
+        g->corner_max = vf_max(g->corner_max, vf_max(vf_max(a0, a1), a2));
     }
 }
 
@@ -300,7 +304,8 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
             frusta_tri t;
             frusta_edges(&tree->corners[rec], &g->b, &t);
-            uint32_t survive = frusta_triangle_cone(&t, &g->b, g->corner, g->corner_l1, g->corner_grow, vm_of_bits(lanes));
+            uint32_t survive =
+                frusta_triangle_cone(&t, g->corner, g->corner_max, g->corner_l1, g->corner_grow, vm_of_bits(lanes));
             if (survive) survive &= ~beside_plane(&t, g, eps, survive);
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
