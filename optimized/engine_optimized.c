@@ -20,6 +20,7 @@
  * threads may trace through it at once (scratch lives on the stack). */
 #include <float.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,6 +68,10 @@ typedef struct optimized_engine {
     const pgrid_kernel *pgrid; /* --accel pgrid: the eye rays' cell kernel; streams go through the kd-tree */
     uint8_t *degenerate;      /* per triangle, 1 = never hits; NULL when the scene has none */
     char kernel_label[48];    /* "mft/avx512" */
+    /* --shadows pgrid's light grids between frames (optimized_engine_light_grids_lend) */
+    pgrid_shadows light_grids;
+    const rtt_scene *light_scene; /* the scene their half was prepared for; NULL: none yet */
+    atomic_bool light_grids_lent;
 } optimized_engine;
 
 static void optimized_destroy(rtt_engine *base);
@@ -181,6 +186,31 @@ const pgrid_kernel *pgrid_engine_kernel(rtt_engine *engine)
 {
     optimized_engine *e = as_optimized(engine);
     return e ? e->pgrid : NULL;
+}
+
+pgrid_shadows *optimized_engine_light_grids_lend(rtt_engine *engine, const rtt_scene *scene, rtt_error *err,
+                                                bool *failed)
+{
+    optimized_engine *e = as_optimized(engine);
+    *failed = false;
+    if (!e || atomic_exchange(&e->light_grids_lent, true)) return NULL;
+    if (e->light_scene != scene) {
+        if (e->light_scene) pgrid_shadows_free(&e->light_grids);
+        e->light_scene = NULL;
+        if (!pgrid_shadows_prepare(&e->light_grids, scene, e->degenerate, err)) { /* it freed what it made */
+            atomic_store(&e->light_grids_lent, false);
+            *failed = true;
+            return NULL;
+        }
+        e->light_scene = scene;
+    }
+    return &e->light_grids;
+}
+
+void optimized_engine_light_grids_return(rtt_engine *engine)
+{
+    optimized_engine *e = as_optimized(engine);
+    if (e) atomic_store(&e->light_grids_lent, false);
 }
 
 /* The triangles that never hit, for the structures that skip them (the
@@ -310,6 +340,7 @@ static void optimized_destroy(rtt_engine *base)
     if (e->owns_tree) kd_tree_free(&e->tree);
     if (e->bvh_kernel) bvh_tree_free(&e->bvh);
     free(e->degenerate);
+    if (e->light_scene) pgrid_shadows_free(&e->light_grids);
     free(e);
 }
 

@@ -351,6 +351,73 @@ static void test_render_pgrid_shadows_equal_hard(void **state)
     }
 }
 
+static rtt_image *render_pgrid_shadows(rtt_engine *engine, uint32_t threads)
+{
+    rtt_error err = {{0}};
+    rtt_render_options ro;
+    rtt_render_options_default(&ro);
+    ro.width = 80, ro.height = 60, ro.threads = threads;
+    ro.engine.accel = RTT_ACCEL_PGRID;
+    ro.shadows = RTT_SHADOWS_PGRID;
+    rtt_image *image = rtt_image_create(80, 60, 0, &err);
+    assert_non_null(image);
+    if (!rtt_optimized_render(engine, &ro, image, NULL, &err)) fail_msg("pgrid: %s", err.message);
+    return image;
+}
+
+static void assert_same_image(const rtt_image *a, const rtt_image *b, const char *what)
+{
+    if (memcmp(a->rgb, b->rgb, (size_t)a->width * a->height * 3 * sizeof *a->rgb) != 0) fail_msg("%s", what);
+}
+
+/* The engine keeps the light grids between frames (their scene half made
+ * once, the lights' arrays regrown): lent to one frame at a time, the same
+ * grids again after their return; a frame while they are lent makes its
+ * own and draws the same picture; a light moved between frames is drawn
+ * as a fresh engine draws it (the lights' grids are every frame's own). */
+static void test_engine_keeps_the_light_grids_between_frames(void **state)
+{
+    (void)state;
+    rtt_scene *s = load_scene("demo.json");
+    rtt_error err = {{0}};
+    rtt_engine *engine = rtt_optimized_engine_create(s, NULL, &err);
+    assert_non_null(engine);
+    rtt_image *first = render_pgrid_shadows(engine, 2);
+    bool failed = true;
+    pgrid_shadows *kept = optimized_engine_light_grids_lend(engine, s, &err, &failed);
+    assert_false(failed);
+    assert_non_null(kept);
+    assert_true(kept->corner_count > 0);
+    const kd_corners *corners = kept->corners;
+    /* lent: another frame gets none, and draws with its own */
+    assert_null(optimized_engine_light_grids_lend(engine, s, &err, &failed));
+    assert_false(failed);
+    rtt_image *own = render_pgrid_shadows(engine, 1);
+    assert_same_image(first, own, "a frame with its own light grids differs from the engine's");
+    optimized_engine_light_grids_return(engine);
+    pgrid_shadows *again = optimized_engine_light_grids_lend(engine, s, &err, &failed);
+    assert_ptr_equal(again, kept);
+    assert_ptr_equal(again->corners, corners); /* the scene half kept, not made again */
+    optimized_engine_light_grids_return(engine);
+    rtt_image *second = render_pgrid_shadows(engine, 2);
+    assert_same_image(first, second, "the second frame on the kept light grids differs from the first");
+    /* a light moved: the kept engine draws what a fresh one draws */
+    assert_true(s->light_count > 0);
+    s->lights[0].position.x += 0.75f, s->lights[0].position.y += 0.5f;
+    rtt_image *moved = render_pgrid_shadows(engine, 2);
+    rtt_engine *fresh = rtt_optimized_engine_create(s, NULL, &err);
+    assert_non_null(fresh);
+    rtt_image *fresh_moved = render_pgrid_shadows(fresh, 2);
+    assert_same_image(moved, fresh_moved, "a moved light on the kept light grids differs from a fresh engine's");
+    if (memcmp(moved->rgb, first->rgb, (size_t)80 * 60 * 3 * sizeof *first->rgb) == 0)
+        fail_msg("moving the light changed nothing: the test proves nothing");
+    rtt_image_free(first), rtt_image_free(own), rtt_image_free(second), rtt_image_free(moved);
+    rtt_image_free(fresh_moved);
+    rtt_engine_destroy(fresh);
+    rtt_engine_destroy(engine);
+    rtt_scene_free(s);
+}
+
 /* Culling at a real scale: the Stanford bunny (one closed mesh of 75k
  * triangles, from bench/fetch-scenes.sh's cache; skipped without it), its
  * eye hits at 384x384 through the eye grid, each hit's shadow ray (the
@@ -458,6 +525,7 @@ int main(void)
         cmocka_unit_test(test_light_grid_footprints_in_vectors_equal_scalar),
         cmocka_unit_test(test_light_grid_culling_on_the_bunny),
         cmocka_unit_test(test_render_pgrid_shadows_equal_hard),
+        cmocka_unit_test(test_engine_keeps_the_light_grids_between_frames),
         cmocka_unit_test(test_pgrid_shadow_method_name_and_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -230,6 +230,14 @@ static void gather_stats(const render_job *job, rtt_render_stats *stats)
     }
 }
 
+/* A frame's light grids back: the engine's to the engine (kept for the
+ * next frame), the frame's own freed. */
+static void light_grids_release(rtt_engine *engine, pgrid_shadows *grids, bool lent)
+{
+    if (lent) optimized_engine_light_grids_return(engine);
+    else pgrid_shadows_free(grids);
+}
+
 bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt_image *out,
                           rtt_render_stats *stats, rtt_error *err)
 {
@@ -308,23 +316,29 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         }
         job.shading.planes = &planes;
     }
-    /* --shadows pgrid: the light grids, built per frame (part of its time) */
-    pgrid_shadows light_grids = {0};
+    /* --shadows pgrid: the light grids, the lights' built per frame (part of
+     * its time); the scene's half and the arrays the engine's, kept between
+     * frames (a frame's own when another frame holds the engine's) */
+    pgrid_shadows own_grids = {0}, *light_grids = &own_grids;
+    bool grids_lent = false;
     if (opt->shadows == RTT_SHADOWS_PGRID) {
         const pgrid_kernel *grid_kernel = pgrid_kernel_find("", isa);
-        /* the scene's half, then the lights' grids on the frame's threads */
-        bool built = pgrid_shadows_prepare(&light_grids, scene, optimized_engine_degenerate(engine), err);
-        light_grids.threads = rtt_thread_count(opt->threads);
-        light_grids.prints = grid_kernel->light_prints;
-        if (built && !pgrid_shadows_build_lights(&light_grids, scene, 0, err)) {
-            pgrid_shadows_free(&light_grids);
-            built = false;
+        bool failed = false;
+        pgrid_shadows *kept = optimized_engine_light_grids_lend(engine, scene, err, &failed);
+        bool built = !failed;
+        if (kept) light_grids = kept, grids_lent = true;
+        else if (built) built = pgrid_shadows_prepare(&own_grids, scene, optimized_engine_degenerate(engine), err);
+        if (built) { /* the lights' grids on the frame's threads */
+            light_grids->threads = rtt_thread_count(opt->threads);
+            light_grids->prints = grid_kernel->light_prints;
+            built = pgrid_shadows_build_lights(light_grids, scene, 0, err);
         }
         if (!built) {
+            light_grids_release(engine, light_grids, grids_lent);
             if (job.shading.planes) rtt_shadow_planes_free(&planes);
             return false;
         }
-        job.tracer.light_grids = &light_grids;
+        job.tracer.light_grids = light_grids;
         job.tracer.light_grid_occluded = grid_kernel->shadow_occluded;
     }
     /* --shadows pgrid:N: the 3D light grids, built per frame too */
@@ -351,7 +365,7 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         if (!pgrid_render_begin(&pgrid, pgrid_kernel_find(engine_opt->traversal, isa), scene,
                                 optimized_engine_degenerate(engine), &job.frame, width, height, 0, threads, err)) {
             pgrid_render_end(&pgrid);
-            pgrid_shadows_free(&light_grids);
+            light_grids_release(engine, light_grids, grids_lent);
             pgrid_soft_free(&soft_grids);
             frame_memory_free(memory);
             if (job.shading.planes) rtt_shadow_planes_free(&planes);
@@ -373,11 +387,11 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
     if (ok && stats) {
         gather_stats(&job, stats);
         if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
-        stats->seconds_secondary += light_grids.build_seconds + soft_grids.build_seconds;
+        stats->seconds_secondary += light_grids->build_seconds + soft_grids.build_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.pgrid) pgrid_render_end(job.pgrid);
-    pgrid_shadows_free(&light_grids);
+    light_grids_release(engine, light_grids, grids_lent);
     pgrid_soft_free(&soft_grids);
     if (ok && opt->cache && frame_memory_even_out(memory))
         rtt_render_cache_keep(opt->cache, &rtt_optimized_engine_class, memory, frame_memory_free);
