@@ -243,11 +243,11 @@ typedef struct mft_cone {
  * One margin per edge and frustum: |n.c| <= |n|_1 cmax for every corner c,
  * so |n|_1 (eps cmax + grow) covers frusta_cull's eps * mag and the corners'
  * and the rays' rounding; the edge function's own rounding (its three dot
- * products with the frame, the products with the centre, the sums: under
- * 8 ulps, 2^-21, of |n|_1 times the largest sum over an axis of the
- * corners' terms |corner| + |du x| + |dv y|, camera_cones' `size`) is
- * covered four times over by pixel_scale's 2^-19 size over scale, and n's
- * by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's D and margin)
+ * products with the frame, the products with the centre, the spread, the
+ * sums: about ten ulps, under 2^-20.5, of sum_k |n_k| (|corner_k| + |du_k|
+ * x + |dv_k| y) <= |n|_1 size, size camera_cones' largest sum over an axis
+ * of the corners' terms) is covered three times over by pixel_scale's
+ * 2^-19 size over scale, and n's by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's D and margin)
  * is one for every frustum: a triangle facing them is culled from those
  * whose directions all fall below an edge, a backing one from those above,
  * one whose plane passes near the eye from none.  `cull` (the back-face
