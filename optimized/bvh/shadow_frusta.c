@@ -235,14 +235,13 @@ static inline uint32_t beside_plane(const frusta_tri *t, const sf_group *g, floa
     const float thick = (fabsf(h1) > fabsf(h2) ? fabsf(h1) : fabsf(h2)) + terms * 0x1p-20f;
     const vf zero = vf_set1(0.0f);
     /* below = -h = N.(v0 - org); reach: the corners' largest distance from
-     * the origin per axis, at most v0's plus the largest edge component */
-    vf below = zero, below_mag = zero, reach = zero;
+     * the origin per axis (frusta_edges') */
+    vf below = zero, below_mag = zero;
     for (int k = 0; k < 3; k++) {
-        const vf rel = t->rel[0][k], x = vf_mul(vf_set1(n[k]), rel);
+        const vf x = vf_mul(vf_set1(n[k]), t->rel[0][k]);
         below = vf_add(below, x), below_mag = vf_add(below_mag, vf_abs(x));
-        reach = vf_max(reach, vf_abs(rel));
     }
-    reach = vf_add(reach, vf_set1(t->edge_max));
+    const vf reach = t->reach;
     vf lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
     for (int c = 0; c < 4; c++) {
         const vf *d = g->corner[c];
