@@ -110,31 +110,48 @@ typedef struct frusta_tri {
     float area;        /* |normal|_1 */
 } frusta_tri;
 
-static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, frusta_tri *t)
+/* The margins' constants, one place for the frusta of every kind (the
+ * vector forms below and frusta_triangle_pinhole's scalar one): the
+ * planes' relative tolerance, sqrt 3 rounded up (|rel|_2 <= sqrt(3)
+ * reach), n's rounding per component over reach x edge (above), and
+ * |rel[0]|_1 <= 3 reach for D's. */
+#define FRUSTA_EPS 1e-4f
+#define FRUSTA_SQRT3 1.7321f
+#define FRUSTA_CROSS_ERROR 0x1p-20f
+#define FRUSTA_DET_TERMS 3.0f
+
+/* The triangle's terms that no origin changes: its edges E[e] = v[e+2] -
+ * v[e+1] and their largest |component|, the normal (v1 - v0) x (v2 - v0)
+ * = E[2] x -E[1] as computed; returns its |.|_1 (the area term). */
+static inline float frusta_edge_terms(const bvh_corners *tri, float edge[3][3], float *edge_max, float normal[3])
 {
-    float (*edge)[3] = t->edge, edge_max = 0.0f;
+    float largest = 0.0f;
     for (int e = 0; e < 3; e++)
         for (int k = 0; k < 3; k++) {
             edge[e][k] = tri->v[(e + 2) % 3][k] - tri->v[(e + 1) % 3][k];
             const float size = fabsf(edge[e][k]); /* not fmaxf: a call into libm here */
-            edge_max = size > edge_max ? size : edge_max;
+            largest = size > largest ? size : largest;
         }
-    t->edge_max = edge_max;
-    /* (v1 - v0) x (v2 - v0) = E[2] x -E[1] */
-    t->normal[0] = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
-    t->normal[1] = edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2];
-    t->normal[2] = edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0];
-    t->area = fabsf(t->normal[0]) + fabsf(t->normal[1]) + fabsf(t->normal[2]);
+    *edge_max = largest;
+    normal[0] = edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1];
+    normal[1] = edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2];
+    normal[2] = edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0];
+    return fabsf(normal[0]) + fabsf(normal[1]) + fabsf(normal[2]);
+}
+
+static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, frusta_tri *t)
+{
+    t->area = frusta_edge_terms(tri, t->edge, &t->edge_max, t->normal);
     t->reach = vf_set1(0.0f);
     for (int v = 0; v < 3; v++)
         for (int k = 0; k < 3; k++) {
             t->rel[v][k] = vf_sub(vf_set1(tri->v[v][k]), g->org[k]);
             t->reach = vf_max(t->reach, vf_abs(t->rel[v][k]));
         }
-    t->cross_error = vf_mul(t->reach, vf_set1(edge_max * 0x1p-20f));
+    t->cross_error = vf_mul(t->reach, vf_set1(t->edge_max * FRUSTA_CROSS_ERROR));
     for (int e = 0; e < 3; e++) {
         const vf *a = t->rel[(e + 1) % 3];
-        const vf b[3] = {vf_set1(edge[e][0]), vf_set1(edge[e][1]), vf_set1(edge[e][2])};
+        const vf b[3] = {vf_set1(t->edge[e][0]), vf_set1(t->edge[e][1]), vf_set1(t->edge[e][2])};
         t->n[e][0] = vf_sub(vf_mul(a[1], b[2]), vf_mul(a[2], b[1]));
         t->n[e][1] = vf_sub(vf_mul(a[2], b[0]), vf_mul(a[0], b[2]));
         t->n[e][2] = vf_sub(vf_mul(a[0], b[1]), vf_mul(a[1], b[0]));
@@ -151,7 +168,7 @@ static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, fru
  * from frusta_edges' D. */
 static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uint32_t *backing)
 {
-    const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
+    const vf eps = vf_set1(FRUSTA_EPS), zero = vf_set1(0.0f);
     /* D decides the orientation only when the origin lies clear of the
      * triangle's plane on the scale of its corners: D = 2 area x distance,
      * so the distance must pass eps times the farthest corner, |rel|_2 <=
@@ -160,8 +177,9 @@ static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uin
      * the triangle), and D must pass its own rounding: n[0]'s error
      * (cross_error per component) times |rel[0]|_1 <= 3 reach */
     const vf reach = t->reach;
-    const vf det_margin = vf_add(vf_max(vf_mul(t->det_mag, eps), vf_mul(reach, vf_set1(t->area * 1.7321f * 1e-4f))),
-                                 vf_mul(t->cross_error, vf_mul(reach, vf_set1(3.0f))));
+    const vf det_margin =
+        vf_add(vf_max(vf_mul(t->det_mag, eps), vf_mul(reach, vf_set1(t->area * FRUSTA_SQRT3 * FRUSTA_EPS))),
+               vf_mul(t->cross_error, vf_mul(reach, vf_set1(FRUSTA_DET_TERMS))));
     *facing = vm_bits(vf_gt(t->det, det_margin)), *backing = vm_bits(vf_lt(t->det, vf_sub(zero, det_margin)));
 }
 
@@ -178,7 +196,7 @@ static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uin
  * axis) plus n's rounding over |d|_1 <= dl1. */
 static inline uint32_t frusta_cull(const frusta_tri *t, const mft_bounds *g, vf dl1, vf slack, vm active)
 {
-    const vf eps = vf_set1(1e-4f), zero = vf_set1(0.0f);
+    const vf eps = vf_set1(FRUSTA_EPS), zero = vf_set1(0.0f);
     const vf normal_error = vf_mul(t->cross_error, dl1); /* n's rounding, |dn.d| <= cross_error |d|_1 */
     vm below = vm_of_bits(0), above = vm_of_bits(0); /* an edge with n.d < 0 (> 0) for every d */
     for (int e = 0; e < 3; e++) {
@@ -218,16 +236,16 @@ static inline uint32_t frusta_triangle(const bvh_corners *tri, const mft_bounds 
 /* Pinhole frusta (primary rays made from the camera frame): every ray
  * direction of a frustum is, up to rounding, a positive multiple of a
  * convex combination of its four corner vectors (d = corner + du x + dv y
- * is affine in the pixel; normalising is a positive scale).  `scale` per
- * frustum is eps * cmax + grow: cmax the largest |component| of its corner
+ * is affine in the pixel; normalising is a positive scale).  A frustum's
+ * scale is eps * cmax + grow: cmax the largest |component| of its corner
  * vectors, grow a bound per axis on the rounding of the corners and of the
- * rays' directions (scaled back to the corners' length).  The frusta of a
+ * rays' directions (scaled back to the corners' length); camera_cones
+ * (traverse_mft.c) makes it and keeps it in pixel_scale.  The frusta of a
  * camera group share one origin, the eye, and one frame (corner, du, dv),
  * so an edge plane's n.d(x, y) = n.corner + (n.du) x + (n.dv) y is an edge
  * function of the pixel, made once per triangle (frusta_triangle_pinhole). */
 typedef struct mft_cone {
     vf corner[4][3];
-    vf scale;
     vf l1;             /* the largest |corner|_1: the normals' rounding scales with it */
     vf cx, cy;         /* the centre of the block's corner pixel centres (x + 2, y + 2) */
     vf pixel_scale;    /* scale plus the edge functions' rounding (2^-19 of the corners' terms) */
@@ -256,14 +274,13 @@ typedef struct mft_cone {
  * backs it, 0 none. */
 static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_cone *cone, int cull, uint32_t active)
 {
-    float rel[3][3], edge[3][3], n[3][3], reach = 0.0f, edge_max = 0.0f;
+    float rel[3][3], edge[3][3], n[3][3], normal[3], edge_max, reach = 0.0f;
+    const float area = frusta_edge_terms(tri, edge, &edge_max, normal);
     for (int v = 0; v < 3; v++)
         for (int k = 0; k < 3; k++) {
             rel[v][k] = tri->v[v][k] - cone->eye[k];
-            edge[v][k] = tri->v[(v + 2) % 3][k] - tri->v[(v + 1) % 3][k];
-            const float r = fabsf(rel[v][k]), e = fabsf(edge[v][k]);
+            const float r = fabsf(rel[v][k]);
             reach = r > reach ? r : reach;
-            edge_max = e > edge_max ? e : edge_max;
         }
     for (int e = 0; e < 3; e++) {
         const float *a = rel[(e + 1) % 3], *b = edge[e];
@@ -278,12 +295,10 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
         det_mag += fabsf(x);
     }
     /* frusta_orientation's margin, with frusta_edges' area and cross_error */
-    const float area = fabsf(edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1]) +
-                       fabsf(edge[1][2] * edge[2][0] - edge[1][0] * edge[2][2]) +
-                       fabsf(edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0]);
-    const float cross_error = reach * (edge_max * 0x1p-20f);
-    const float mag_margin = det_mag * 1e-4f, plane_margin = reach * (area * 1.7321f * 1e-4f);
-    const float det_margin = (mag_margin > plane_margin ? mag_margin : plane_margin) + cross_error * (reach * 3.0f);
+    const float cross_error = reach * (edge_max * FRUSTA_CROSS_ERROR);
+    const float mag_margin = det_mag * FRUSTA_EPS, plane_margin = reach * (area * FRUSTA_SQRT3 * FRUSTA_EPS);
+    const float det_margin =
+        (mag_margin > plane_margin ? mag_margin : plane_margin) + cross_error * (reach * FRUSTA_DET_TERMS);
     const bool facing = det > det_margin, backing = det < -det_margin;
     if (!facing && !backing) return active; /* the eye (nearly) in its plane */
     if ((cull > 0 && facing) || (cull < 0 && backing)) return 0;
@@ -322,7 +337,7 @@ static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const vf corner
                                             vf corner_grow, vm active)
 {
     const vf zero = vf_set1(0.0f), normal_error = vf_mul(t->cross_error, corner_l1);
-    const vf scale = vf_add(vf_mul(vf_set1(1e-4f), corner_max), corner_grow);
+    const vf scale = vf_add(vf_mul(vf_set1(FRUSTA_EPS), corner_max), corner_grow);
     vm below = vm_of_bits(0), above = vm_of_bits(0);
     for (int e = 0; e < 3; e++) {
         const vf *n = t->n[e];

@@ -483,14 +483,14 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
         }
         cone->l1 = vf_max(cone->l1, l1);
     }
-    cone->scale = vf_add(vf_mul(vf_set1(1e-4f), cmax), vf_mul(size, vf_set1(0x1p-16f)));
-    cone->pixel_scale = vf_add(cone->scale, vf_mul(size, vf_set1(0x1p-19f)));
+    const vf scale = vf_add(vf_mul(vf_set1(FRUSTA_EPS), cmax), vf_mul(size, vf_set1(0x1p-16f)));
+    cone->pixel_scale = vf_add(scale, vf_mul(size, vf_set1(0x1p-19f)));
     cone->cx = vf_add(fx, vf_set1(2.0f)), cone->cy = vf_add(fy, vf_set1(2.0f));
     for (int k = 0; k < 3; k++)
         cone->eye[k] = b->eye[k], cone->frame[0][k] = b->corner[k], cone->frame[1][k] = b->du[k],
         cone->frame[2][k] = b->dv[k];
     *size_out = size;
-    return vm_bits(vf_eq(vf_sub(cone->scale, cone->scale), zero));
+    return vm_bits(vf_eq(vf_sub(scale, scale), zero));
 }
 
 /* Every pinhole frustum's direction box at once (lanes = frusta), from its
@@ -504,7 +504,7 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
  * + 1.5 |dv|), |d|^2 = |c|^2 + 2 c.e + |e|^2 >= |c|^2 + 2 c.e, affine in
  * the pixel, so at least its least value at a corner, where it is that
  * corner's |d|^2 - |e|^2 >= |d|^2 - h^2.  Widened by the rounding the
- * cone's scale covers (2^-16 of the terms' `size` per axis, over the least
+ * cone's scale (camera_cones) covers (2^-16 of the terms' `size` per axis, over the least
  * length) and 2^-20 of each bound: no smaller than the rays' own box, a
  * little larger (the traversal only culls by it, so every ray still gets
  * its hit).  Returns the frusta it bounded (a positive least length,
