@@ -294,26 +294,36 @@ static void apex_frustum(mft_group *g, uint32_t f, const float apex[3], float or
     g->apex |= 1u << f;
 }
 
-/* The group's frusta (their bounds in org .. grow) through the tree. */
-static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, float org[3][MFT_FRUSTA],
-                        float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], const float *tnear, const float *grow,
-                        bool closest, bvh_counters *counters)
+/* The group's frusta (their bounds org .. grow, a lane a frustum) through the tree. */
+static void trace_group_bounds(const bvh_tree *tree, mft_group *g, uint32_t frusta, const vf org[3], const vf dlo[3],
+                               const vf dhi[3], vf tnear, vf grow, bool closest, bvh_counters *counters)
 {
     const vf one = vf_set1(1.0f);
     vf reach = vf_set1(0.0f);
     for (int k = 0; k < 3; k++) {
-        g->b.org[k] = vf_load(org[k]);
-        g->b.dlo[k] = vf_load(dlo[k]), g->b.dhi[k] = vf_load(dhi[k]);
+        g->b.org[k] = org[k];
+        g->b.dlo[k] = dlo[k], g->b.dhi[k] = dhi[k];
         g->b.rlo[k] = vf_div(one, g->b.dlo[k]), g->b.rhi[k] = vf_div(one, g->b.dhi[k]);
         reach = vf_max(reach, vf_max(vf_abs(g->b.dlo[k]), vf_abs(g->b.dhi[k])));
     }
-    g->b.tnear = vf_load(tnear);
-    g->b.grow = vf_load(grow);
+    g->b.tnear = tnear;
+    g->b.grow = grow;
     mft_bounds_classify(&g->b);
     g->apex_reach = reach;
     for (uint32_t f = 0; f < MFT_FRUSTA; f++)
         g->dist[f] = !(frusta >> f & 1u) ? -INFINITY : g->apex >> f & 1u ? 1.0f : frustum_dist(g, f, false);
     if (frusta) trace_frusta(tree, g, frusta, closest, counters);
+}
+
+/* The same from per-frustum arrays. */
+static void trace_group(const bvh_tree *tree, mft_group *g, uint32_t frusta, float org[3][MFT_FRUSTA],
+                        float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], const float *tnear, const float *grow,
+                        bool closest, bvh_counters *counters)
+{
+    const vf o[3] = {vf_load(org[0]), vf_load(org[1]), vf_load(org[2])};
+    const vf lo[3] = {vf_load(dlo[0]), vf_load(dlo[1]), vf_load(dlo[2])};
+    const vf hi[3] = {vf_load(dhi[0]), vf_load(dhi[1]), vf_load(dhi[2])};
+    trace_group_bounds(tree, g, frusta, o, lo, hi, vf_load(tnear), vf_load(grow), closest, counters);
 }
 
 void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
@@ -606,45 +616,59 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
     const vf lane_dx = vf_load(block_dx), lane_dy = vf_load(block_dy);
     for (uint32_t gy = b->y0; gy < b->y1; gy += 4u * GROUP_FY)
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
-            float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
-            float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
+            _Alignas(64) float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA], tnear[MFT_FRUSTA];
             /* images are at most 16384 pixels a side: the float sums are exact, as converting gx + dx was */
             const vf block_x = vf_add(vf_set1((float)gx), lane_dx), block_y = vf_add(vf_set1((float)gy), lane_dy);
-            uint32_t frusta = 0, exact = 0;
+            uint32_t frusta = 0, exact = 0, cornered = 0, bounded = 0;
             g.apex = 0;
             vf size, box_lo[3], box_hi[3];
             uint32_t in_range;
             const uint32_t finite = camera_cones(&g.cone, b, block_x, block_y, &size);
             const uint32_t boxed = finite & camera_boxes(&g.cone, b, size, box_lo, box_hi, &in_range);
             const uint32_t outside = boxed & in_range & ~camera_reach_root(tree, b, box_lo, box_hi, boxed & in_range);
-            _Alignas(64) float corner_lo[3][MFT_FRUSTA], corner_hi[3][MFT_FRUSTA];
-            for (int k = 0; k < 3; k++) vf_store(corner_lo[k], box_lo[k]), vf_store(corner_hi[k], box_hi[k]);
             for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
                 const uint32_t fx = gx + 4u * (f % GROUP_FX), fy = gy + 4u * (f / GROUP_FX);
-                tnear[f] = INFINITY;
                 if (outside >> f & 1u) { /* misses the scene's box: no rays, every live lane a miss */
                     if (camera_live(&g, f, b, fx, fy) && counters) counters->packets++;
-                    for (int k = 0; k < 3; k++) org[k][f] = 0.0f, dlo[k][f] = dhi[k][f] = 1.0f;
                     continue;
                 }
                 if (camera_frustum(&g, f, b, fx, fy)) exact |= 1u << f;
                 uint32_t live = 0;
                 for (uint32_t v = 0; v < MFT_VECS; v++) live |= g.live[f][v];
-                if (live && (boxed & exact) >> f & 1u) { /* every ray made the fast way: the corners bound them */
-                    for (int k = 0; k < 3; k++) org[k][f] = b->eye[k], dlo[k][f] = corner_lo[k][f], dhi[k][f] = corner_hi[k][f];
-                    tnear[f] = 0.0f;
-                } else {
-                    camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
-                }
                 if (!live) continue;
+                if ((boxed & exact) >> f & 1u) /* every ray made the fast way: the corners bound them */
+                    cornered |= 1u << f;
+                else {
+                    camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
+                    bounded |= 1u << f;
+                }
                 if (counters) counters->packets++;
                 if (tree->triangle_count == 0) continue;
                 for (uint32_t v = 0; v < MFT_VECS; v++)
                     g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
                 frusta |= 1u << f;
             }
+            /* the bounds as vectors: a dead frustum's (outside or no live
+             * ray) origin 0, directions 1, tnear infinite; a cornered one's
+             * the eye and its corners' box from tnear 0; the rest's (rare:
+             * rays made the wide-range way) camera_bounds' scalars, read
+             * back only then (written a lane at a time, loaded whole) */
+            const vm corner_lanes = vm_of_bits(cornered), bounded_lanes = vm_of_bits(bounded);
+            const vf zero = vf_set1(0.0f), one = vf_set1(1.0f);
+            vf bound_org[3], bound_lo[3], bound_hi[3];
+            vf bound_tnear = vf_blend(corner_lanes, vf_set1(INFINITY), zero);
+            if (bounded) bound_tnear = vf_blend(bounded_lanes, bound_tnear, vf_load(tnear));
+            for (int k = 0; k < 3; k++) {
+                bound_org[k] = vf_blend(corner_lanes, zero, vf_set1(b->eye[k]));
+                bound_lo[k] = vf_blend(corner_lanes, one, box_lo[k]);
+                bound_hi[k] = vf_blend(corner_lanes, one, box_hi[k]);
+                if (bounded)
+                    bound_org[k] = vf_blend(bounded_lanes, bound_org[k], vf_load(org[k])),
+                    bound_lo[k] = vf_blend(bounded_lanes, bound_lo[k], vf_load(dlo[k])),
+                    bound_hi[k] = vf_blend(bounded_lanes, bound_hi[k], vf_load(dhi[k]));
+            }
             g.pinhole = finite & exact;
-            trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, true, counters);
+            trace_group_bounds(tree, &g, frusta, bound_org, bound_lo, bound_hi, bound_tnear, zero, true, counters);
             /* each packet's rows of four straight into the block's rows */
             for (uint32_t f = 0; f < MFT_FRUSTA; f++)
                 for (uint32_t v = 0; v < MFT_VECS; v++) {
