@@ -265,8 +265,8 @@ typedef struct mft_cone {
  * sums: about ten ulps, under 2^-20.5, of sum_k |n_k| (|corner_k| + |du_k|
  * x + |dv_k| y) <= |n|_1 size, size camera_cones' largest sum over an axis
  * of the corners' terms) is covered three times over by pixel_scale's
- * 2^-19 size over scale, and n's by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's D and margin)
- * is one for every frustum: a triangle facing them is culled from those
+ * 2^-19 size over scale, and n's by cross_error over |d|_1 <= l1.  The
+ * orientation (frusta_orientation's D and margin) is one for every frustum: a triangle facing them is culled from those
  * whose directions all fall below an edge, a backing one from those above,
  * one whose plane passes near the eye from none.  `cull` (the back-face
  * culling of a solid's triangle, traverse_mft.c): +1 drops a triangle that

@@ -443,30 +443,22 @@ static bool camera_frustum(mft_group *g, uint32_t f, const bvh_camera_block *b, 
     return exact;
 }
 
-/* frustum_bounds for a frustum camera_frustum made: its origin is the
- * eye, every live ray starts at t = 0, and the direction box is the live
- * lanes' smallest and largest components, kept across its packets lane by
- * lane and reduced once per axis. */
-static void camera_bounds(const mft_group *g, uint32_t f, const bvh_camera_block *b, float org[3][MFT_FRUSTA],
-                          float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA], float *tnear)
+/* The direction box of a frustum camera_frustum made with some live ray
+ * (its origin is the eye and its rays start at t = 0, as for a cornered
+ * one): the live lanes' smallest and largest components, kept across its
+ * packets lane by lane and reduced once per axis. */
+static void camera_bounds(const mft_group *g, uint32_t f, float dlo[3][MFT_FRUSTA], float dhi[3][MFT_FRUSTA])
 {
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     vf lo[3] = {inf, inf, inf}, hi[3] = {minus_inf, minus_inf, minus_inf};
-    uint32_t live = 0;
     for (uint32_t v = 0; v < MFT_VECS; v++) {
         const vm m = vm_of_bits(g->live[f][v]);
-        live |= g->live[f][v];
         for (int k = 0; k < 3; k++) {
             lo[k] = vf_min(lo[k], vf_blend(m, inf, g->rays[f][v].dir[k]));
             hi[k] = vf_max(hi[k], vf_blend(m, minus_inf, g->rays[f][v].dir[k]));
         }
     }
-    for (int k = 0; k < 3; k++) {
-        org[k][f] = live ? b->eye[k] : 0.0f;
-        dlo[k][f] = live ? vf_hmin(lo[k]) : 1.0f;
-        dhi[k][f] = live ? vf_hmax(hi[k]) : 1.0f;
-    }
-    *tnear = live ? 0.0f : INFINITY;
+    for (int k = 0; k < 3; k++) dlo[k][f] = vf_hmin(lo[k]), dhi[k][f] = vf_hmax(hi[k]);
 }
 
 /* Every frustum's corner vectors (mft_cone), frustum f's block at
@@ -514,8 +506,8 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
  * + 1.5 |dv|), |d|^2 = |c|^2 + 2 c.e + |e|^2 >= |c|^2 + 2 c.e, affine in
  * the pixel, so at least its least value at a corner, where it is that
  * corner's |d|^2 - |e|^2 >= |d|^2 - h^2.  Widened by the rounding the
- * cone's scale (camera_cones) covers (2^-16 of the terms' `size` per axis, over the least
- * length) and 2^-20 of each bound: no smaller than the rays' own box, a
+ * cone's scale (camera_cones) covers (2^-16 of the terms' `size` per axis,
+ * over the least length) and 2^-20 of each bound: no smaller than the rays' own box, a
  * little larger (the traversal only culls by it, so every ray still gets
  * its hit).  Returns the frusta it bounded (a positive least length,
  * finite bounds); camera_bounds takes the rest.  *in_range: those of them
@@ -612,11 +604,12 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
      * group as scalars and read back as a vector, the block's corners
      * stalled on the store buffer (a fifth of this function's time) */
     _Alignas(64) float block_dx[MFT_FRUSTA], block_dy[MFT_FRUSTA];
-    for (uint32_t f = 0; f < MFT_FRUSTA; f++) block_dx[f] = (float)(4u * (f % GROUP_FX)), block_dy[f] = (float)(4u * (f / GROUP_FX));
+    for (uint32_t f = 0; f < MFT_FRUSTA; f++)
+        block_dx[f] = (float)(4u * (f % GROUP_FX)), block_dy[f] = (float)(4u * (f / GROUP_FX));
     const vf lane_dx = vf_load(block_dx), lane_dy = vf_load(block_dy);
     for (uint32_t gy = b->y0; gy < b->y1; gy += 4u * GROUP_FY)
         for (uint32_t gx = b->x0; gx < b->x1; gx += 4u * GROUP_FX) {
-            _Alignas(64) float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA], tnear[MFT_FRUSTA];
+            _Alignas(64) float dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
             /* images are at most 16384 pixels a side: the float sums are exact, as converting gx + dx was */
             const vf block_x = vf_add(vf_set1((float)gx), lane_dx), block_y = vf_add(vf_set1((float)gy), lane_dy);
             uint32_t frusta = 0, exact = 0, cornered = 0, bounded = 0;
@@ -639,7 +632,7 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                 if ((boxed & exact) >> f & 1u) /* every ray made the fast way: the corners bound them */
                     cornered |= 1u << f;
                 else {
-                    camera_bounds(&g, f, b, org, dlo, dhi, &tnear[f]);
+                    camera_bounds(&g, f, dlo, dhi);
                     bounded |= 1u << f;
                 }
                 if (counters) counters->packets++;
@@ -649,21 +642,21 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                 frusta |= 1u << f;
             }
             /* the bounds as vectors: a dead frustum's (outside or no live
-             * ray) origin 0, directions 1, tnear infinite; a cornered one's
-             * the eye and its corners' box from tnear 0; the rest's (rare:
-             * rays made the wide-range way) camera_bounds' scalars, read
-             * back only then (written a lane at a time, loaded whole) */
-            const vm corner_lanes = vm_of_bits(cornered), bounded_lanes = vm_of_bits(bounded);
+             * ray) origin 0, directions 1, tnear infinite; a live one's
+             * origin the eye from tnear 0, its directions the corners' box
+             * when cornered, else (rare: rays made the wide-range way)
+             * camera_bounds' scalars, read back only then (written a lane
+             * at a time, loaded whole) */
+            const vm live_lanes = vm_of_bits(cornered | bounded), corner_lanes = vm_of_bits(cornered),
+                     bounded_lanes = vm_of_bits(bounded);
             const vf zero = vf_set1(0.0f), one = vf_set1(1.0f);
             vf bound_org[3], bound_lo[3], bound_hi[3];
-            vf bound_tnear = vf_blend(corner_lanes, vf_set1(INFINITY), zero);
-            if (bounded) bound_tnear = vf_blend(bounded_lanes, bound_tnear, vf_load(tnear));
+            const vf bound_tnear = vf_blend(live_lanes, vf_set1(INFINITY), zero);
             for (int k = 0; k < 3; k++) {
-                bound_org[k] = vf_blend(corner_lanes, zero, vf_set1(b->eye[k]));
+                bound_org[k] = vf_blend(live_lanes, zero, vf_set1(b->eye[k]));
                 bound_lo[k] = vf_blend(corner_lanes, one, box_lo[k]);
                 bound_hi[k] = vf_blend(corner_lanes, one, box_hi[k]);
                 if (bounded)
-                    bound_org[k] = vf_blend(bounded_lanes, bound_org[k], vf_load(org[k])),
                     bound_lo[k] = vf_blend(bounded_lanes, bound_lo[k], vf_load(dlo[k])),
                     bound_hi[k] = vf_blend(bounded_lanes, bound_hi[k], vf_load(dhi[k]));
             }
