@@ -120,11 +120,12 @@ typedef struct pgrid_light {
      * footprints (face-major: face * corner_count + record; a record's
      * entries on the faces of its face_mask, or, when that is 0, on face 0:
      * {NONE, NONE} for a near one, {NONE, 0} for one with no footprint; its
-     * other entries are not written), the fill cursors, and what the
+     * other entries are not written), the per-cell counts that become the
+     * fill cursors (the main ones, then the front ones), and what the
      * arrays hold */
     pgrid_footprint *prints;
     uint8_t *record_front;     /* per corner record: PGRID_PRIM_FACING or _STEEP when it faces the light, else 0
-                                * (the build copies it to front[its prim] after the footprint stage) */
+                                * (the footprint stage's tasks copy it to front[its prim]) */
     uint8_t *face_mask;        /* per corner record: bit f when it has a footprint on face f */
     uint32_t face_first[PGRID_LIGHT_FACES + 1]; /* the records with a footprint on faces before f: face f has
                                                  * some iff face_first[f] < face_first[f + 1] */
@@ -132,7 +133,9 @@ typedef struct pgrid_light {
     uint32_t *row_records;     /* per build thread, face and cell row: the records whose footprint starts there,
                                 * that thread's count (two threads or more: the face's rows are cut where
                                 * half its records have started, two bands of as many) */
-    size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity, row_capacity;
+    uint32_t *chunk_counts;    /* per chunk of the footprint stage: its records with a footprint on each face,
+                                * then its near ones */
+    size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity, row_capacity, chunk_capacity;
 } pgrid_light;
 
 /* The footprint stage of a light's build (pgrid_light_build.c): for the

@@ -149,6 +149,7 @@ void pgrid_light_free(pgrid_light *light)
     free(light->record_front);
     free(light->face_mask);
     free(light->row_records);
+    free(light->chunk_counts);
     memset(light, 0, sizeof *light);
 }
 
@@ -168,10 +169,14 @@ typedef struct light_build {
     pgrid_prints_fn prints;
     uint32_t bands, row_threads; /* row_threads: the threads whose rows light->row_records holds (bands > 1) */
     uint32_t band_row[PGRID_LIGHT_FACES][3]; /* face f's band k: rows band_row[f][k] .. band_row[f][k + 1] */
+    uint32_t band_refs[PGRID_LIGHT_FACES][2];  /* per band its references (the count stage's) */
+    uint32_t band_base[PGRID_LIGHT_FACES][2];  /* per band where its references start in refs */
     size_t cells;
 } light_build;
 
 enum { CHUNK = 2048 };
+/* per chunk of records: its records with a footprint on each face, then its near ones */
+enum { CHUNK_COUNTS = PGRID_LIGHT_FACES + 1 };
 
 void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
 {
@@ -246,22 +251,34 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 }
 
 /* Task: the footprints, bounds and front classes of records [CHUNK task
- * ..), and with two bands this thread's count of the rows they start on. */
+ * ..); then, read back while in this thread's cache, the chunk's counts
+ * (pgrid_light.chunk_counts: records with a footprint per face, near
+ * ones), the kernel's front byte of its facing triangles (pgrid_light.front:
+ * bytes of other tasks' triangles may share a line, never a byte), and with
+ * two bands this thread's count of the rows the footprints start on. */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
 {
     const light_build *b = context;
     const uint32_t n = b->job.n, end = (task + 1) * CHUNK < n ? (task + 1) * CHUNK : n;
     b->prints(&b->job, task * CHUNK, end);
-    if (b->bands < 2) return;
-    /* the rows the records' footprints start on, this thread's count (read back while in its cache) */
-    const pgrid_light *light = b->job.light;
+    pgrid_light *light = b->job.light;
     const uint32_t res = b->job.res;
-    uint32_t *rows = light->row_records + (size_t)thread * PGRID_LIGHT_FACES * res;
-    for (uint32_t i = task * CHUNK; i < end; i++)
-        for (uint32_t mask = light->face_mask[i]; mask; mask &= mask - 1) {
+    const kd_corners *corners = b->job.grids->corners;
+    uint32_t counts[CHUNK_COUNTS] = {0};
+    uint32_t *rows = b->bands > 1 ? light->row_records + (size_t)thread * PGRID_LIGHT_FACES * res : NULL;
+    for (uint32_t i = task * CHUNK; i < end; i++) {
+        const uint32_t face_mask = light->face_mask[i];
+        if (light->record_front[i]) light->front[corners[i].prim] = light->record_front[i];
+        /* a near one has no footprint, and y0 marks it */
+        counts[PGRID_LIGHT_FACES] +=
+            !face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE;
+        for (uint32_t mask = face_mask; mask; mask &= mask - 1) {
             const uint32_t face = (uint32_t)__builtin_ctz(mask);
-            rows[(size_t)face * res + light->prints[(size_t)face * n + i].y0]++;
+            counts[face]++;
+            if (rows) rows[(size_t)face * res + light->prints[(size_t)face * n + i].y0]++;
         }
+    }
+    memcpy(light->chunk_counts + (size_t)task * CHUNK_COUNTS, counts, sizeof counts);
 }
 
 /* The rows of band `task % bands` of face `task / bands`. */
@@ -273,17 +290,20 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
     *y1 = b->band_row[*face][band + 1];
 }
 
-/* One band's cells: counted (references, front ones, distance bound;
- * `fill` false) or their references placed in record order (`fill` true:
- * two cursors per cell, the main references from cell_first, the front
- * ones from cell_front), the records read in order, those without a
+/* One band's cells: counted (`fill` false: references into the main
+ * cursors, front ones into cell_front, the distance bound, the band's
+ * total in band_refs), or (`fill` true) their lists laid out from the
+ * band's base (cell_first, cell_front, the cursors: the prefix sum in the
+ * band's own task) and their references placed in record order (two
+ * cursors per cell, the main references from cell_first, the front ones
+ * from cell_front), the records read in order, those without a
  * footprint on the band's face skipped by their face mask (a list of each
  * face's records, made serially, cost more than the scan: sixth session).
  * The arrays are read through local restrict pointers: a store through the
  * light's own would oblige the compiler to load them again from the light
  * after every reference (measured: bench/results/pgrid.md, "sixth
  * session"). */
-static void band_pass(const light_build *b, uint32_t task, bool fill)
+__attribute__((optimize("no-tree-vectorize"))) static void band_pass(light_build *b, uint32_t task, bool fill)
 {
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
@@ -296,9 +316,15 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
     const uint8_t *restrict record_front = light->record_front;
     if (fill) {
         uint32_t *restrict main_cursor = light->fill, *restrict front_cursor = light->fill + cells;
-        uint32_t *restrict refs = light->refs;
-        memcpy(main_cursor + first, light->cell_first + first, (last - first) * sizeof *main_cursor);
-        memcpy(front_cursor + first, light->cell_front + first, (last - first) * sizeof *front_cursor);
+        uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
+                           *restrict cell_front = light->cell_front;
+        uint32_t at = b->band_base[face][task % b->bands];
+        for (size_t c = first; c < last; c++) {
+            const uint32_t main = main_cursor[c], front = cell_front[c];
+            cell_first[c] = main_cursor[c] = at;
+            at += main;
+            cell_front[c] = front_cursor[c] = at - front;
+        }
         for (uint32_t i = 0; i < records_end; i++) {
             if (!(face_mask[i] >> face & 1u)) continue;
             const pgrid_footprint f = prints[i];
@@ -312,17 +338,19 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
         }
         return;
     }
-    uint32_t *restrict count = light->cell_first + 1, *restrict front_count = light->cell_front;
+    uint32_t *restrict count = light->fill, *restrict front_count = light->cell_front;
     float *restrict cell_min = light->cell_min;
     const float *restrict bound = light->bound;
     memset(count + first, 0, (last - first) * sizeof *count);
     memset(front_count + first, 0, (last - first) * sizeof *front_count);
     for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
+    uint32_t total = 0;
     for (uint32_t i = 0; i < records_end; i++) {
         if (!(face_mask[i] >> face & 1u)) continue;
         const pgrid_footprint f = prints[i];
         if (f.y1 < r0 || f.y0 >= r1) continue;
         const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+        total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
         if (record_front[i]) {
             for (uint32_t y = y0; y <= y1; y++) {
                 const size_t row = ((size_t)face * res + y) * res;
@@ -339,6 +367,7 @@ static void band_pass(const light_build *b, uint32_t task, bool fill)
             }
         }
     }
+    b->band_refs[face][task % b->bands] = total;
 }
 
 static void count_band(void *context, uint32_t thread, uint32_t task)
@@ -391,10 +420,12 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
              grow(&light->face_mask, &c5, (size_t)n + 1, 1);
         if (ok) light->corner_capacity = n;
     }
-    const uint32_t row_threads = rtt_thread_count(threads);
+    const uint32_t row_threads = rtt_thread_count(threads), chunks = (n + CHUNK - 1) / CHUNK;
     ok = ok && grow(&light->front, &light->triangle_capacity, (size_t)scene->triangle_count + 1, 1) &&
          grow(&light->row_records, &light->row_capacity, (size_t)row_threads * PGRID_LIGHT_FACES * res,
-              sizeof *light->row_records);
+              sizeof *light->row_records) &&
+         grow(&light->chunk_counts, &light->chunk_capacity, (size_t)chunks * CHUNK_COUNTS + 1,
+              sizeof *light->chunk_counts);
     if (!ok) {
         pgrid_light_free(light);
         return false;
@@ -406,20 +437,21 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
                      .bands = threads > 1 ? 2 : 1,
                      .row_threads = row_threads};
     if (b.bands > 1) memset(light->row_records, 0, (size_t)row_threads * PGRID_LIGHT_FACES * res * sizeof *light->row_records);
-    rtt_parallel_run((n + CHUNK - 1) / CHUNK, threads, footprint_chunk, &b);
+    rtt_parallel_run(chunks, threads, footprint_chunk, &b);
     /* per face how many records have a footprint on it (none: its cells
-     * are not kept), the front classes, the near list */
+     * are not kept), from the chunks' counts; the near list, in record
+     * order, from the chunks that have some */
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
     light->near_count = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        const uint32_t face_mask = light->face_mask[i];
-        for (uint32_t mask = face_mask; mask; mask &= mask - 1) at[__builtin_ctz(mask) + 1]++;
-        /* the kernel's byte by triangle, here: written by the stage's tasks, records in space order (prims
-         * at random) would share cache lines between threads */
-        if (light->record_front[i]) light->front[grids->corners[i].prim] = light->record_front[i];
-        /* a near one has no footprint, and y0 marks it */
-        if (!face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
-            light->near[light->near_count++] = i;
+    for (uint32_t chunk = 0; chunk < chunks; chunk++) {
+        const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
+        if (!counts[PGRID_LIGHT_FACES]) continue;
+        const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
+        for (uint32_t i = chunk * CHUNK; i < end; i++)
+            if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
+                light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
+                light->near[light->near_count++] = i;
     }
     /* two bands: cut where half the face's records have started (a mesh
      * covers part of a face: even rows would leave one thread most of it),
@@ -442,20 +474,23 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     memcpy(light->face_first, at, sizeof at);
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
     /* the kept faces' cells (pgrid_light.faces) in face order: the others
-     * (a mesh seen from outside lies on one or two faces) cost nothing */
+     * (a mesh seen from outside lies on one or two faces) cost nothing.
+     * Each band's references start where the bands before it end (its
+     * task lays its cells out from there); a kept face followed by one
+     * that is not gets its end here, the others' is the next face's first
+     * cell, which that face's first band writes. */
     uint32_t total = 0;
     light->faces = 0;
     const size_t face_cells = (size_t)res * res;
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
         if (light->face_first[face] == light->face_first[face + 1]) continue;
         light->faces |= 1u << face;
-        const size_t first = face * face_cells;
-        light->cell_first[first] = total;
-        for (size_t c = first; c < first + face_cells; c++) {
-            light->cell_first[c + 1] += light->cell_first[c];
-            light->cell_front[c] = light->cell_first[c + 1] - light->cell_front[c];
+        for (uint32_t band = 0; band < b.bands; band++) {
+            b.band_base[face][band] = total;
+            total += b.band_refs[face][band];
         }
-        total = light->cell_first[first + face_cells];
+        const bool next_kept = face + 1 < PGRID_LIGHT_FACES && light->face_first[face + 1] < light->face_first[face + 2];
+        if (!next_kept) light->cell_first[(face + 1) * face_cells] = total;
     }
     light->cell_first[cells] = total;
     light->ref_count = total;
