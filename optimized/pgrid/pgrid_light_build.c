@@ -175,8 +175,11 @@ typedef struct light_build {
 } light_build;
 
 enum { CHUNK = 2048 };
-/* per chunk of records: its records with a footprint on each face, then its near ones */
-enum { CHUNK_COUNTS = PGRID_LIGHT_FACES + 1 };
+/* per chunk of records: its records with a footprint on each face, its
+ * near ones, then per face the least first row and the greatest last row
+ * of its footprints there (a band's tasks skip the chunks outside it) */
+enum { CHUNK_NEAR = PGRID_LIGHT_FACES, CHUNK_ROW_LO = PGRID_LIGHT_FACES + 1,
+       CHUNK_ROW_HI = CHUNK_ROW_LO + PGRID_LIGHT_FACES, CHUNK_COUNTS = CHUNK_ROW_HI + PGRID_LIGHT_FACES };
 
 void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
 {
@@ -253,7 +256,7 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 /* Task: the footprints, bounds and front classes of records [CHUNK task
  * ..); then, read back while in this thread's cache, the chunk's counts
  * (pgrid_light.chunk_counts: records with a footprint per face, near
- * ones), the kernel's front byte of its facing triangles (pgrid_light.front:
+ * ones, rows per face), the kernel's front byte of its facing triangles (pgrid_light.front:
  * bytes of other tasks' triangles may share a line, never a byte), and with
  * two bands this thread's count of the rows the footprints start on. */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
@@ -265,17 +268,21 @@ static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
     const uint32_t res = b->job.res;
     const kd_corners *corners = b->job.grids->corners;
     uint32_t counts[CHUNK_COUNTS] = {0};
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) counts[CHUNK_ROW_LO + face] = UINT32_MAX;
     uint32_t *rows = b->bands > 1 ? light->row_records + (size_t)thread * PGRID_LIGHT_FACES * res : NULL;
     for (uint32_t i = task * CHUNK; i < end; i++) {
         const uint32_t face_mask = light->face_mask[i];
         if (light->record_front[i]) light->front[corners[i].prim] = light->record_front[i];
         /* a near one has no footprint, and y0 marks it */
-        counts[PGRID_LIGHT_FACES] +=
+        counts[CHUNK_NEAR] +=
             !face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE;
         for (uint32_t mask = face_mask; mask; mask &= mask - 1) {
             const uint32_t face = (uint32_t)__builtin_ctz(mask);
+            const pgrid_footprint f = light->prints[(size_t)face * n + i];
             counts[face]++;
-            if (rows) rows[(size_t)face * res + light->prints[(size_t)face * n + i].y0]++;
+            if (f.y0 < counts[CHUNK_ROW_LO + face]) counts[CHUNK_ROW_LO + face] = f.y0;
+            if (f.y1 > counts[CHUNK_ROW_HI + face]) counts[CHUNK_ROW_HI + face] = f.y1;
+            if (rows) rows[(size_t)face * res + f.y0]++;
         }
     }
     memcpy(light->chunk_counts + (size_t)task * CHUNK_COUNTS, counts, sizeof counts);
@@ -290,15 +297,25 @@ static void band_rows(const light_build *b, uint32_t task, uint32_t *face, uint3
     *y1 = b->band_row[*face][band + 1];
 }
 
+/* Whether chunk `chunk`'s records have a footprint on `face` within rows [r0, r1). */
+static inline bool chunk_meets_band(const pgrid_light *light, uint32_t chunk, uint32_t face, uint32_t r0, uint32_t r1)
+{
+    const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
+    return counts[face] && counts[CHUNK_ROW_LO + face] < r1 && counts[CHUNK_ROW_HI + face] >= r0;
+}
+
 /* One band's cells: counted (`fill` false: references into the main
  * cursors, front ones into cell_front, the distance bound, the band's
  * total in band_refs), or (`fill` true) their lists laid out from the
  * band's base (cell_first, cell_front, the cursors: the prefix sum in the
  * band's own task) and their references placed in record order (two
  * cursors per cell, the main references from cell_first, the front ones
- * from cell_front), the records read in order, those without a
- * footprint on the band's face skipped by their face mask (a list of each
- * face's records, made serially, cost more than the scan: sixth session).
+ * from cell_front), the records read in order: the chunks with no
+ * footprint on the band's face or none on its rows skipped whole (a chunk's
+ * records lie close together, so most chunks fall in one band), the other
+ * records without a footprint on the face skipped by their face mask (a
+ * list of each face's records, made serially, cost more than the scan:
+ * sixth session).
  * The arrays are read through local restrict pointers: a store through the
  * light's own would oblige the compiler to load them again from the light
  * after every reference (measured: bench/results/pgrid.md, "sixth
@@ -314,6 +331,7 @@ __attribute__((optimize("no-tree-vectorize"))) static void band_pass(light_build
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
     const pgrid_footprint *restrict prints = light->prints + (size_t)face * b->job.n; /* face-major */
     const uint8_t *restrict record_front = light->record_front;
+    const uint32_t chunks = (records_end + CHUNK - 1) / CHUNK;
     if (fill) {
         uint32_t *restrict main_cursor = light->fill, *restrict front_cursor = light->fill + cells;
         uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
@@ -325,15 +343,19 @@ __attribute__((optimize("no-tree-vectorize"))) static void band_pass(light_build
             at += main;
             cell_front[c] = front_cursor[c] = at - front;
         }
-        for (uint32_t i = 0; i < records_end; i++) {
-            if (!(face_mask[i] >> face & 1u)) continue;
-            const pgrid_footprint f = prints[i];
-            if (f.y1 < r0 || f.y0 >= r1) continue;
-            uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
-            const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
-            for (uint32_t y = y0; y <= y1; y++) {
-                const size_t row = ((size_t)face * res + y) * res;
-                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
+        for (uint32_t chunk = 0; chunk < chunks; chunk++) {
+            if (!chunk_meets_band(light, chunk, face, r0, r1)) continue;
+            const uint32_t end = (chunk + 1) * CHUNK < records_end ? (chunk + 1) * CHUNK : records_end;
+            for (uint32_t i = chunk * CHUNK; i < end; i++) {
+                if (!(face_mask[i] >> face & 1u)) continue;
+                const pgrid_footprint f = prints[i];
+                if (f.y1 < r0 || f.y0 >= r1) continue;
+                uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
+                const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+                for (uint32_t y = y0; y <= y1; y++) {
+                    const size_t row = ((size_t)face * res + y) * res;
+                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
+                }
             }
         }
         return;
@@ -345,25 +367,29 @@ __attribute__((optimize("no-tree-vectorize"))) static void band_pass(light_build
     memset(front_count + first, 0, (last - first) * sizeof *front_count);
     for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
     uint32_t total = 0;
-    for (uint32_t i = 0; i < records_end; i++) {
-        if (!(face_mask[i] >> face & 1u)) continue;
-        const pgrid_footprint f = prints[i];
-        if (f.y1 < r0 || f.y0 >= r1) continue;
-        const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
-        total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
-        if (record_front[i]) {
+    for (uint32_t chunk = 0; chunk < chunks; chunk++) {
+        if (!chunk_meets_band(light, chunk, face, r0, r1)) continue;
+        const uint32_t end = (chunk + 1) * CHUNK < records_end ? (chunk + 1) * CHUNK : records_end;
+        for (uint32_t i = chunk * CHUNK; i < end; i++) {
+            if (!(face_mask[i] >> face & 1u)) continue;
+            const pgrid_footprint f = prints[i];
+            if (f.y1 < r0 || f.y0 >= r1) continue;
+            const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+            total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
+            if (record_front[i]) {
+                for (uint32_t y = y0; y <= y1; y++) {
+                    const size_t row = ((size_t)face * res + y) * res;
+                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) count[cell]++, front_count[cell]++;
+                }
+                continue;
+            }
+            const float d = bound[i];
             for (uint32_t y = y0; y <= y1; y++) {
                 const size_t row = ((size_t)face * res + y) * res;
-                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) count[cell]++, front_count[cell]++; /* for now */
-            }
-            continue;
-        }
-        const float d = bound[i];
-        for (uint32_t y = y0; y <= y1; y++) {
-            const size_t row = ((size_t)face * res + y) * res;
-            for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) {
-                count[cell]++;
-                cell_min[cell] = d < cell_min[cell] ? d : cell_min[cell];
+                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) {
+                    count[cell]++;
+                    cell_min[cell] = d < cell_min[cell] ? d : cell_min[cell];
+                }
             }
         }
     }
@@ -444,14 +470,14 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
     light->near_count = 0;
     for (uint32_t chunk = 0; chunk < chunks; chunk++) {
-        const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
-        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
-        if (!counts[PGRID_LIGHT_FACES]) continue;
-        const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
-        for (uint32_t i = chunk * CHUNK; i < end; i++)
-            if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
-                light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
-                light->near[light->near_count++] = i;
+            const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
+            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
+            if (!counts[CHUNK_NEAR]) continue;
+            const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
+            for (uint32_t i = chunk * CHUNK; i < end; i++)
+                if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
+                    light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
+                    light->near[light->near_count++] = i;
     }
     /* two bands: cut where half the face's records have started (a mesh
      * covers part of a face: even rows would leave one thread most of it),
@@ -489,7 +515,8 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
             b.band_base[face][band] = total;
             total += b.band_refs[face][band];
         }
-        const bool next_kept = face + 1 < PGRID_LIGHT_FACES && light->face_first[face + 1] < light->face_first[face + 2];
+        const bool next_kept =
+            face + 1 < PGRID_LIGHT_FACES && light->face_first[face + 1] < light->face_first[face + 2];
         if (!next_kept) light->cell_first[(face + 1) * face_cells] = total;
     }
     light->cell_first[cells] = total;
