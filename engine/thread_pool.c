@@ -8,14 +8,25 @@
  * inside a task, as the tree builders make, or a second caller thread)
  * starts threads of its own for its duration, as every run did before the
  * pool persisted.  The workers are never joined: they sleep until the
- * process exits. */
+ * process exits.
+ *
+ * Waking a sleeping thread costs tens of microseconds or more (on a
+ * virtual machine, the host must schedule the idle vCPU again), which a
+ * frame of several short parallel stages pays at each: a worker woken late
+ * finds the run's few tasks taken by the caller.  So a worker polls for
+ * the next run for POOL_SPIN_NS before it sleeps, and the caller polls for
+ * the workers' end as long before it sleeps (measured: bench/results/
+ * pgrid.md, "ninth session"). */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <unistd.h>
 
+#include "engine/clock.h"
 #include "engine/threads.h"
+
+#define POOL_SPIN_NS 200000u
 
 typedef struct pool_run {
     uint32_t tasks;
@@ -52,13 +63,30 @@ static struct {
     pthread_mutex_t lock;
     pthread_cond_t wake, finished;
     uint32_t started;          /* workers 1..started exist */
-    uint64_t generation;       /* bumped when a run is handed out */
+    _Atomic uint64_t generation; /* bumped when a run is handed out (read without the lock while polling) */
     pool_run *run;             /* the run being worked, NULL between runs */
     uint32_t wanted;           /* workers 1..wanted-1 take part in it */
-    uint32_t working;          /* of those, how many have not finished */
+    atomic_uint working;       /* of those, how many have not finished (read without the lock while polling) */
     bool owned;                /* a run owns the workers */
 } pool = {.lock = PTHREAD_MUTEX_INITIALIZER, .wake = PTHREAD_COND_INITIALIZER,
           .finished = PTHREAD_COND_INITIALIZER};
+
+/* Poll *value while it equals `seen` (or, below, is not zero), for at most
+ * POOL_SPIN_NS; the caller then checks again under the lock and sleeps if
+ * it must. */
+static void spin_while_equal64(_Atomic uint64_t *value, uint64_t seen)
+{
+    const uint64_t until = rtt_clock_ns() + POOL_SPIN_NS;
+    for (uint32_t i = 0; atomic_load_explicit(value, memory_order_relaxed) == seen; i++)
+        if ((i & 63u) == 63u && rtt_clock_ns() > until) return;
+}
+
+static void spin_while_nonzero(atomic_uint *value)
+{
+    const uint64_t until = rtt_clock_ns() + POOL_SPIN_NS;
+    for (uint32_t i = 0; atomic_load_explicit(value, memory_order_relaxed) != 0; i++)
+        if ((i & 63u) == 63u && rtt_clock_ns() > until) return;
+}
 
 static void *pool_worker_main(void *arg)
 {
@@ -66,6 +94,11 @@ static void *pool_worker_main(void *arg)
     uint64_t seen = 0;
     pthread_mutex_lock(&pool.lock);
     for (;;) {
+        if (pool.generation == seen) { /* poll a while before sleeping */
+            pthread_mutex_unlock(&pool.lock);
+            spin_while_equal64(&pool.generation, seen);
+            pthread_mutex_lock(&pool.lock);
+        }
         while (pool.generation == seen) pthread_cond_wait(&pool.wake, &pool.lock);
         seen = pool.generation;
         if (index >= pool.wanted) continue;
@@ -110,6 +143,11 @@ static void pool_run_owned(pool_run *run, uint32_t threads)
     pthread_mutex_unlock(&pool.lock);
     work(run, 0);
     pthread_mutex_lock(&pool.lock);
+    if (pool.working > 0) {
+        pthread_mutex_unlock(&pool.lock);
+        spin_while_nonzero(&pool.working);
+        pthread_mutex_lock(&pool.lock);
+    }
     while (pool.working > 0) pthread_cond_wait(&pool.finished, &pool.lock);
     pool.run = NULL;
     pool.owned = false;
