@@ -134,7 +134,8 @@ typedef struct pgrid_light {
                                 * that thread's count (two threads or more: the face's rows are cut where
                                 * half its records have started, two bands of as many) */
     uint32_t *chunk_counts;    /* per chunk of the footprint stage: its records with a footprint on each face,
-                                * then its near ones */
+                                * its near ones, then per face its footprints' least first row and greatest
+                                * last row (pgrid_light_build.c, CHUNK_COUNTS) */
     size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity, row_capacity, chunk_capacity;
 } pgrid_light;
 

@@ -256,9 +256,10 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
 /* Task: the footprints, bounds and front classes of records [CHUNK task
  * ..); then, read back while in this thread's cache, the chunk's counts
  * (pgrid_light.chunk_counts: records with a footprint per face, near
- * ones, rows per face), the kernel's front byte of its facing triangles (pgrid_light.front:
- * bytes of other tasks' triangles may share a line, never a byte), and with
- * two bands this thread's count of the rows the footprints start on. */
+ * ones, rows per face), the kernel's front byte of its facing triangles
+ * (pgrid_light.front: other tasks' triangles may share a line, never a
+ * byte), and with two bands this thread's count of the rows the
+ * footprints start on. */
 static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
 {
     const light_build *b = context;
@@ -470,14 +471,14 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
     light->near_count = 0;
     for (uint32_t chunk = 0; chunk < chunks; chunk++) {
-            const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
-            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
-            if (!counts[CHUNK_NEAR]) continue;
-            const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
-            for (uint32_t i = chunk * CHUNK; i < end; i++)
-                if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
-                    light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
-                    light->near[light->near_count++] = i;
+        const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
+        if (!counts[CHUNK_NEAR]) continue;
+        const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
+        for (uint32_t i = chunk * CHUNK; i < end; i++)
+            if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
+                light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
+                light->near[light->near_count++] = i;
     }
     /* two bands: cut where half the face's records have started (a mesh
      * covers part of a face: even rows would leave one thread most of it),
