@@ -316,12 +316,19 @@ static inline bool chunk_meets_band(const pgrid_light *light, uint32_t chunk, ui
  * records lie close together, so most chunks fall in one band), the other
  * records without a footprint on the face skipped by their face mask (a
  * list of each face's records, made serially, cost more than the scan:
- * sixth session).
+ * sixth session).  The loops are not vectorised: their rows of one or two
+ * cells paid the vector path's checks (ninth session).
  * The arrays are read through local restrict pointers: a store through the
  * light's own would oblige the compiler to load them again from the light
  * after every reference (measured: bench/results/pgrid.md, "sixth
  * session"). */
-__attribute__((optimize("no-tree-vectorize"))) static void band_pass(light_build *b, uint32_t task, bool fill)
+/* GCC's loop vectorizer kept off band_pass (above); clang takes no such attribute */
+#if defined(__GNUC__) && !defined(__clang__)
+#define BAND_PASS_NO_VECTORIZE __attribute__((optimize("no-tree-vectorize")))
+#else
+#define BAND_PASS_NO_VECTORIZE
+#endif
+BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool fill)
 {
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
