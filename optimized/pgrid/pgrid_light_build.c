@@ -322,13 +322,17 @@ static inline bool chunk_meets_band(const pgrid_light *light, uint32_t chunk, ui
  * light's own would oblige the compiler to load them again from the light
  * after every reference (measured: bench/results/pgrid.md, "sixth
  * session"). */
-/* GCC's loop vectorizer kept off band_pass (above); clang takes no such attribute */
+/* GCC's loop vectorizer kept off band_pass (above) and the two stages it
+ * is inlined into, one copy each (`fill` a constant there, so the record
+ * scan is written once and the per-record branch on the stage folds away);
+ * clang takes no such attribute */
 #if defined(__GNUC__) && !defined(__clang__)
 #define BAND_PASS_NO_VECTORIZE __attribute__((optimize("no-tree-vectorize")))
 #else
 #define BAND_PASS_NO_VECTORIZE
 #endif
-BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool fill)
+BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pass(light_build *b, uint32_t task,
+                                                                                   bool fill)
 {
     pgrid_light *light = b->job.light;
     uint32_t face, r0, r1;
@@ -339,11 +343,13 @@ BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool
     const size_t cells = b->cells, first = ((size_t)face * res + r0) * res, last = ((size_t)face * res + r1) * res;
     const pgrid_footprint *restrict prints = light->prints + (size_t)face * b->job.n; /* face-major */
     const uint8_t *restrict record_front = light->record_front;
-    const uint32_t chunks = (records_end + CHUNK - 1) / CHUNK;
+    const float *restrict bound = light->bound;
+    /* the main cursors hold the count stage's counts (all references), cell_front its front ones */
+    uint32_t *restrict main_cursor = light->fill, *restrict front_cursor = light->fill + cells;
+    uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
+                       *restrict cell_front = light->cell_front;
+    float *restrict cell_min = light->cell_min;
     if (fill) {
-        uint32_t *restrict main_cursor = light->fill, *restrict front_cursor = light->fill + cells;
-        uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
-                           *restrict cell_front = light->cell_front;
         uint32_t at = b->band_base[face][task % b->bands];
         for (size_t c = first; c < last; c++) {
             const uint32_t main = main_cursor[c], front = cell_front[c];
@@ -351,30 +357,13 @@ BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool
             at += main;
             cell_front[c] = front_cursor[c] = at - front;
         }
-        for (uint32_t chunk = 0; chunk < chunks; chunk++) {
-            if (!chunk_meets_band(light, chunk, face, r0, r1)) continue;
-            const uint32_t end = (chunk + 1) * CHUNK < records_end ? (chunk + 1) * CHUNK : records_end;
-            for (uint32_t i = chunk * CHUNK; i < end; i++) {
-                if (!(face_mask[i] >> face & 1u)) continue;
-                const pgrid_footprint f = prints[i];
-                if (f.y1 < r0 || f.y0 >= r1) continue;
-                uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
-                const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
-                for (uint32_t y = y0; y <= y1; y++) {
-                    const size_t row = ((size_t)face * res + y) * res;
-                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
-                }
-            }
-        }
-        return;
+    } else {
+        memset(main_cursor + first, 0, (last - first) * sizeof *main_cursor);
+        memset(cell_front + first, 0, (last - first) * sizeof *cell_front);
+        for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
     }
-    uint32_t *restrict count = light->fill, *restrict front_count = light->cell_front;
-    float *restrict cell_min = light->cell_min;
-    const float *restrict bound = light->bound;
-    memset(count + first, 0, (last - first) * sizeof *count);
-    memset(front_count + first, 0, (last - first) * sizeof *front_count);
-    for (size_t c = first; c < last; c++) cell_min[c] = INFINITY;
     uint32_t total = 0;
+    const uint32_t chunks = (records_end + CHUNK - 1) / CHUNK;
     for (uint32_t chunk = 0; chunk < chunks; chunk++) {
         if (!chunk_meets_band(light, chunk, face, r0, r1)) continue;
         const uint32_t end = (chunk + 1) * CHUNK < records_end ? (chunk + 1) * CHUNK : records_end;
@@ -383,11 +372,19 @@ BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool
             const pgrid_footprint f = prints[i];
             if (f.y1 < r0 || f.y0 >= r1) continue;
             const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
-            total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
-            if (record_front[i]) {
+            if (fill) {
+                uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
                 for (uint32_t y = y0; y <= y1; y++) {
                     const size_t row = ((size_t)face * res + y) * res;
-                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) count[cell]++, front_count[cell]++;
+                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
+                }
+                continue;
+            }
+            total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
+            if (record_front[i]) { /* counted in both, bounds nothing */
+                for (uint32_t y = y0; y <= y1; y++) {
+                    const size_t row = ((size_t)face * res + y) * res;
+                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) main_cursor[cell]++, cell_front[cell]++;
                 }
                 continue;
             }
@@ -395,22 +392,22 @@ BAND_PASS_NO_VECTORIZE static void band_pass(light_build *b, uint32_t task, bool
             for (uint32_t y = y0; y <= y1; y++) {
                 const size_t row = ((size_t)face * res + y) * res;
                 for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) {
-                    count[cell]++;
+                    main_cursor[cell]++;
                     cell_min[cell] = d < cell_min[cell] ? d : cell_min[cell];
                 }
             }
         }
     }
-    b->band_refs[face][task % b->bands] = total;
+    if (!fill) b->band_refs[face][task % b->bands] = total;
 }
 
-static void count_band(void *context, uint32_t thread, uint32_t task)
+BAND_PASS_NO_VECTORIZE static void count_band(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
     band_pass(context, task, false);
 }
 
-static void fill_band(void *context, uint32_t thread, uint32_t task)
+BAND_PASS_NO_VECTORIZE static void fill_band(void *context, uint32_t thread, uint32_t task)
 {
     (void)thread;
     band_pass(context, task, true);
