@@ -111,7 +111,7 @@ typedef struct frusta_tri {
 } frusta_tri;
 
 /* The margins' constants, one place for the frusta of every kind (the
- * vector forms below and frusta_triangle_pinhole's scalar one): the
+ * vector forms below and frusta_triangle_pinhole's four-lane one): the
  * planes' relative tolerance, sqrt 3 rounded up (|rel|_2 <= sqrt(3)
  * reach), n's rounding per component over reach x edge (above), and
  * |rel[0]|_1 <= 3 reach for D's. */
@@ -249,12 +249,14 @@ typedef struct mft_cone {
     vf l1;             /* the largest |corner|_1: the normals' rounding scales with it */
     vf cx, cy;         /* the centre of the block's corner pixel centres (x + 2, y + 2) */
     vf pixel_scale;    /* scale plus the edge functions' rounding (2^-19 of the corners' terms) */
-    float eye[3], frame[3][3]; /* the common origin; corner, du, dv */
+    /* the common origin and the frame (corner, du, dv), each component
+     * broadcast to 4 lanes (eye4's lane 3 zero) for the triangle set-up */
+    __m128 eye4[3], frame4[3][3];
 } mft_cone;
 
 /* The cull of frusta_cull for pinhole frusta (`active`, every one's origin
  * cone->eye), in the pixel plane: per edge plane n (frusta_edges' formula,
- * in scalars: the origin is common) the edge function's largest and least
+ * one edge per lane of a 4-lane vector: the origin is common) the edge function's largest and least
  * value over a frustum's corner pixel centres are its value at their centre
  * plus and minus 1.5 (|n.du| + |n.dv|) -- the four corner vectors' dot
  * products, exactly, in three operations per frustum instead of twelve.
@@ -274,26 +276,47 @@ typedef struct mft_cone {
  * backs it, 0 none. */
 static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_cone *cone, int cull, uint32_t active)
 {
-    float rel[3][3], edge[3][3], n[3][3], normal[3], edge_max, reach = 0.0f;
-    const float area = frusta_edge_terms(tri, edge, &edge_max, normal);
-    for (int v = 0; v < 3; v++)
-        for (int k = 0; k < 3; k++) {
-            rel[v][k] = tri->v[v][k] - cone->eye[k];
-            const float r = fabsf(rel[v][k]);
-            reach = r > reach ? r : reach;
-        }
-    for (int e = 0; e < 3; e++) {
-        const float *a = rel[(e + 1) % 3], *b = edge[e];
-        n[e][0] = a[1] * b[2] - a[2] * b[1];
-        n[e][1] = a[2] * b[0] - a[0] * b[2];
-        n[e][2] = a[0] * b[1] - a[1] * b[0];
-    }
-    float det = 0.0f, det_mag = 0.0f;
+    /* The triangle's set-up in 4-lane vectors, one lane per edge e (lane 3
+     * zero): the same operations in the same order as frusta_edges and
+     * frusta_edge_terms, so the same bits.  x[k] holds (v0, v1, v2)[k],
+     * rel[k] those minus the eye, a[k] the corner rel[e + 1], edge[k] E[e]
+     * = v[e + 2] - v[e + 1], next and after E[e + 1] and E[e + 2] (lane 0:
+     * the normal E[1] x E[2]). */
+    __m128 x[4] = {_mm_loadu_ps(tri->v[0]), _mm_loadu_ps(tri->v[1]), _mm_loadu_ps(tri->v[2]), _mm_setzero_ps()};
+    _MM_TRANSPOSE4_PS(x[0], x[1], x[2], x[3]);
+    const __m128 sign_bit = _mm_set1_ps(-0.0f);
+    __m128 rel[3], a[3], edge[3], next[3], after[3], reach4 = _mm_setzero_ps(), edge4 = _mm_setzero_ps();
     for (int k = 0; k < 3; k++) {
-        const float x = rel[0][k] * n[0][k];
-        det += x;
-        det_mag += fabsf(x);
+        rel[k] = _mm_sub_ps(x[k], cone->eye4[k]);
+        a[k] = _mm_shuffle_ps(rel[k], rel[k], _MM_SHUFFLE(3, 0, 2, 1));
+        edge[k] = _mm_sub_ps(_mm_shuffle_ps(x[k], x[k], _MM_SHUFFLE(3, 1, 0, 2)),
+                             _mm_shuffle_ps(x[k], x[k], _MM_SHUFFLE(3, 0, 2, 1)));
+        next[k] = _mm_shuffle_ps(edge[k], edge[k], _MM_SHUFFLE(3, 0, 2, 1));
+        after[k] = _mm_shuffle_ps(edge[k], edge[k], _MM_SHUFFLE(3, 1, 0, 2));
+        reach4 = _mm_max_ps(reach4, _mm_andnot_ps(sign_bit, rel[k]));
+        edge4 = _mm_max_ps(edge4, _mm_andnot_ps(sign_bit, edge[k]));
     }
+    __m128 n[3], normal[3];
+    n[0] = _mm_sub_ps(_mm_mul_ps(a[1], edge[2]), _mm_mul_ps(a[2], edge[1]));
+    n[1] = _mm_sub_ps(_mm_mul_ps(a[2], edge[0]), _mm_mul_ps(a[0], edge[2]));
+    n[2] = _mm_sub_ps(_mm_mul_ps(a[0], edge[1]), _mm_mul_ps(a[1], edge[0]));
+    normal[0] = _mm_sub_ps(_mm_mul_ps(next[1], after[2]), _mm_mul_ps(next[2], after[1]));
+    normal[1] = _mm_sub_ps(_mm_mul_ps(next[2], after[0]), _mm_mul_ps(next[0], after[2]));
+    normal[2] = _mm_sub_ps(_mm_mul_ps(next[0], after[1]), _mm_mul_ps(next[1], after[0]));
+    /* lane 0: D = rel[0] . n[0], its terms' magnitudes and the area term */
+    const __m128 d0 = _mm_mul_ps(rel[0], n[0]), d1 = _mm_mul_ps(rel[1], n[1]), d2 = _mm_mul_ps(rel[2], n[2]);
+    const __m128 det4 = _mm_add_ps(_mm_add_ps(d0, d1), d2);
+    const __m128 mag4 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, d0), _mm_andnot_ps(sign_bit, d1)),
+                                   _mm_andnot_ps(sign_bit, d2));
+    const __m128 area4 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, normal[0]), _mm_andnot_ps(sign_bit, normal[1])),
+                                    _mm_andnot_ps(sign_bit, normal[2]));
+    /* the largest |rel| and |E| over the lanes (maxima are exact) */
+    __m128 most = _mm_unpacklo_ps(reach4, edge4); /* r0 e0 r1 e1 */
+    const __m128 rest = _mm_unpackhi_ps(reach4, edge4); /* r2 e2 0 0 */
+    most = _mm_max_ps(most, rest);
+    most = _mm_max_ps(most, _mm_movehl_ps(most, most));
+    const float reach = _mm_cvtss_f32(most), edge_max = _mm_cvtss_f32(_mm_shuffle_ps(most, most, 1));
+    const float det = _mm_cvtss_f32(det4), det_mag = _mm_cvtss_f32(mag4), area = _mm_cvtss_f32(area4);
     /* frusta_orientation's margin, with frusta_edges' area and cross_error */
     const float cross_error = reach * (edge_max * FRUSTA_CROSS_ERROR);
     const float mag_margin = det_mag * FRUSTA_EPS, plane_margin = reach * (area * FRUSTA_SQRT3 * FRUSTA_EPS);
@@ -303,19 +326,25 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
     if (!facing && !backing) return active; /* the eye (nearly) in its plane */
     if ((cull > 0 && facing) || (cull < 0 && backing)) return 0;
     /* facing: culled where an edge function stays below -margin over the
-     * block; backing: where one stays above margin (its negation below) */
-    const float sign = facing ? 1.0f : -1.0f;
+     * block; backing: where one stays above margin (its negation below).
+     * Per edge (lane) its edge function's frame terms f[j] = sign n.frame[j]. */
+    const __m128 sign = _mm_set1_ps(facing ? 1.0f : -1.0f);
+    __m128 f[3];
+    for (int j = 0; j < 3; j++)
+        f[j] = _mm_mul_ps(sign, _mm_add_ps(_mm_add_ps(_mm_mul_ps(n[0], cone->frame4[j][0]),
+                                                      _mm_mul_ps(n[1], cone->frame4[j][1])),
+                                           _mm_mul_ps(n[2], cone->frame4[j][2])));
+    const __m128 spread = _mm_mul_ps(_mm_set1_ps(1.5f),
+                                     _mm_add_ps(_mm_andnot_ps(sign_bit, f[1]), _mm_andnot_ps(sign_bit, f[2])));
+    const __m128 n_l1 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, n[0]), _mm_andnot_ps(sign_bit, n[1])),
+                                   _mm_andnot_ps(sign_bit, n[2]));
+    _Alignas(16) float fx[4], fy[4], f0[4], l1[4];
+    _mm_store_ps(fx, f[1]), _mm_store_ps(fy, f[2]), _mm_store_ps(f0, _mm_add_ps(f[0], spread)), _mm_store_ps(l1, n_l1);
     const vf normal_error = vf_mul(vf_set1(cross_error), cone->l1);
     vm culled = vm_of_bits(0);
     for (int e = 0; e < 3; e++) {
-        float f[3];
-        for (int j = 0; j < 3; j++)
-            f[j] = sign * (n[e][0] * cone->frame[j][0] + n[e][1] * cone->frame[j][1] + n[e][2] * cone->frame[j][2]);
-        const float spread = 1.5f * (fabsf(f[1]) + fabsf(f[2]));
-        const float n_l1 = fabsf(n[e][0]) + fabsf(n[e][1]) + fabsf(n[e][2]);
-        const vf top = vf_add(vf_add(vf_mul(vf_set1(f[1]), cone->cx), vf_mul(vf_set1(f[2]), cone->cy)),
-                              vf_set1(f[0] + spread));
-        const vf margin = vf_add(vf_mul(vf_set1(n_l1), cone->pixel_scale), normal_error);
+        const vf top = vf_add(vf_add(vf_mul(vf_set1(fx[e]), cone->cx), vf_mul(vf_set1(fy[e]), cone->cy)), vf_set1(f0[e]));
+        const vf margin = vf_add(vf_mul(vf_set1(l1[e]), cone->pixel_scale), normal_error);
         culled = vm_or(culled, vf_lt(vf_add(top, margin), vf_set1(0.0f)));
     }
     return active & ~vm_bits(culled);

@@ -488,9 +488,11 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
     const vf scale = vf_add(vf_mul(vf_set1(FRUSTA_EPS), cmax), vf_mul(size, vf_set1(0x1p-16f)));
     cone->pixel_scale = vf_add(scale, vf_mul(size, vf_set1(0x1p-19f)));
     cone->cx = vf_add(fx, vf_set1(2.0f)), cone->cy = vf_add(fy, vf_set1(2.0f));
-    for (int k = 0; k < 3; k++)
-        cone->eye[k] = b->eye[k], cone->frame[0][k] = b->corner[k], cone->frame[1][k] = b->du[k],
-        cone->frame[2][k] = b->dv[k];
+    for (int k = 0; k < 3; k++) {
+        cone->eye4[k] = _mm_setr_ps(b->eye[k], b->eye[k], b->eye[k], 0.0f);
+        cone->frame4[0][k] = _mm_set1_ps(b->corner[k]), cone->frame4[1][k] = _mm_set1_ps(b->du[k]);
+        cone->frame4[2][k] = _mm_set1_ps(b->dv[k]);
+    }
     *size_out = size;
     return vm_bits(vf_eq(vf_sub(scale, scale), zero));
 }
