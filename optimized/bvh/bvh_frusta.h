@@ -255,8 +255,9 @@ typedef struct mft_cone {
 } mft_cone;
 
 /* The cull of frusta_cull for pinhole frusta (`active`, every one's origin
- * cone->eye), in the pixel plane: per edge plane n (frusta_edges' formula,
- * one edge per lane of a 4-lane vector: the origin is common) the edge function's largest and least
+ * the eye, cone->eye4), in the pixel plane: per edge plane n (frusta_edges'
+ * formula, one edge per lane of a 4-lane vector: the origin is common) the
+ * edge function's largest and least
  * value over a frustum's corner pixel centres are its value at their centre
  * plus and minus 1.5 (|n.du| + |n.dv|) -- the four corner vectors' dot
  * products, exactly, in three operations per frustum instead of twelve.

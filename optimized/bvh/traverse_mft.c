@@ -70,6 +70,7 @@ typedef struct mft_group {
     uint32_t occ[MFT_FRUSTA][MFT_VECS];
     bvh_wt_shears shears[MFT_FRUSTA][MFT_VECS]; /* the watertight test's, per packet */
     const bvh_wt_shears *wt[MFT_FRUSTA][MFT_VECS]; /* NULL for the projected test */
+    uint32_t unset;                  /* frusta whose wt (and shears) are not made yet: made at their first triangle test */
     uint32_t apex;                   /* frusta whose origin is the rays' common end point (hard shadows) */
     uint32_t pinhole;                /* frusta culled over the cone of their corner vectors (camera-made) */
     vf apex_reach;                   /* apex frusta: the largest |component| of their directions */
@@ -173,6 +174,11 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
                 if (counters) counters->isect_tests++;
+                if (g->unset >> f & 1u) { /* a frustum that tests no triangle never divides for its shears */
+                    g->unset &= ~(1u << f);
+                    for (uint32_t v = 0; v < MFT_VECS; v++)
+                        g->wt[f][v] = bvh_record_setup(tree, &g->rays[f][v], g->live[f][v], &g->shears[f][v]);
+                }
                 for (uint32_t v = 0; v < MFT_VECS; v++) {
                     const uint32_t ray_lanes = g->live[f][v] & ~g->occ[f][v];
                     if (!ray_lanes) continue;
@@ -335,7 +341,7 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
         float org[3][MFT_FRUSTA], dlo[3][MFT_FRUSTA], dhi[3][MFT_FRUSTA];
         float tnear[MFT_FRUSTA], grow[MFT_FRUSTA] = {0};
         uint32_t frusta = 0;
-        g.apex = g.pinhole = 0;
+        g.apex = g.pinhole = g.unset = 0;
         g.cull = false;
         for (uint32_t f = 0; f < MFT_FRUSTA; f++) {
             const size_t at = first + (size_t)f * MFT_RAYS;
@@ -347,15 +353,13 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
             if (q->counters) q->counters->packets++;
             if (!live || tree->triangle_count == 0) continue;
             if (common) {
-                for (uint32_t v = 0; v < MFT_VECS; v++)
-                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
+                g.unset |= 1u << f;
                 frusta |= 1u << f;
                 continue;
             }
             if (!closest && q->toward) { /* rays to one point: a frustum from that point back to their origins */
                 apex_frustum(&g, f, q->toward, org, dlo, dhi, &tnear[f], grow);
-                for (uint32_t v = 0; v < MFT_VECS; v++)
-                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
+                g.unset |= 1u << f;
                 frusta |= 1u << f;
                 continue;
             }
@@ -615,7 +619,7 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
             /* images are at most 16384 pixels a side: the float sums are exact, as converting gx + dx was */
             const vf block_x = vf_add(vf_set1((float)gx), lane_dx), block_y = vf_add(vf_set1((float)gy), lane_dy);
             uint32_t frusta = 0, exact = 0, cornered = 0, bounded = 0;
-            g.apex = 0;
+            g.apex = g.unset = 0;
             vf size, box_lo[3], box_hi[3];
             uint32_t in_range;
             const uint32_t finite = camera_cones(&g.cone, b, block_x, block_y, &size);
@@ -639,8 +643,7 @@ void bvh_kernel_mft_camera(const bvh_tree *tree, const bvh_camera_block *b, rtt_
                 }
                 if (counters) counters->packets++;
                 if (tree->triangle_count == 0) continue;
-                for (uint32_t v = 0; v < MFT_VECS; v++)
-                    g.wt[f][v] = bvh_record_setup(tree, &g.rays[f][v], g.live[f][v], &g.shears[f][v]);
+                g.unset |= 1u << f;
                 frusta |= 1u << f;
             }
             /* the bounds as vectors: a dead frustum's (outside or no live
