@@ -17,6 +17,7 @@
  * the next run for POOL_SPIN_NS before it sleeps, and the caller polls for
  * the workers' end as long before it sleeps (measured: bench/results/
  * pgrid.md, "ninth session"). */
+#include <immintrin.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdbool.h>
@@ -35,13 +36,22 @@ typedef struct pool_run {
     atomic_uint next;   /* next task to hand out */
 } pool_run;
 
+/* A worker's share of the run.  Tasks may write with non-temporal
+ * (streamed) stores, which x86 orders only by a fence: not by program
+ * order, and on every vendor's reading not by the locked instruction of
+ * the mutex that reports the worker done.  So each worker fences its
+ * streamed stores once, after its last task, and the caller reads every
+ * task's results after the run; a kernel streaming a frame's hits in
+ * small tiles need not fence each (optimized/bvh/bvh_kernels.h,
+ * bvh_camera_block). */
 static void work(pool_run *run, uint32_t thread)
 {
     for (;;) {
         uint32_t task = atomic_fetch_add_explicit(&run->next, 1, memory_order_relaxed);
-        if (task >= run->tasks) return;
+        if (task >= run->tasks) break;
         run->fn(run->context, thread, task);
     }
+    _mm_sfence();
 }
 
 uint32_t rtt_cpu_count(void)

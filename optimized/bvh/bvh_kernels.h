@@ -44,7 +44,10 @@ typedef void (*bvh_kernel_fn)(const bvh_tree *tree, const bvh_query *query);
  * hits[(y - y0) * (x1 - x0) + (x - x0)].  With `stream` (a frame's hits,
  * read only after the frame, not a tile the caller shades at once) rows
  * that start on a 64-byte line are written past the caches, non-temporal
- * stores, fenced before the call returns. */
+ * stores, NOT fenced: the calling thread sees them in program order, and
+ * one that hands them to another thread fences first (_mm_sfence) -- the
+ * thread pool does, once per worker after its tasks (engine/thread_pool.c),
+ * so the tiles of rtt_tiles_run need nothing more. */
 typedef struct bvh_camera_block {
     float eye[3], corner[3], du[3], dv[3]; /* rtt_camera_frame's */
     uint32_t x0, y0, x1, y1;
