@@ -387,10 +387,15 @@ static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const vf corner
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 
+/* A subtree left for later: its child record, the frusta that entered it
+ * and the epoch of the frusta's bounds they entered under (the caller's
+ * count of changes to `dist`; MFT_UNTESTED for a box never tested). */
 typedef struct mft_entry {
     const bvh_child *child;
-    uint32_t frusta;
+    uint32_t frusta, epoch;
 } mft_entry;
+
+#define MFT_UNTESTED UINT32_MAX
 
 /* What child c refers to, asked for while its box is tested: its node, or
  * its leaf's corners (the frusta's first read there). */
@@ -406,11 +411,12 @@ static inline void mft_prefetch(const bvh_tree *tree, const bvh_child *c)
 
 /* From child c with the frusta *lanes that enter it, down to a leaf: per
  * node both children against every frustum in one pass, the child more
- * frusta enter first first, the other pushed with its frusta.  Returns the
- * leaf reached, *lanes its frusta (0: none left, nothing to test). */
+ * frusta enter first first, the other pushed with its frusta (and
+ * `epoch`).  Returns the leaf reached, *lanes its frusta (0: none left,
+ * nothing to test). */
 static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child *c, uint32_t *lanes,
-                                           const mft_bounds *b, vf dist, mft_entry *stack, uint32_t *top,
-                                           uint64_t *aabb_tests)
+                                           const mft_bounds *b, vf dist, uint32_t epoch, mft_entry *stack,
+                                           uint32_t *top, uint64_t *aabb_tests)
 {
     uint32_t live = *lanes;
     while (live && c->count == 0) {
@@ -425,7 +431,8 @@ static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child
             const uint32_t both = l0 & l1;
             const uint32_t first0 = vm_bits(vm_and(vm_of_bits(both), vf_le(e0, e1)));
             const int near = __builtin_popcount(first0) * 2 < __builtin_popcount(both);
-            if (*top < BVH_TRAVERSAL_STACK) stack[(*top)++] = (mft_entry){&node->child[!near], near ? l0 : l1};
+            if (*top < BVH_TRAVERSAL_STACK)
+                stack[(*top)++] = (mft_entry){&node->child[!near], near ? l0 : l1, epoch};
             c = &node->child[near];
             live = near ? l1 : l0;
         } else {
@@ -438,17 +445,25 @@ static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child
 }
 
 /* The next leaf some frusta of `alive` reach: entries popped off the stack
- * (each box tested again against the frusta still alive) and descended
- * from; NULL when the stack is empty.  *lanes: the leaf's frusta. */
-static inline const bvh_child *mft_next_leaf(const bvh_tree *tree, const mft_bounds *b, vf dist, uint32_t alive,
-                                             mft_entry *stack, uint32_t *top, uint64_t *aabb_tests, uint32_t *lanes)
+ * and descended from; NULL when the stack is empty.  *lanes: the leaf's
+ * frusta.  A popped box is tested again against the frusta still alive
+ * when their bounds changed since it was pushed (`epoch`, the caller's
+ * count of changes to dist, moved on); under the same bounds the test
+ * would repeat its answer, so the frusta that entered it and are alive
+ * still are taken as they are. */
+static inline const bvh_child *mft_next_leaf(const bvh_tree *tree, const mft_bounds *b, vf dist, uint32_t epoch,
+                                             uint32_t alive, mft_entry *stack, uint32_t *top, uint64_t *aabb_tests,
+                                             uint32_t *lanes)
 {
     while (*top > 0) {
         const mft_entry e = stack[--*top];
-        vf entry;
-        uint32_t live = vm_bits(frusta_box(e.child, b, dist, vm_of_bits(e.frusta & alive), &entry));
-        ++*aabb_tests;
-        const bvh_child *c = mft_descend(tree, e.child, &live, b, dist, stack, top, aabb_tests);
+        uint32_t live = e.frusta & alive;
+        if (e.epoch != epoch && live) {
+            vf entry;
+            live = vm_bits(frusta_box(e.child, b, dist, vm_of_bits(live), &entry));
+            ++*aabb_tests;
+        }
+        const bvh_child *c = mft_descend(tree, e.child, &live, b, dist, epoch, stack, top, aabb_tests);
         if (live) {
             *lanes = live;
             return c;

@@ -291,11 +291,11 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
     const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W;
     uint32_t top = 0, alive = frusta;
     const vf dist = vf_set1(1.0f);
-    stack[top++] = (mft_entry){&tree->root, frusta};
+    stack[top++] = (mft_entry){&tree->root, frusta, MFT_UNTESTED};
     uint64_t aabb = 0;
     const bvh_child *c;
     uint32_t lanes;
-    while (alive && (c = mft_next_leaf(tree, &g->b, dist, alive, stack, &top, &aabb, &lanes))) {
+    while (alive && (c = mft_next_leaf(tree, &g->b, dist, 0, alive, stack, &top, &aabb, &lanes))) {
         uint32_t newly = 0; /* frusta with a sample newly occluded in this leaf */
         lanes = leaf_rays(c, g, lanes, vecs, &aabb);
         for (uint32_t i = 0; lanes && i < c->count; i++) {

@@ -151,13 +151,13 @@ static float frustum_dist(const mft_group *g, uint32_t f, bool closest)
 static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bool closest, bvh_counters *counters)
 {
     mft_entry stack[BVH_TRAVERSAL_STACK];
-    uint32_t top = 0, alive = frusta;
+    uint32_t top = 0, alive = frusta, epoch = 0; /* epoch: how often dist has been lowered */
     vf dist = vf_load(g->dist);
-    stack[top++] = (mft_entry){&tree->root, frusta};
+    stack[top++] = (mft_entry){&tree->root, frusta, MFT_UNTESTED};
     uint64_t aabb = 0;
     const bvh_child *c;
     uint32_t lanes;
-    while (alive && (c = mft_next_leaf(tree, &g->b, dist, alive, stack, &top, &aabb, &lanes))) {
+    while (alive && (c = mft_next_leaf(tree, &g->b, dist, epoch, alive, stack, &top, &aabb, &lanes))) {
         uint32_t lowered = 0;
         for (uint32_t i = 0; i < c->count && lanes; i++) {
             const uint32_t rec = c->index + i;
@@ -203,6 +203,7 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
                 g->dist[f] = frustum_dist(g, f, true);
             }
             dist = vf_load(g->dist);
+            epoch++;
         }
     }
     if (counters) counters->aabb_tests += aabb;
