@@ -11,7 +11,9 @@
  * those), for vi_min_s/vi_max_s/vi_gt_s (signed 32-bit).
  * vf_load_records8: BVH_W records of eight floats, one word per field.
  * vf_hmin/vf_hmax: the smallest/largest lane (for NaN-free words; the
- * callers put +-inf in the lanes that must not count). */
+ * callers put +-inf in the lanes that must not count).
+ * vf_gather: lane l from base[index lane l] (hardware gathers on AVX2 and
+ * AVX-512, four loads on SSE4.1). */
 #ifndef RTT_BVH_SIMD_H
 #define RTT_BVH_SIMD_H
 
@@ -60,8 +62,12 @@ static inline void vi_store(uint32_t *p, vi a) { _mm512_storeu_si512(p, a); }
 static inline vi vi_blend(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, a, b); }
 static inline vm vi_lt_u(vi a, vi b) { return _mm512_cmplt_epu32_mask(a, b); }
 static inline vf vi_as_vf(vi a) { return _mm512_castsi512_ps(a); }
+static inline vi vf_as_vi(vf a) { return _mm512_castps_si512(a); }
 static inline vi vf_abs_bits(vf a) { return _mm512_and_si512(_mm512_castps_si512(a), _mm512_set1_epi32(0x7fffffff)); }
 static inline vi vi_min_s(vi a, vi b) { return _mm512_min_epi32(a, b); }
+static inline vi vi_add(vi a, vi b) { return _mm512_add_epi32(a, b); }
+/* lane l = base[index lane l] (indices of valid floats) */
+static inline vf vf_gather(const float *base, vi index) { return _mm512_i32gather_ps(index, base, 4); }
 static inline vi vi_max_s(vi a, vi b) { return _mm512_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm512_cmpgt_epi32_mask(a, b); }
 static inline float vf_hmin(vf a) { return _mm512_reduce_min_ps(a); }
@@ -120,8 +126,11 @@ static inline vi vi_set1(uint32_t x) { return _mm256_set1_epi32((int)x); }
 static inline vi vi_load(const uint32_t *p) { return _mm256_loadu_si256((const __m256i *)p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm256_storeu_si256((__m256i *)p, a); }
 static inline vf vi_as_vf(vi a) { return _mm256_castsi256_ps(a); }
+static inline vi vf_as_vi(vf a) { return _mm256_castps_si256(a); }
 static inline vi vf_abs_bits(vf a) { return _mm256_and_si256(_mm256_castps_si256(a), _mm256_set1_epi32(0x7fffffff)); }
 static inline vi vi_min_s(vi a, vi b) { return _mm256_min_epi32(a, b); }
+static inline vi vi_add(vi a, vi b) { return _mm256_add_epi32(a, b); }
+static inline vf vf_gather(const float *base, vi index) { return _mm256_i32gather_ps(base, index, 4); }
 static inline vi vi_max_s(vi a, vi b) { return _mm256_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b)); }
 static inline vi vi_blend(vm m, vi a, vi b)
@@ -194,8 +203,15 @@ static inline vi vi_set1(uint32_t x) { return _mm_set1_epi32((int)x); }
 static inline vi vi_load(const uint32_t *p) { return _mm_loadu_si128((const __m128i *)p); }
 static inline void vi_store(uint32_t *p, vi a) { _mm_storeu_si128((__m128i *)p, a); }
 static inline vf vi_as_vf(vi a) { return _mm_castsi128_ps(a); }
+static inline vi vf_as_vi(vf a) { return _mm_castps_si128(a); }
 static inline vi vf_abs_bits(vf a) { return _mm_and_si128(_mm_castps_si128(a), _mm_set1_epi32(0x7fffffff)); }
 static inline vi vi_min_s(vi a, vi b) { return _mm_min_epi32(a, b); }
+static inline vi vi_add(vi a, vi b) { return _mm_add_epi32(a, b); }
+static inline vf vf_gather(const float *base, vi index)
+{
+    return _mm_setr_ps(base[_mm_extract_epi32(index, 0)], base[_mm_extract_epi32(index, 1)],
+                       base[_mm_extract_epi32(index, 2)], base[_mm_extract_epi32(index, 3)]);
+}
 static inline vi vi_max_s(vi a, vi b) { return _mm_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm_castsi128_ps(_mm_cmpgt_epi32(a, b)); }
 static inline vi vi_blend(vm m, vi a, vi b)

@@ -46,6 +46,7 @@
  * rtt_v3_length's double fallback, direction by one reciprocal), so its
  * visibility is bit for bit the one bvh-packet gives that ray. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "bvh_frusta.h"
@@ -322,31 +323,61 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
     if (counters) counters->aabb_tests += aabb;
 }
 
-/* Lane f's frustum: the point and the box of the vectors to the corners of
- * its set's 2D bounds, grown (see the top). */
-static void frustum_bounds(const bvh_shadow_point *pt, const bvh_shadow_sets *sets, float org[3], float dlo[3],
-                           float dhi[3], float corner[4][3], float *grow_out)
+/* Every lane's frustum at once (lane f: point first + f, the lanes from n
+ * on dead: origin 0, directions and corners 1, grow 0): the point, the
+ * vectors to the corners of its set's 2D bounds (corner_vectors'
+ * arithmetic) and their box grown by 2^-16 of the magnitudes involved (see
+ * the top) into g->b and g->corner_at, and the grow into g->corner_grow.
+ * The points' fields are gathered into lanes: written a lane at a time and
+ * loaded whole, they stalled on the store buffer (a tenth of czest3ctf's
+ * frusta:16 time). */
+#define SF_POINT_WORDS (sizeof(bvh_shadow_point) / sizeof(float))
+_Static_assert(sizeof(bvh_shadow_point) % sizeof(float) == 0, "a shadow point is whole words");
+static const uint32_t sf_lane_words[16] = {
+    0 * SF_POINT_WORDS,  1 * SF_POINT_WORDS,  2 * SF_POINT_WORDS,  3 * SF_POINT_WORDS,
+    4 * SF_POINT_WORDS,  5 * SF_POINT_WORDS,  6 * SF_POINT_WORDS,  7 * SF_POINT_WORDS,
+    8 * SF_POINT_WORDS,  9 * SF_POINT_WORDS,  10 * SF_POINT_WORDS, 11 * SF_POINT_WORDS,
+    12 * SF_POINT_WORDS, 13 * SF_POINT_WORDS, 14 * SF_POINT_WORDS, 15 * SF_POINT_WORDS};
+
+static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n, const bvh_shadow_sets *sets)
 {
-    const float *lo = sets->lo[pt->set], *hi = sets->hi[pt->set];
-    float size = 0.0f;
+    const float *words = (const float *)points;
+    /* lanes past n read point n - 1 (valid memory) and are blended dead below */
+    const vi index = vi_min_s(vi_load(sf_lane_words), vi_set1((n - 1u) * (uint32_t)SF_POINT_WORDS));
+    const vm dead = vm_of_bits(BVH_LANES_ALL & ~((1u << n) - 1u));
+    const size_t word = sizeof(float), at_org = offsetof(bvh_shadow_point, org) / word;
+    const size_t at_base = offsetof(bvh_shadow_point, base) / word, at_du = offsetof(bvh_shadow_point, du) / word;
+    const size_t at_dv = offsetof(bvh_shadow_point, dv) / word, at_set = offsetof(bvh_shadow_point, set) / word;
+    const vf zero = vf_set1(0.0f), one = vf_set1(1.0f);
+    vf org[3], base[3], du[3], dv[3], size = zero;
     for (int k = 0; k < 3; k++) {
-        org[k] = pt->org[k];
-        dlo[k] = INFINITY, dhi[k] = -INFINITY;
-        const float m = fabsf(pt->base[k]) + fabsf(pt->du[k]) + fabsf(pt->dv[k]) + fabsf(pt->org[k]);
-        size = m > size ? m : size;
+        org[k] = vf_gather(words + at_org + k, index), base[k] = vf_gather(words + at_base + k, index);
+        du[k] = vf_gather(words + at_du + k, index), dv[k] = vf_gather(words + at_dv + k, index);
+        const vf m = vf_add(vf_add(vf_add(vf_abs(base[k]), vf_abs(du[k])), vf_abs(dv[k])), vf_abs(org[k]));
+        size = vf_max(m, size);
     }
-    corner_vectors(pt, lo, hi, corner);
+    const vi set = vf_as_vi(vf_gather(words + at_set, index)), pair = vi_add(set, set); /* lo[set], hi[set] */
+    const vf lo[2] = {vf_gather(&sets->lo[0][0], pair), vf_gather(&sets->lo[0][1], pair)};
+    const vf hi[2] = {vf_gather(&sets->hi[0][0], pair), vf_gather(&sets->hi[0][1], pair)};
+    vf dlo[3], dhi[3], corner[4][3];
+    for (int k = 0; k < 3; k++) dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
     for (int c = 0; c < 4; c++) {
+        const vf x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
         for (int k = 0; k < 3; k++) {
-            const float d = corner[c][k];
-            dlo[k] = d < dlo[k] ? d : dlo[k];
-            dhi[k] = d > dhi[k] ? d : dhi[k];
-            size = fabsf(d) > size ? fabsf(d) : size;
+            const vf d = vf_sub(vf_add(vf_add(base[k], vf_mul(du[k], x)), vf_mul(dv[k], y)), org[k]);
+            corner[c][k] = d;
+            dlo[k] = vf_min(d, dlo[k]), dhi[k] = vf_max(d, dhi[k]);
+            size = vf_max(vf_abs(d), size);
         }
     }
-    const float grow = size * 0x1p-16f;
-    for (int k = 0; k < 3; k++) dlo[k] -= grow, dhi[k] += grow;
-    *grow_out = grow;
+    const vf grow = vf_blend(dead, vf_mul(size, vf_set1(0x1p-16f)), zero);
+    for (int k = 0; k < 3; k++) {
+        g->b.org[k] = vf_blend(dead, org[k], zero);
+        g->b.dlo[k] = vf_blend(dead, vf_sub(dlo[k], grow), one), g->b.dhi[k] = vf_blend(dead, vf_add(dhi[k], grow), one);
+        g->b.rlo[k] = vf_div(one, g->b.dlo[k]), g->b.rhi[k] = vf_div(one, g->b.dhi[k]);
+        for (int c = 0; c < 4; c++) vf_store(g->corner_at[c][k], vf_blend(dead, corner[c][k], one));
+    }
+    g->corner_grow = grow;
 }
 
 void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
@@ -354,31 +385,14 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
     const bvh_shadow_sets *sets = q->sets;
     for (size_t first = 0; first < q->count; first += SF_FRUSTA) {
         const uint32_t n = q->count - first < SF_FRUSTA ? (uint32_t)(q->count - first) : SF_FRUSTA;
-        float org[3][SF_FRUSTA], dlo[3][SF_FRUSTA], dhi[3][SF_FRUSTA], rlo[3][SF_FRUSTA], rhi[3][SF_FRUSTA];
-        float grow[SF_FRUSTA];
         sf_group g;
         g.known = 0;
         for (uint32_t f = 0; f < SF_FRUSTA; f++) {
             g.occ[f] = g.live[f] = 0;
             g.point[f] = f < n ? &q->points[first + f] : NULL;
-            float o[3] = {0.0f, 0.0f, 0.0f}, lo[3] = {1.0f, 1.0f, 1.0f}, hi[3] = {1.0f, 1.0f, 1.0f};
-            float c4[4][3] = {{1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}};
-            grow[f] = 0.0f;
-            if (f < n) frustum_bounds(g.point[f], sets, o, lo, hi, c4, &grow[f]);
-            for (int c = 0; c < 4; c++)
-                for (int k = 0; k < 3; k++) g.corner_at[c][k][f] = c4[c][k];
-            for (int k = 0; k < 3; k++) {
-                org[k][f] = o[k], dlo[k][f] = lo[k], dhi[k][f] = hi[k];
-                rlo[k][f] = 1.0f / lo[k], rhi[k][f] = 1.0f / hi[k];
-            }
         }
-        for (int k = 0; k < 3; k++) {
-            g.b.org[k] = vf_load(org[k]);
-            g.b.dlo[k] = vf_load(dlo[k]), g.b.dhi[k] = vf_load(dhi[k]);
-            g.b.rlo[k] = vf_load(rlo[k]), g.b.rhi[k] = vf_load(rhi[k]);
-        }
+        group_bounds(&g, &q->points[first], n, sets);
         load_corners(&g);
-        g.corner_grow = vf_load(grow);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
         mft_bounds_classify(&g.b);
