@@ -7,7 +7,9 @@
  * and bottom edges) in row-major order and runs them as tasks;
  * rtt_tiles_run_from runs only the tiles a source hands out (rtt/render.h).  Tasks are
  * independent, so results never depend on the thread count or on which
- * worker ran which task. */
+ * worker ran which task.  Every worker fences its non-temporal (streamed)
+ * stores after its last task, so a task may stream its results unfenced:
+ * the caller reads them after the run. */
 #ifndef RTT_ENGINE_THREADS_H
 #define RTT_ENGINE_THREADS_H
 
