@@ -14,7 +14,7 @@ typedef struct tile_job {
     rtt_progress_fn progress;
     void *progress_context;
     const rtt_tile_source *source;   /* NULL: task t is tile t */
-    atomic_uint done;   /* tiles finished */
+    atomic_uint done;   /* tiles finished (counted only for `progress`) */
 } tile_job;
 
 void rtt_tile_rect(const rtt_tile_grid *grid, uint32_t t, uint32_t *x0, uint32_t *y0, uint32_t *x1, uint32_t *y1)
@@ -30,8 +30,9 @@ static void run_tile(tile_job *job, uint32_t thread, uint32_t t)
     uint32_t x0, y0, x1, y1;
     rtt_tile_rect(&job->grid, t, &x0, &y0, &x1, &y1);
     job->fn(job->context, thread, x0, y0, x1, y1);
+    if (!job->progress) return; /* the count is the progress callback's: without one, no shared line to bounce */
     uint32_t done = atomic_fetch_add_explicit(&job->done, 1, memory_order_acq_rel) + 1;
-    if (job->progress) job->progress(job->progress_context, done, job->grid.total);
+    job->progress(job->progress_context, done, job->grid.total);
 }
 
 static void run_task_tile(void *context, uint32_t thread, uint32_t t)

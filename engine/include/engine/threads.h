@@ -1,8 +1,10 @@
 /* The thread pool and the tile scheduler: the one place threads live.
  *
  * rtt_parallel_run hands task indices 0..tasks-1 to up to `threads` workers
- * (the calling thread is worker 0) through an atomic counter, so workers take
- * the next task as soon as they finish one and the load balances itself.
+ * (the calling thread is worker 0) through an atomic counter, in shares of
+ * consecutive tasks that shrink as the run goes (an eighth of what is left
+ * per thread, down to one), so workers take the next share as soon as they
+ * finish one and the load balances itself.
  * rtt_tiles_run cuts an image into tile x tile squares (clipped at the right
  * and bottom edges) in row-major order and runs them as tasks;
  * rtt_tiles_run_from runs only the tiles a source hands out (rtt/render.h).  Tasks are
