@@ -71,7 +71,7 @@ typedef struct sf_rays {
 typedef struct sf_group {
     mft_bounds b;
     vf corner[4][3];                /* per frustum: the vectors to the 2D bounds' corners */
-    float corner_at[4][3][SF_FRUSTA]; /* the same, lane by lane (shrinking rewrites a lane) */
+    vf base[3], du[3], dv[3];       /* per frustum: its point's light frame (bvh_shadow_point's), for shrinking */
     vf corner_grow;                 /* how far off they may be per axis (rounding) */
     vf corner_l1;                   /* per frustum: the largest |corner|_1 */
     vf corner_max;                  /* per frustum: the largest |component| of its corners */
@@ -148,25 +148,29 @@ static bool frustum_rays(const bvh_tree *tree, uint32_t rec, sf_group *g, uint32
     return (g->live[f] & ~g->occ[f]) == 0;
 }
 
-/* The vectors from the point to the light's points at the corners of the
- * 2D rectangle [lo, hi] of its domain (corner c: x from hi when c & 1, y
- * when c & 2), in the arithmetic of the sample targets. */
-static void corner_vectors(const bvh_shadow_point *pt, const float lo[2], const float hi[2], float corner[4][3])
+/* The vectors from the points (origin org, light frame base, du, dv, a
+ * lane each) to the light's points at the corners of the 2D rectangles
+ * [x0, x1] x [y0, y1] of their domains (corner c: x from x1 when c & 1, y
+ * from y1 when c & 2), in the arithmetic of the sample targets, into the
+ * lanes `lanes` of corner. */
+static void corner_vectors(const vf org[3], const vf base[3], const vf du[3], const vf dv[3], vf x0, vf x1, vf y0,
+                           vf y1, vm lanes, vf corner[4][3])
 {
     for (int c = 0; c < 4; c++) {
-        const float x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
-        for (int k = 0; k < 3; k++) corner[c][k] = ((pt->base[k] + pt->du[k] * x) + pt->dv[k] * y) - pt->org[k];
+        const vf x = c & 1 ? x1 : x0, y = c & 2 ? y1 : y0;
+        for (int k = 0; k < 3; k++) {
+            const vf d = vf_sub(vf_add(vf_add(base[k], vf_mul(du[k], x)), vf_mul(dv[k], y)), org[k]);
+            corner[c][k] = vf_blend(lanes, corner[c][k], d);
+        }
     }
 }
 
-/* The group's corner vectors from corner_at, and per frustum their largest
- * |c|_1 (the edge and plane tests' bound on |d|_1) and largest |component|
- * (the edge test's margin). */
-static void load_corners(sf_group *g)
+/* Per frustum its corner vectors' largest |c|_1 (the edge and plane tests'
+ * bound on |d|_1) and largest |component| (the edge test's margin). */
+static void corner_sizes(sf_group *g)
 {
     g->corner_l1 = g->corner_max = vf_set1(0.0f);
     for (int c = 0; c < 4; c++) {
-        for (int k = 0; k < 3; k++) g->corner[c][k] = vf_load(g->corner_at[c][k]);
         const vf *d = g->corner[c];
         const vf a0 = vf_abs(d[0]), a1 = vf_abs(d[1]), a2 = vf_abs(d[2]);
         g->corner_l1 = vf_max(g->corner_l1, vf_add(vf_add(a0, a1), a2));
@@ -186,6 +190,7 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
 {
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W;
+    vf x0 = inf, x1 = inf, y0 = inf, y1 = inf; /* the lanes of `frusta` are set below */
     for (uint32_t bits = frusta; bits; bits &= bits - 1u) {
         const uint32_t f = (uint32_t)__builtin_ctz(bits);
         const bvh_shadow_point *pt = g->point[f];
@@ -197,13 +202,14 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
             xlo = vf_min(vf_blend(m, inf, x), xlo), xhi = vf_max(vf_blend(m, minus_inf, x), xhi);
             ylo = vf_min(vf_blend(m, inf, y), ylo), yhi = vf_max(vf_blend(m, minus_inf, y), yhi);
         }
-        const float lo[2] = {vf_hmin(xlo), vf_hmin(ylo)}, hi[2] = {vf_hmax(xhi), vf_hmax(yhi)};
-        float corner[4][3];
-        corner_vectors(pt, lo, hi, corner);
-        for (int c = 0; c < 4; c++)
-            for (int k = 0; k < 3; k++) g->corner_at[c][k][f] = corner[c][k];
+        /* lane f of the rectangles, by blends (a lane of an array stored
+         * and the array loaded whole would wait for the store buffer) */
+        const vm lane = vm_of_bits(1u << f);
+        x0 = vf_blend(lane, x0, vf_set1(vf_hmin(xlo))), x1 = vf_blend(lane, x1, vf_set1(vf_hmax(xhi)));
+        y0 = vf_blend(lane, y0, vf_set1(vf_hmin(ylo))), y1 = vf_blend(lane, y1, vf_set1(vf_hmax(yhi)));
     }
-    load_corners(g);
+    corner_vectors(g->b.org, g->base, g->du, g->dv, x0, x1, y0, y1, vm_of_bits(frusta), g->corner);
+    corner_sizes(g);
 }
 
 /* The frusta of `lanes` whose sample rays all stay on one side of the
@@ -327,7 +333,8 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
  * on dead: origin 0, directions and corners 1, grow 0): the point, the
  * vectors to the corners of its set's 2D bounds (corner_vectors'
  * arithmetic) and their box grown by 2^-16 of the magnitudes involved (see
- * the top) into g->b and g->corner_at, and the grow into g->corner_grow.
+ * the top) into g->b and g->corner, the grow into g->corner_grow and
+ * the points' light frames into g->base, du, dv (for shrinking).
  * The points' fields are gathered into lanes: written a lane at a time and
  * loaded whole, they stalled on the store buffer (a tenth of czest3ctf's
  * frusta:16 time). */
@@ -359,13 +366,14 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     const vi set = vf_as_vi(vf_gather(words + at_set, index)), pair = vi_add(set, set); /* lo[set], hi[set] */
     const vf lo[2] = {vf_gather(&sets->lo[0][0], pair), vf_gather(&sets->lo[0][1], pair)};
     const vf hi[2] = {vf_gather(&sets->hi[0][0], pair), vf_gather(&sets->hi[0][1], pair)};
-    vf dlo[3], dhi[3], corner[4][3];
-    for (int k = 0; k < 3; k++) dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
-    for (int c = 0; c < 4; c++) {
-        const vf x = c & 1 ? hi[0] : lo[0], y = c & 2 ? hi[1] : lo[1];
-        for (int k = 0; k < 3; k++) {
-            const vf d = vf_sub(vf_add(vf_add(base[k], vf_mul(du[k], x)), vf_mul(dv[k], y)), org[k]);
-            corner[c][k] = d;
+    vf dlo[3], dhi[3];
+    for (int c = 0; c < 4; c++)
+        for (int k = 0; k < 3; k++) g->corner[c][k] = one; /* the dead lanes' */
+    corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], vm_of_bits(BVH_LANES_ALL & ~vm_bits(dead)), g->corner);
+    for (int k = 0; k < 3; k++) {
+        dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
+        for (int c = 0; c < 4; c++) {
+            const vf d = g->corner[c][k];
             dlo[k] = vf_min(d, dlo[k]), dhi[k] = vf_max(d, dhi[k]);
             size = vf_max(vf_abs(d), size);
         }
@@ -375,7 +383,7 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
         g->b.org[k] = vf_blend(dead, org[k], zero);
         g->b.dlo[k] = vf_blend(dead, vf_sub(dlo[k], grow), one), g->b.dhi[k] = vf_blend(dead, vf_add(dhi[k], grow), one);
         g->b.rlo[k] = vf_div(one, g->b.dlo[k]), g->b.rhi[k] = vf_div(one, g->b.dhi[k]);
-        for (int c = 0; c < 4; c++) vf_store(g->corner_at[c][k], vf_blend(dead, corner[c][k], one));
+        g->base[k] = base[k], g->du[k] = du[k], g->dv[k] = dv[k];
     }
     g->corner_grow = grow;
 }
@@ -392,7 +400,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
             g.point[f] = f < n ? &q->points[first + f] : NULL;
         }
         group_bounds(&g, &q->points[first], n, sets);
-        load_corners(&g);
+        corner_sizes(&g);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
         mft_bounds_classify(&g.b);
