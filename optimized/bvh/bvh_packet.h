@@ -25,12 +25,19 @@ typedef struct bvh_hits {
     vi prim;
 } bvh_hits;
 
-/* Loads rays[0 .. count-1] (count <= BVH_W); returns the live lanes.  The
- * rays are copied into lanes as they are, then checked and completed a
- * packet at a time: a lane whose origin or direction is not finite or whose
- * interval is NaN (ray_is_traceable's rule) is inactive, as is a lane past
- * count; the reciprocals are one IEEE division per lane, as 1.0f / d. */
-static inline uint32_t bvh_packet_load(bvh_packet *p, const rtt_ray *rays, size_t count)
+/* The reciprocals of p's directions: one IEEE division per lane, as 1.0f / d
+ * (the packet walk's box test reads them; the frusta kernels do not). */
+static inline void bvh_packet_reciprocals(bvh_packet *p)
+{
+    for (int a = 0; a < 3; a++) p->inv_dir[a] = vf_div(vf_set1(1.0f), p->dir[a]);
+}
+
+/* Loads rays[0 .. count-1] (count <= BVH_W) without the reciprocals;
+ * returns the live lanes.  The rays are copied into lanes as they are, then
+ * checked and completed a packet at a time: a lane whose origin or
+ * direction is not finite or whose interval is NaN (ray_is_traceable's
+ * rule) is inactive, as is a lane past count. */
+static inline uint32_t bvh_packet_load_rays(bvh_packet *p, const rtt_ray *rays, size_t count)
 {
     _Static_assert(sizeof(rtt_ray) == 8 * sizeof(float), "a ray is eight floats: org, dir, tnear, tfar");
     vf field[8];
@@ -58,11 +65,18 @@ static inline uint32_t bvh_packet_load(bvh_packet *p, const rtt_ray *rays, size_
     for (int a = 0; a < 3; a++) {
         p->org[a] = vf_blend(ok, zero, p->org[a]);
         p->dir[a] = vf_blend(ok, one, p->dir[a]);
-        p->inv_dir[a] = vf_div(one, p->dir[a]);
     }
     p->tnear = vf_blend(ok, vf_set1(INFINITY), tnear);
     p->tfar = vf_blend(ok, vf_set1(-INFINITY), tfar);
     return vm_bits(vm_and(ok, vf_le(tnear, tfar)));
+}
+
+/* bvh_packet_load_rays and the reciprocals. */
+static inline uint32_t bvh_packet_load(bvh_packet *p, const rtt_ray *rays, size_t count)
+{
+    const uint32_t live = bvh_packet_load_rays(p, rays, count);
+    bvh_packet_reciprocals(p);
+    return live;
 }
 
 static inline void bvh_hits_clear(bvh_hits *h)
@@ -72,13 +86,26 @@ static inline void bvh_hits_clear(bvh_hits *h)
     h->prim = vi_set1(RTT_MISS);
 }
 
+/* The packet's hits into out[0 .. count-1] (count <= BVH_W), a miss as t =
+ * +inf, u = v = 0: a whole packet transposed in registers into records in
+ * lane order (hit_rows.h) and stored as four vectors, a part a record at a
+ * time. */
 static inline void bvh_hits_store(const bvh_hits *h, rtt_hit *out, size_t count)
 {
-    float t[BVH_W], u[BVH_W], v[BVH_W];
-    uint32_t prim[BVH_W];
-    vf_store(t, h->t), vf_store(u, h->u), vf_store(v, h->v), vi_store(prim, h->prim);
-    for (uint32_t l = 0; l < BVH_W && l < count; l++)
-        out[l] = prim[l] == RTT_MISS ? (rtt_hit){INFINITY, 0.0f, 0.0f, RTT_MISS} : (rtt_hit){t[l], u[l], v[l], prim[l]};
+    _Static_assert(sizeof(rtt_hit) == 4 * sizeof(float), "a hit is four words: t, u, v, prim");
+    const vm hit = vi_lt_u(h->prim, vi_set1(RTT_MISS));
+    const vf t = vf_blend(hit, vf_set1(INFINITY), h->t);
+    const vf u = vf_blend(hit, vf_set1(0.0f), h->u), v = vf_blend(hit, vf_set1(0.0f), h->v);
+    if (count >= BVH_W) {
+        vf rec[4];
+        hit_rows_of_lanes(t, u, v, vi_as_vf(h->prim), rec);
+        for (int i = 0; i < 4; i++) vf_store((float *)out + i * BVH_W, rec[i]);
+        return;
+    }
+    float tl[BVH_W], ul[BVH_W], vl[BVH_W];
+    uint32_t pl[BVH_W];
+    vf_store(tl, t), vf_store(ul, u), vf_store(vl, v), vi_store(pl, h->prim);
+    for (uint32_t l = 0; l < count; l++) out[l] = (rtt_hit){tl[l], ul[l], vl[l], pl[l]};
 }
 
 /* A packet of rows of four rays (lane 4 r + i: row r, column i; BVH_W / 4

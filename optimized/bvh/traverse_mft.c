@@ -257,7 +257,7 @@ static bool load_frustum(mft_group *g, uint32_t f, const rtt_ray *rays, size_t c
 {
     for (uint32_t v = 0; v < MFT_VECS; v++) {
         const size_t first = (size_t)v * BVH_W, n = count > first ? (count - first < BVH_W ? count - first : BVH_W) : 0;
-        g->live[f][v] = n ? bvh_packet_load(&g->rays[f][v], rays + first, n) : 0;
+        g->live[f][v] = n ? bvh_packet_load_rays(&g->rays[f][v], rays + first, n) : 0; /* no reciprocals: frusta */
         g->occ[f][v] = 0;
         bvh_hits_clear(&g->hits[f][v]);
     }
@@ -364,10 +364,12 @@ void bvh_kernel_mft(const bvh_tree *tree, const bvh_query *q)
                 frusta |= 1u << f;
                 continue;
             }
-            for (uint32_t v = 0; v < MFT_VECS; v++) /* no common origin: the packet walk */
-                if (g.live[f][v])
+            for (uint32_t v = 0; v < MFT_VECS; v++) /* no common origin: the packet walk, which wants the reciprocals */
+                if (g.live[f][v]) {
+                    bvh_packet_reciprocals(&g.rays[f][v]);
                     bvh_trace_packet(tree, &g.rays[f][v], g.live[f][v], closest ? &g.hits[f][v] : NULL,
                                      &g.occ[f][v], q->counters);
+                }
         }
         trace_group(tree, &g, frusta, org, dlo, dhi, tnear, grow, closest, q->counters);
         for (uint32_t f = 0; f < MFT_FRUSTA; f++)
