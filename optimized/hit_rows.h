@@ -1,6 +1,7 @@
-/* A packet's hit records row after row: the one transpose both kernels
- * that write image-ordered hits use (bvh/traverse_mft.c's camera path,
- * pgrid/pgrid_cell.c's resolve).  A packet of W lanes (16 on AVX-512, 8 on
+/* A packet's hit records row after row: the one transpose the kernels
+ * that write hits as records use (bvh/traverse_mft.c's camera path,
+ * pgrid/pgrid_cell.c's resolve, bvh/bvh_packet.h's bvh_hits_store for a
+ * stream's packets, whose records are its rows one after another).  A packet of W lanes (16 on AVX-512, 8 on
  * AVX2, 4 on SSE4.1: the width the translation unit is compiled for) holds
  * rows of four pixels, lane 4 r + i at row r, column i; its four word
  * vectors (t, u, v and the prim's bits) become four vectors of records

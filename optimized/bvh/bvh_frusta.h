@@ -344,7 +344,8 @@ static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft
     const vf normal_error = vf_mul(vf_set1(cross_error), cone->l1);
     vm culled = vm_of_bits(0);
     for (int e = 0; e < 3; e++) {
-        const vf top = vf_add(vf_add(vf_mul(vf_set1(fx[e]), cone->cx), vf_mul(vf_set1(fy[e]), cone->cy)), vf_set1(f0[e]));
+        const vf top =
+            vf_add(vf_add(vf_mul(vf_set1(fx[e]), cone->cx), vf_mul(vf_set1(fy[e]), cone->cy)), vf_set1(f0[e]));
         const vf margin = vf_add(vf_mul(vf_set1(l1[e]), cone->pixel_scale), normal_error);
         culled = vm_or(culled, vf_lt(vf_add(top, margin), vf_set1(0.0f)));
     }

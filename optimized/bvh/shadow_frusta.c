@@ -335,11 +335,13 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
  * arithmetic) and their box grown by 2^-16 of the magnitudes involved (see
  * the top) into g->b and g->corner, the grow into g->corner_grow and
  * the points' light frames into g->base, du, dv (for shrinking).
- * The points' fields are gathered into lanes: written a lane at a time and
- * loaded whole, they stalled on the store buffer (a tenth of czest3ctf's
- * frusta:16 time). */
+ * The points' fields are gathered into lanes: made per frustum in scalars,
+ * written a lane at a time and loaded whole, they waited for the store
+ * buffer (bench/results/bvh-mft.md, tenth session: czest3ctf's frusta:16
+ * 100 -> 119 Mrays/s, oa_dm4's 204 -> 324 with the traversal's epochs). */
 #define SF_POINT_WORDS (sizeof(bvh_shadow_point) / sizeof(float))
 _Static_assert(sizeof(bvh_shadow_point) % sizeof(float) == 0, "a shadow point is whole words");
+_Static_assert(SF_FRUSTA <= 16, "sf_lane_words has a word offset for 16 lanes");
 static const uint32_t sf_lane_words[16] = {
     0 * SF_POINT_WORDS,  1 * SF_POINT_WORDS,  2 * SF_POINT_WORDS,  3 * SF_POINT_WORDS,
     4 * SF_POINT_WORDS,  5 * SF_POINT_WORDS,  6 * SF_POINT_WORDS,  7 * SF_POINT_WORDS,
@@ -369,7 +371,8 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     vf dlo[3], dhi[3];
     for (int c = 0; c < 4; c++)
         for (int k = 0; k < 3; k++) g->corner[c][k] = one; /* the dead lanes' */
-    corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], vm_of_bits(BVH_LANES_ALL & ~vm_bits(dead)), g->corner);
+    const vm live = vm_of_bits(BVH_LANES_ALL & ~vm_bits(dead));
+    corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], live, g->corner);
     for (int k = 0; k < 3; k++) {
         dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
         for (int c = 0; c < 4; c++) {
@@ -381,7 +384,8 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     const vf grow = vf_blend(dead, vf_mul(size, vf_set1(0x1p-16f)), zero);
     for (int k = 0; k < 3; k++) {
         g->b.org[k] = vf_blend(dead, org[k], zero);
-        g->b.dlo[k] = vf_blend(dead, vf_sub(dlo[k], grow), one), g->b.dhi[k] = vf_blend(dead, vf_add(dhi[k], grow), one);
+        g->b.dlo[k] = vf_blend(dead, vf_sub(dlo[k], grow), one);
+        g->b.dhi[k] = vf_blend(dead, vf_add(dhi[k], grow), one);
         g->b.rlo[k] = vf_div(one, g->b.dlo[k]), g->b.rhi[k] = vf_div(one, g->b.dhi[k]);
         g->base[k] = base[k], g->du[k] = du[k], g->dv[k] = dv[k];
     }

@@ -70,7 +70,7 @@ typedef struct mft_group {
     uint32_t occ[MFT_FRUSTA][MFT_VECS];
     bvh_wt_shears shears[MFT_FRUSTA][MFT_VECS]; /* the watertight test's, per packet */
     const bvh_wt_shears *wt[MFT_FRUSTA][MFT_VECS]; /* NULL for the projected test */
-    uint32_t unset;                  /* frusta whose wt (and shears) are not made yet: made at their first triangle test */
+    uint32_t unset;                  /* frusta whose wt (and shears) are not made yet: at their first triangle test */
     uint32_t apex;                   /* frusta whose origin is the rays' common end point (hard shadows) */
     uint32_t pinhole;                /* frusta culled over the cone of their corner vectors (camera-made) */
     vf apex_reach;                   /* apex frusta: the largest |component| of their directions */
