@@ -86,46 +86,38 @@ static inline void bvh_hits_clear(bvh_hits *h)
     h->prim = vi_set1(RTT_MISS);
 }
 
-/* The packet's hits into out[0 .. count-1] (count <= BVH_W), a miss as t =
- * +inf, u = v = 0: a whole packet transposed in registers into records in
- * lane order (hit_rows.h) and stored as four vectors, a part a record at a
- * time. */
-static inline void bvh_hits_store(const bvh_hits *h, rtt_hit *out, size_t count)
+/* The words of the packet's hit records, a miss as t = +inf, u = v = 0
+ * (prim is the packet's own): w[0] t, w[1] u, w[2] v. */
+static inline void bvh_hits_words(const bvh_hits *h, vf w[3])
 {
-    _Static_assert(sizeof(rtt_hit) == 4 * sizeof(float), "a hit is four words: t, u, v, prim");
     const vm hit = vi_lt_u(h->prim, vi_set1(RTT_MISS));
-    const vf t = vf_blend(hit, vf_set1(INFINITY), h->t);
-    const vf u = vf_blend(hit, vf_set1(0.0f), h->u), v = vf_blend(hit, vf_set1(0.0f), h->v);
-    if (count >= BVH_W) {
-        vf rec[4];
-        hit_rows_of_lanes(t, u, v, vi_as_vf(h->prim), rec);
-        for (int i = 0; i < 4; i++) vf_store((float *)out + i * BVH_W, rec[i]);
-        return;
-    }
-    float tl[BVH_W], ul[BVH_W], vl[BVH_W];
-    uint32_t pl[BVH_W];
-    vf_store(tl, t), vf_store(ul, u), vf_store(vl, v), vi_store(pl, h->prim);
-    for (uint32_t l = 0; l < count; l++) out[l] = (rtt_hit){tl[l], ul[l], vl[l], pl[l]};
+    w[0] = vf_blend(hit, vf_set1(INFINITY), h->t);
+    w[1] = vf_blend(hit, vf_set1(0.0f), h->u), w[2] = vf_blend(hit, vf_set1(0.0f), h->v);
+}
+
+/* The same words lane by lane, for the stores of a record at a time. */
+static inline void bvh_hits_lanes(const bvh_hits *h, float t[BVH_W], float u[BVH_W], float v[BVH_W],
+                                  uint32_t prim[BVH_W])
+{
+    vf w[3];
+    bvh_hits_words(h, w);
+    vf_store(t, w[0]), vf_store(u, w[1]), vf_store(v, w[2]), vi_store(prim, h->prim);
 }
 
 /* A packet of rows of four rays (lane 4 r + i: row r, column i; BVH_W / 4
  * rows) stores its hits into `rows` rows of `cols` records from `out`,
- * `stride` records apart, bvh_hits_store's records (a miss: t = +inf, u = v
- * = 0).  A whole row's four records are transposed in registers and stored
- * at once (64 bytes; with `stream`, rows on 64-byte lines, non-temporal);
- * a row cut by the image's edge (cols < 4) goes a record at a time
- * (hit_rows.h's transpose). */
+ * `stride` records apart (bvh_hits_words' records).  A whole row's four
+ * records are transposed in registers and stored at once (64 bytes; with
+ * `stream`, rows on 64-byte lines, non-temporal); a row cut by the image's
+ * edge (cols < 4) goes a record at a time (hit_rows.h's transpose). */
 static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t stride, uint32_t cols, uint32_t rows,
                                        bool stream)
 {
     _Static_assert(sizeof(rtt_hit) == 4 * sizeof(float), "a hit is four words: t, u, v, prim");
-    const vm hit = vi_lt_u(h->prim, vi_set1(RTT_MISS));
-    const vf t = vf_blend(hit, vf_set1(INFINITY), h->t);
-    const vf u = vf_blend(hit, vf_set1(0.0f), h->u), v = vf_blend(hit, vf_set1(0.0f), h->v);
     if (cols < 4u) {
         _Alignas(64) float tl[BVH_W], ul[BVH_W], vl[BVH_W];
         _Alignas(64) uint32_t pl[BVH_W];
-        vf_store(tl, t), vf_store(ul, u), vf_store(vl, v), vi_store(pl, h->prim);
+        bvh_hits_lanes(h, tl, ul, vl, pl);
         for (uint32_t r = 0; r < rows; r++)
             for (uint32_t i = 0; i < cols; i++) {
                 const uint32_t l = 4u * r + i;
@@ -134,14 +126,30 @@ static inline void bvh_hits_store_rows(const bvh_hits *h, rtt_hit *out, size_t s
         return;
     }
     _Static_assert(HIT_ROWS_W == BVH_W, "hit_rows.h is compiled for the packet's width");
-    vf rec[4];
-    hit_rows_of_lanes(t, u, v, vi_as_vf(h->prim), rec);
+    vf w[3], rec[4];
+    bvh_hits_words(h, w);
+    hit_rows_of_lanes(w[0], w[1], w[2], vi_as_vf(h->prim), rec);
     for (uint32_t r = 0; r < rows; r++)
         for (uint32_t j = 0; j < HIT_ROWS_PER_ROW; j++) {
             float *at = (float *)(out + r * stride) + j * BVH_W;
             if (stream) vf_stream(at, rec[r * HIT_ROWS_PER_ROW + j]);
             else vf_store(at, rec[r * HIT_ROWS_PER_ROW + j]);
         }
+}
+
+/* The packet's hits into out[0 .. count-1] (count <= BVH_W): a whole packet
+ * is its BVH_W / 4 rows of four records one after another
+ * (bvh_hits_store_rows with a stride of four), a part a record at a time. */
+static inline void bvh_hits_store(const bvh_hits *h, rtt_hit *out, size_t count)
+{
+    if (count >= BVH_W) {
+        bvh_hits_store_rows(h, out, 4u, 4u, BVH_W / 4u, false);
+        return;
+    }
+    float tl[BVH_W], ul[BVH_W], vl[BVH_W];
+    uint32_t pl[BVH_W];
+    bvh_hits_lanes(h, tl, ul, vl, pl);
+    for (uint32_t l = 0; l < count; l++) out[l] = (rtt_hit){tl[l], ul[l], vl[l], pl[l]};
 }
 
 #endif
