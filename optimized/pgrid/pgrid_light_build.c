@@ -253,6 +253,14 @@ void pgrid_light_prints_scalar(const pgrid_print_job *job, uint32_t first, uint3
     for (uint32_t i = first; i < end; i++) pgrid_light_print_record(job, i);
 }
 
+/* Whether record i is a near one (pgrid_light_print_record: no footprint,
+ * face 0's y0 marks it), for the near list. */
+static inline bool record_is_near(const pgrid_light *light, uint32_t i)
+{
+    return !light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
+           light->prints[i].y0 == PGRID_FOOTPRINT_NONE;
+}
+
 /* Task: the footprints, bounds and front classes of records [CHUNK task
  * ..); then, read back while in this thread's cache, the chunk's counts
  * (pgrid_light.chunk_counts: records with a footprint per face, near
@@ -274,9 +282,7 @@ static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
     for (uint32_t i = task * CHUNK; i < end; i++) {
         const uint32_t face_mask = light->face_mask[i];
         if (light->record_front[i]) light->front[corners[i].prim] = light->record_front[i];
-        /* a near one has no footprint, and y0 marks it */
-        counts[CHUNK_NEAR] +=
-            !face_mask && light->prints[i].x0 == PGRID_FOOTPRINT_NONE && light->prints[i].y0 == PGRID_FOOTPRINT_NONE;
+        counts[CHUNK_NEAR] += record_is_near(light, i);
         for (uint32_t mask = face_mask; mask; mask &= mask - 1) {
             const uint32_t face = (uint32_t)__builtin_ctz(mask);
             const pgrid_footprint f = light->prints[(size_t)face * n + i];
@@ -480,9 +486,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
         if (!counts[CHUNK_NEAR]) continue;
         const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
         for (uint32_t i = chunk * CHUNK; i < end; i++)
-            if (!light->face_mask[i] && light->prints[i].x0 == PGRID_FOOTPRINT_NONE &&
-                light->prints[i].y0 == PGRID_FOOTPRINT_NONE)
-                light->near[light->near_count++] = i;
+            if (record_is_near(light, i)) light->near[light->near_count++] = i;
     }
     /* two bands: cut where half the face's records have started (a mesh
      * covers part of a face: even rows would leave one thread most of it),
