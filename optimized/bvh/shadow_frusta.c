@@ -353,7 +353,8 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     const float *words = (const float *)points;
     /* lanes past n read point n - 1 (valid memory) and are blended dead below */
     const vi index = vi_min_s(vi_load(sf_lane_words), vi_set1((n - 1u) * (uint32_t)SF_POINT_WORDS));
-    const vm dead = vm_of_bits(BVH_LANES_ALL & ~((1u << n) - 1u));
+    const uint32_t live = (1u << n) - 1u;
+    const vm dead = vm_of_bits(BVH_LANES_ALL & ~live);
     const size_t word = sizeof(float), at_org = offsetof(bvh_shadow_point, org) / word;
     const size_t at_base = offsetof(bvh_shadow_point, base) / word, at_du = offsetof(bvh_shadow_point, du) / word;
     const size_t at_dv = offsetof(bvh_shadow_point, dv) / word, at_set = offsetof(bvh_shadow_point, set) / word;
@@ -371,8 +372,7 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     vf dlo[3], dhi[3];
     for (int c = 0; c < 4; c++)
         for (int k = 0; k < 3; k++) g->corner[c][k] = one; /* the dead lanes' */
-    const vm live = vm_of_bits(BVH_LANES_ALL & ~vm_bits(dead));
-    corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], live, g->corner);
+    corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], vm_of_bits(live), g->corner);
     for (int k = 0; k < 3; k++) {
         dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
         for (int c = 0; c < 4; c++) {
