@@ -249,104 +249,142 @@ typedef struct mft_cone {
     vf l1;             /* the largest |corner|_1: the normals' rounding scales with it */
     vf cx, cy;         /* the centre of the block's corner pixel centres (x + 2, y + 2) */
     vf pixel_scale;    /* scale plus the edge functions' rounding (2^-19 of the corners' terms) */
-    /* the common origin and the frame (corner, du, dv), each component
-     * broadcast to 4 lanes (eye4's lane 3 zero) for the triangle set-up */
-    __m128 eye4[3], frame4[3][3];
+    /* the common origin and the frame (corner, du, dv) in quads (bvh_simd.h)
+     * for the triangles' set-up: each component in every lane, but eye_q's
+     * lane 3 of every quad zero */
+    vf eye_q[3], frame_q[3][3];
 } mft_cone;
 
-/* The cull of frusta_cull for pinhole frusta (`active`, every one's origin
- * the eye, cone->eye4), in the pixel plane: per edge plane n (frusta_edges'
- * formula, one edge per lane of a 4-lane vector: the origin is common) the
- * edge function's largest and least
- * value over a frustum's corner pixel centres are its value at their centre
- * plus and minus 1.5 (|n.du| + |n.dv|) -- the four corner vectors' dot
- * products, exactly, in three operations per frustum instead of twelve.
- * One margin per edge and frustum: |n.c| <= |n|_1 cmax for every corner c,
- * so |n|_1 (eps cmax + grow) covers frusta_cull's eps * mag and the corners'
- * and the rays' rounding; the edge function's own rounding (its three dot
- * products with the frame, the products with the centre, the spread, the
- * sums: about ten ulps, under 2^-20.5, of sum_k |n_k| (|corner_k| + |du_k|
- * x + |dv_k| y) <= |n|_1 size, size camera_cones' largest sum over an axis
- * of the corners' terms) is covered three times over by pixel_scale's
- * 2^-19 size over scale, and n's by cross_error over |d|_1 <= l1.  The
- * orientation (frusta_orientation's D and margin) is one for every frustum: a triangle facing them is culled from those
- * whose directions all fall below an edge, a backing one from those above,
- * one whose plane passes near the eye from none.  `cull` (the back-face
- * culling of a solid's triangle, traverse_mft.c): +1 drops a triangle that
- * faces the eye (D > margin: behind its winding's normal), -1 one that
- * backs it, 0 none. */
-static inline uint32_t frusta_triangle_pinhole(const bvh_corners *tri, const mft_cone *cone, int cull, uint32_t active)
+/* The cull of frusta_cull for pinhole frusta (every one's origin the eye),
+ * in the pixel plane: per edge plane n (frusta_edges' formula) the edge
+ * function's largest and least value over a frustum's corner pixel centres
+ * are its value at their centre plus and minus 1.5 (|n.du| + |n.dv|) --
+ * the four corner vectors' dot products, exactly, in three operations per
+ * frustum instead of twelve.  One margin per edge and frustum: |n.c| <=
+ * |n|_1 cmax for every corner c, so |n|_1 (eps cmax + grow) covers
+ * frusta_cull's eps * mag and the corners' and the rays' rounding; the edge
+ * function's own rounding (its three dot products with the frame, the
+ * products with the centre, the spread, the sums: about ten ulps, under
+ * 2^-20.5, of sum_k |n_k| (|corner_k| + |du_k| x + |dv_k| y) <= |n|_1
+ * size, size camera_cones' largest sum over an axis of the corners' terms)
+ * is covered three times over by pixel_scale's 2^-19 size over scale, and
+ * n's by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's
+ * D and margin) is one for every frustum: a triangle facing them is culled
+ * from those whose directions all fall below an edge, a backing one from
+ * those above, one whose plane passes near the eye from none.
+ *
+ * In two steps: frusta_pinhole_setup makes the per-triangle terms of
+ * FRUSTA_QUADS triangles of a leaf at once (the eye is common, so they do
+ * not depend on the frustum), frusta_pinhole_cull tests one of them
+ * against every frustum.  The set-up is a chain of dependent shuffles and
+ * products; made for one triangle at a time in four lanes it was a third of
+ * the camera path's traversal (bench/results/bvh-mft.md, eleventh
+ * session). */
+#define FRUSTA_QUADS (BVH_W / 4u)
+
+/* Per triangle t of a set-up, its lanes 4t .. 4t + 2 (one per edge e):
+ * the edge function's frame terms sign n.du (fx), sign n.dv (fy) and sign
+ * n.corner plus its spread 1.5 (|fx| + |fy|) (f0), |n|_1 (l1); the normals'
+ * rounding bound (cross_error, in every lane of the quad); bit 4t of
+ * facing (backing): the triangle faces (backs) the eye beyond the margin. */
+typedef struct frusta_pinhole_tris {
+    _Alignas(64) float fx[BVH_W];
+    _Alignas(64) float fy[BVH_W];
+    _Alignas(64) float f0[BVH_W];
+    _Alignas(64) float l1[BVH_W];
+    _Alignas(64) float cross_error[BVH_W];
+    uint32_t facing, backing;
+} frusta_pinhole_tris;
+
+/* The set-up of the `count` (>= 1) triangles from tri on, up to
+ * FRUSTA_QUADS of them (the quads past count repeat the last), a quad per
+ * triangle with one lane per edge e (lane 3 zero): the same operations in
+ * the same order as frusta_edges and frusta_edge_terms, so the same bits.
+ * x[k] holds (v0, v1, v2)[k], rel[k] those minus the eye, a[k] the corner
+ * rel[e + 1], edge[k] E[e] = v[e + 2] - v[e + 1], next and after E[e + 1]
+ * and E[e + 2] (lane 0: the normal E[1] x E[2]). */
+static inline void frusta_pinhole_setup(const bvh_corners *tri, uint32_t count, const mft_cone *cone,
+                                        frusta_pinhole_tris *s)
 {
-    /* The triangle's set-up in 4-lane vectors, one lane per edge e (lane 3
-     * zero): the same operations in the same order as frusta_edges and
-     * frusta_edge_terms, so the same bits.  x[k] holds (v0, v1, v2)[k],
-     * rel[k] those minus the eye, a[k] the corner rel[e + 1], edge[k] E[e]
-     * = v[e + 2] - v[e + 1], next and after E[e + 1] and E[e + 2] (lane 0:
-     * the normal E[1] x E[2]). */
-    __m128 x[4] = {_mm_loadu_ps(tri->v[0]), _mm_loadu_ps(tri->v[1]), _mm_loadu_ps(tri->v[2]), _mm_setzero_ps()};
-    _MM_TRANSPOSE4_PS(x[0], x[1], x[2], x[3]);
-    const __m128 sign_bit = _mm_set1_ps(-0.0f);
-    __m128 rel[3], a[3], edge[3], next[3], after[3], reach4 = _mm_setzero_ps(), edge4 = _mm_setzero_ps();
-    for (int k = 0; k < 3; k++) {
-        rel[k] = _mm_sub_ps(x[k], cone->eye4[k]);
-        a[k] = _mm_shuffle_ps(rel[k], rel[k], _MM_SHUFFLE(3, 0, 2, 1));
-        edge[k] = _mm_sub_ps(_mm_shuffle_ps(x[k], x[k], _MM_SHUFFLE(3, 1, 0, 2)),
-                             _mm_shuffle_ps(x[k], x[k], _MM_SHUFFLE(3, 0, 2, 1)));
-        next[k] = _mm_shuffle_ps(edge[k], edge[k], _MM_SHUFFLE(3, 0, 2, 1));
-        after[k] = _mm_shuffle_ps(edge[k], edge[k], _MM_SHUFFLE(3, 1, 0, 2));
-        reach4 = _mm_max_ps(reach4, _mm_andnot_ps(sign_bit, rel[k]));
-        edge4 = _mm_max_ps(edge4, _mm_andnot_ps(sign_bit, edge[k]));
+    const float *corner[3][FRUSTA_QUADS];
+    for (uint32_t q = 0; q < FRUSTA_QUADS; q++)
+        for (int v = 0; v < 3; v++) corner[v][q] = tri[q < count ? q : count - 1u].v[v];
+    const vf zero = vf_set1(0.0f);
+    vf x[3];
+    { /* each quad's 4x4 transpose, row 3 (the loads' fourth words and zeros) dropped */
+        const vf r0 = vf_load_quads(corner[0]), r1 = vf_load_quads(corner[1]), r2 = vf_load_quads(corner[2]);
+        const vf t0 = vf_unpacklo(r0, r1), t1 = vf_unpackhi(r0, r1), t2 = vf_unpacklo(r2, zero),
+                 t3 = vf_unpackhi(r2, zero);
+        x[0] = vf_shuffle(t0, t2, 0x44), x[1] = vf_shuffle(t0, t2, 0xEE), x[2] = vf_shuffle(t1, t3, 0x44);
     }
-    __m128 n[3], normal[3];
-    n[0] = _mm_sub_ps(_mm_mul_ps(a[1], edge[2]), _mm_mul_ps(a[2], edge[1]));
-    n[1] = _mm_sub_ps(_mm_mul_ps(a[2], edge[0]), _mm_mul_ps(a[0], edge[2]));
-    n[2] = _mm_sub_ps(_mm_mul_ps(a[0], edge[1]), _mm_mul_ps(a[1], edge[0]));
-    normal[0] = _mm_sub_ps(_mm_mul_ps(next[1], after[2]), _mm_mul_ps(next[2], after[1]));
-    normal[1] = _mm_sub_ps(_mm_mul_ps(next[2], after[0]), _mm_mul_ps(next[0], after[2]));
-    normal[2] = _mm_sub_ps(_mm_mul_ps(next[0], after[1]), _mm_mul_ps(next[1], after[0]));
-    /* lane 0: D = rel[0] . n[0], its terms' magnitudes and the area term */
-    const __m128 d0 = _mm_mul_ps(rel[0], n[0]), d1 = _mm_mul_ps(rel[1], n[1]), d2 = _mm_mul_ps(rel[2], n[2]);
-    const __m128 det4 = _mm_add_ps(_mm_add_ps(d0, d1), d2);
-    const __m128 mag4 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, d0), _mm_andnot_ps(sign_bit, d1)),
-                                   _mm_andnot_ps(sign_bit, d2));
-    const __m128 area4 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, normal[0]), _mm_andnot_ps(sign_bit, normal[1])),
-                                    _mm_andnot_ps(sign_bit, normal[2]));
-    /* the largest |rel| and |E| over the lanes (maxima are exact) */
-    __m128 most = _mm_unpacklo_ps(reach4, edge4); /* r0 e0 r1 e1 */
-    const __m128 rest = _mm_unpackhi_ps(reach4, edge4); /* r2 e2 0 0 */
-    most = _mm_max_ps(most, rest);
-    most = _mm_max_ps(most, _mm_movehl_ps(most, most));
-    const float reach = _mm_cvtss_f32(most), edge_max = _mm_cvtss_f32(_mm_shuffle_ps(most, most, 1));
-    const float det = _mm_cvtss_f32(det4), det_mag = _mm_cvtss_f32(mag4), area = _mm_cvtss_f32(area4);
+    vf rel[3], a[3], edge[3], next[3], after[3], reach4 = zero, edge4 = zero;
+    for (int k = 0; k < 3; k++) {
+        rel[k] = vf_sub(x[k], cone->eye_q[k]);
+        a[k] = vf_shuffle(rel[k], rel[k], _MM_SHUFFLE(3, 0, 2, 1));
+        edge[k] = vf_sub(vf_shuffle(x[k], x[k], _MM_SHUFFLE(3, 1, 0, 2)), vf_shuffle(x[k], x[k], _MM_SHUFFLE(3, 0, 2, 1)));
+        next[k] = vf_shuffle(edge[k], edge[k], _MM_SHUFFLE(3, 0, 2, 1));
+        after[k] = vf_shuffle(edge[k], edge[k], _MM_SHUFFLE(3, 1, 0, 2));
+        reach4 = vf_max(reach4, vf_abs(rel[k]));
+        edge4 = vf_max(edge4, vf_abs(edge[k]));
+    }
+    vf n[3], normal[3];
+    n[0] = vf_sub(vf_mul(a[1], edge[2]), vf_mul(a[2], edge[1]));
+    n[1] = vf_sub(vf_mul(a[2], edge[0]), vf_mul(a[0], edge[2]));
+    n[2] = vf_sub(vf_mul(a[0], edge[1]), vf_mul(a[1], edge[0]));
+    normal[0] = vf_sub(vf_mul(next[1], after[2]), vf_mul(next[2], after[1]));
+    normal[1] = vf_sub(vf_mul(next[2], after[0]), vf_mul(next[0], after[2]));
+    normal[2] = vf_sub(vf_mul(next[0], after[1]), vf_mul(next[1], after[0]));
+    /* lane 0 of each quad: D = rel[0] . n[0], its terms' magnitudes and the area term */
+    const vf d0 = vf_mul(rel[0], n[0]), d1 = vf_mul(rel[1], n[1]), d2 = vf_mul(rel[2], n[2]);
+    const vf det4 = vf_add(vf_add(d0, d1), d2);
+    const vf mag4 = vf_add(vf_add(vf_abs(d0), vf_abs(d1)), vf_abs(d2));
+    const vf area4 = vf_add(vf_add(vf_abs(normal[0]), vf_abs(normal[1])), vf_abs(normal[2]));
+    /* the largest |rel| (lane 0) and |E| (lane 1) over each quad's lanes (maxima are exact) */
+    vf most = vf_max(vf_unpacklo(reach4, edge4), vf_unpackhi(reach4, edge4));
+    most = vf_max(most, vf_shuffle(most, most, 0xEE));
+    /* per triangle, in every lane of its quad */
+    const vf reach = vf_shuffle(most, most, 0x00), edge_max = vf_shuffle(most, most, 0x55);
+    const vf det = vf_shuffle(det4, det4, 0x00), det_mag = vf_shuffle(mag4, mag4, 0x00);
+    const vf area = vf_shuffle(area4, area4, 0x00);
     /* frusta_orientation's margin, with frusta_edges' area and cross_error */
-    const float cross_error = reach * (edge_max * FRUSTA_CROSS_ERROR);
-    const float mag_margin = det_mag * FRUSTA_EPS, plane_margin = reach * (area * FRUSTA_SQRT3 * FRUSTA_EPS);
-    const float det_margin =
-        (mag_margin > plane_margin ? mag_margin : plane_margin) + cross_error * (reach * FRUSTA_DET_TERMS);
-    const bool facing = det > det_margin, backing = det < -det_margin;
-    if (!facing && !backing) return active; /* the eye (nearly) in its plane */
-    if ((cull > 0 && facing) || (cull < 0 && backing)) return 0;
+    const vf cross_error = vf_mul(reach, vf_mul(edge_max, vf_set1(FRUSTA_CROSS_ERROR)));
+    const vf mag_margin = vf_mul(det_mag, vf_set1(FRUSTA_EPS));
+    const vf plane_margin = vf_mul(reach, vf_mul(vf_mul(area, vf_set1(FRUSTA_SQRT3)), vf_set1(FRUSTA_EPS)));
+    const vf det_margin =
+        vf_add(vf_max(mag_margin, plane_margin), vf_mul(cross_error, vf_mul(reach, vf_set1(FRUSTA_DET_TERMS))));
+    const vm facing = vf_gt(det, det_margin);
+    s->facing = vm_bits(facing), s->backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
     /* facing: culled where an edge function stays below -margin over the
      * block; backing: where one stays above margin (its negation below).
      * Per edge (lane) its edge function's frame terms f[j] = sign n.frame[j]. */
-    const __m128 sign = _mm_set1_ps(facing ? 1.0f : -1.0f);
-    __m128 f[3];
+    const vf sign = vf_blend(facing, vf_set1(-1.0f), vf_set1(1.0f));
+    vf f[3];
     for (int j = 0; j < 3; j++)
-        f[j] = _mm_mul_ps(sign, _mm_add_ps(_mm_add_ps(_mm_mul_ps(n[0], cone->frame4[j][0]),
-                                                      _mm_mul_ps(n[1], cone->frame4[j][1])),
-                                           _mm_mul_ps(n[2], cone->frame4[j][2])));
-    const __m128 spread = _mm_mul_ps(_mm_set1_ps(1.5f),
-                                     _mm_add_ps(_mm_andnot_ps(sign_bit, f[1]), _mm_andnot_ps(sign_bit, f[2])));
-    const __m128 n_l1 = _mm_add_ps(_mm_add_ps(_mm_andnot_ps(sign_bit, n[0]), _mm_andnot_ps(sign_bit, n[1])),
-                                   _mm_andnot_ps(sign_bit, n[2]));
-    _Alignas(16) float fx[4], fy[4], f0[4], l1[4];
-    _mm_store_ps(fx, f[1]), _mm_store_ps(fy, f[2]), _mm_store_ps(f0, _mm_add_ps(f[0], spread)), _mm_store_ps(l1, n_l1);
-    const vf normal_error = vf_mul(vf_set1(cross_error), cone->l1);
+        f[j] = vf_mul(sign, vf_add(vf_add(vf_mul(n[0], cone->frame_q[j][0]), vf_mul(n[1], cone->frame_q[j][1])),
+                                   vf_mul(n[2], cone->frame_q[j][2])));
+    const vf spread = vf_mul(vf_set1(1.5f), vf_add(vf_abs(f[1]), vf_abs(f[2])));
+    vf_store(s->fx, f[1]), vf_store(s->fy, f[2]), vf_store(s->f0, vf_add(f[0], spread));
+    vf_store(s->l1, vf_add(vf_add(vf_abs(n[0]), vf_abs(n[1])), vf_abs(n[2])));
+    vf_store(s->cross_error, cross_error);
+}
+
+/* The frusta of `active` (pinhole frusta of cone) that triangle t of s may
+ * reach.  `cull` (the back-face culling of a solid's triangle,
+ * traverse_mft.c): +1 drops a triangle that faces the eye (D > margin:
+ * behind its winding's normal), -1 one that backs it, 0 none. */
+static inline uint32_t frusta_pinhole_cull(const frusta_pinhole_tris *s, uint32_t t, const mft_cone *cone, int cull,
+                                           uint32_t active)
+{
+    const uint32_t at = 4u * t;
+    const bool facing = s->facing >> at & 1u, backing = s->backing >> at & 1u;
+    if (!facing && !backing) return active; /* the eye (nearly) in its plane */
+    if ((cull > 0 && facing) || (cull < 0 && backing)) return 0;
+    const vf normal_error = vf_mul(vf_set1(s->cross_error[at]), cone->l1);
     vm culled = vm_of_bits(0);
-    for (int e = 0; e < 3; e++) {
+    for (uint32_t e = at; e < at + 3u; e++) {
         const vf top =
-            vf_add(vf_add(vf_mul(vf_set1(fx[e]), cone->cx), vf_mul(vf_set1(fy[e]), cone->cy)), vf_set1(f0[e]));
-        const vf margin = vf_add(vf_mul(vf_set1(l1[e]), cone->pixel_scale), normal_error);
+            vf_add(vf_add(vf_mul(vf_set1(s->fx[e]), cone->cx), vf_mul(vf_set1(s->fy[e]), cone->cy)), vf_set1(s->f0[e]));
+        const vf margin = vf_add(vf_mul(vf_set1(s->l1[e]), cone->pixel_scale), normal_error);
         culled = vm_or(culled, vf_lt(vf_add(top, margin), vf_set1(0.0f)));
     }
     return active & ~vm_bits(culled);

@@ -13,7 +13,12 @@
  * vf_hmin/vf_hmax: the smallest/largest lane (for NaN-free words; the
  * callers put +-inf in the lanes that must not count).
  * vf_gather: lane l from base[index lane l] (hardware gathers on AVX2 and
- * AVX-512, four loads on SSE4.1). */
+ * AVX-512, four loads on SSE4.1).
+ * Quads: a vector as BVH_W / 4 independent groups of four lanes (SSE's
+ * 128-bit lanes), each holding its own small vector (a triangle's corner
+ * per lane, say).  vf_shuffle(a, b, imm) is _mm_shuffle_ps in every quad
+ * (imm a compile-time constant), vf_unpacklo/hi _mm_unpacklo/hi_ps in
+ * every quad, vf_load_quads quad q from the four floats at p[q]. */
 #ifndef RTT_BVH_SIMD_H
 #define RTT_BVH_SIMD_H
 
@@ -91,6 +96,14 @@ static inline void vf_load_records8(const float *p, vf out[8])
     }
 }
 static inline float vf_hmax(vf a) { return _mm512_reduce_max_ps(a); }
+#define vf_shuffle(a, b, imm) _mm512_shuffle_ps((a), (b), (imm))
+static inline vf vf_unpacklo(vf a, vf b) { return _mm512_unpacklo_ps(a, b); }
+static inline vf vf_unpackhi(vf a, vf b) { return _mm512_unpackhi_ps(a, b); }
+static inline vf vf_load_quads(const float *const p[4])
+{
+    const __m512 lo = _mm512_insertf32x4(_mm512_castps128_ps512(_mm_loadu_ps(p[0])), _mm_loadu_ps(p[1]), 1);
+    return _mm512_insertf32x4(_mm512_insertf32x4(lo, _mm_loadu_ps(p[2]), 2), _mm_loadu_ps(p[3]), 3);
+}
 #elif defined(__AVX2__)
 #define BVH_W 8u
 typedef __m256 vf;
@@ -168,6 +181,10 @@ static inline float vf_hmax(vf a)
     m = _mm_max_ps(m, _mm_movehl_ps(m, m));
     return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
+#define vf_shuffle(a, b, imm) _mm256_shuffle_ps((a), (b), (imm))
+static inline vf vf_unpacklo(vf a, vf b) { return _mm256_unpacklo_ps(a, b); }
+static inline vf vf_unpackhi(vf a, vf b) { return _mm256_unpackhi_ps(a, b); }
+static inline vf vf_load_quads(const float *const p[2]) { return _mm256_set_m128(_mm_loadu_ps(p[1]), _mm_loadu_ps(p[0])); }
 #else
 #define BVH_W 4u
 typedef __m128 vf;
@@ -241,6 +258,10 @@ static inline float vf_hmax(vf a)
     const __m128 m = _mm_max_ps(a, _mm_movehl_ps(a, a));
     return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
+#define vf_shuffle(a, b, imm) _mm_shuffle_ps((a), (b), (imm))
+static inline vf vf_unpacklo(vf a, vf b) { return _mm_unpacklo_ps(a, b); }
+static inline vf vf_unpackhi(vf a, vf b) { return _mm_unpackhi_ps(a, b); }
+static inline vf vf_load_quads(const float *const p[1]) { return _mm_loadu_ps(p[0]); }
 #endif
 
 /* |x|; NaN stays NaN (the second operand of the max) */

@@ -37,7 +37,7 @@
  * (bench/results/bvh-mft/s14-lazy-rays-ab.txt).
  * The leaf culling of the camera path is the paper's corner-ray test: the
  * edge planes against the four corner vectors of each 4x4 pixel block,
- * whose cone holds every ray of the block (frusta_triangle_pinhole).  What
+ * whose cone holds every ray of the block (frusta_pinhole_cull).  What
  * it departs from and why: the stream kernel culls over the direction box
  * instead (exact for any rays sharing an origin; corner rays are exact only
  * for pinhole grids), as does a camera frustum with a ray rtt_camera_ray had
@@ -88,7 +88,7 @@ typedef struct mft_group {
 
 /* The side a triangle of solid s (tree->solid[rec] != 0) is culled from:
  * its sign when the eye is outside the solid's box (the frusta that see it
- * from that side drop it: frusta_triangle_pinhole), else 0. */
+ * from that side drop it: frusta_pinhole_cull), else 0. */
 static inline int solid_cull_sign(const bvh_tree *tree, mft_group *g, int32_t s)
 {
     const int32_t k = (s > 0 ? s : -s) - 1;
@@ -159,6 +159,7 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
     uint32_t lanes;
     while (alive && (c = mft_next_leaf(tree, &g->b, dist, epoch, alive, stack, &top, &aabb, &lanes))) {
         uint32_t lowered = 0;
+        frusta_pinhole_tris pinhole; /* the set-up of triangles i - i % FRUSTA_QUADS on */
         for (uint32_t i = 0; i < c->count && lanes; i++) {
             const uint32_t rec = c->index + i;
             const int32_t s = g->cull ? tree->solid[rec] : 0;
@@ -166,8 +167,11 @@ static void trace_frusta(const bvh_tree *tree, mft_group *g, uint32_t frusta, bo
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
             const uint32_t boxed = lanes & ~(g->apex | g->pinhole);
             uint32_t survive = boxed ? frusta_triangle(&tree->corners[rec], &g->b, vm_of_bits(boxed)) : 0;
-            if (lanes & g->pinhole)
-                survive |= frusta_triangle_pinhole(&tree->corners[rec], &g->cone, cull, lanes & g->pinhole);
+            if (lanes & g->pinhole) { /* (lanes only lose frusta: a set-up's first triangle had some) */
+                const uint32_t quad = i % FRUSTA_QUADS;
+                if (quad == 0) frusta_pinhole_setup(&tree->corners[rec], c->count - i, &g->cone, &pinhole);
+                survive |= frusta_pinhole_cull(&pinhole, quad, &g->cone, cull, lanes & g->pinhole);
+            }
             if (lanes & g->apex)
                 survive |= frusta_triangle_apex(&tree->corners[rec], &g->b, g->apex_reach, dist, vm_of_bits(lanes & g->apex));
             while (survive) {
@@ -495,10 +499,11 @@ static uint32_t camera_cones(mft_cone *cone, const bvh_camera_block *b, vf fx, v
     const vf scale = vf_add(vf_mul(vf_set1(FRUSTA_EPS), cmax), vf_mul(size, vf_set1(0x1p-16f)));
     cone->pixel_scale = vf_add(scale, vf_mul(size, vf_set1(0x1p-19f)));
     cone->cx = vf_add(fx, vf_set1(2.0f)), cone->cy = vf_add(fy, vf_set1(2.0f));
+    const vm quad_lane3 = vm_of_bits(BVH_LANES_ALL / 15u * 8u); /* lane 3 of every quad */
     for (int k = 0; k < 3; k++) {
-        cone->eye4[k] = _mm_setr_ps(b->eye[k], b->eye[k], b->eye[k], 0.0f);
-        cone->frame4[0][k] = _mm_set1_ps(b->corner[k]), cone->frame4[1][k] = _mm_set1_ps(b->du[k]);
-        cone->frame4[2][k] = _mm_set1_ps(b->dv[k]);
+        cone->eye_q[k] = vf_blend(quad_lane3, vf_set1(b->eye[k]), zero);
+        cone->frame_q[0][k] = vf_set1(b->corner[k]), cone->frame_q[1][k] = vf_set1(b->du[k]);
+        cone->frame_q[2][k] = vf_set1(b->dv[k]);
     }
     *size_out = size;
     return vm_bits(vf_eq(vf_sub(scale, scale), zero));
