@@ -4,7 +4,7 @@
  * extra frame and a checksum of the answers (equal checksums: equal hits).
  * bench/results/bvh-mft.md and frusta.md quote it.
  *
- *   bvh_kernel_time SCENE KERNEL SIZE LEAF DEPTH FRAMES VIEWS
+ *   bvh_kernel_time SCENE KERNEL SIZE LEAF DEPTH FRAMES VIEWS [NODE_COST]
  *
  * SCENE a scene rtt bench takes, with the view of VIEWS (bench/views.json)
  * named as its file (without the extension) when there is one; KERNEL
@@ -16,7 +16,8 @@
  *   soft                            frusta:16 on rtt bench's soft-shadow
  *                                   points (its kind "soft" rows), per tile;
  * SIZE the image side; LEAF and DEPTH the BVH's leaf size and depth bound
- * (0: the defaults).  RTT_ISA (sse4, avx2, avx512) narrows the kernel.  One
+ * (0: the defaults), NODE_COST the SAH's node cost in triangle tests
+ * (absent or 0: the default, BVH_DEFAULT_NODE_COST).  RTT_ISA (sse4, avx2, avx512) narrows the kernel.  One
  * line on stdout. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -105,15 +106,18 @@ static bool soft_points_make(const rtt_scene *scene, const bench_rays *primary, 
 
 int main(int argc, char **argv)
 {
-    if (argc != 8) {
+    if (argc != 8 && argc != 9) {
         fprintf(stderr, "usage: bvh_kernel_time SCENE bvh-mono|bvh-packet|bvh-mft|bvh-mft-camera|soft SIZE LEAF DEPTH "
-                        "FRAMES VIEWS\n");
+                        "FRAMES VIEWS [NODE_COST]\n");
         return 2;
     }
     const char *path = argv[1], *name = argv[2], *views_path = argv[7];
     const int size = atoi(argv[3]), leaf = atoi(argv[4]), depth = atoi(argv[5]), frames = atoi(argv[6]);
-    if (size < 8 || size > 16384 || leaf < 0 || depth < 0 || frames < 1) {
-        fprintf(stderr, "bvh_kernel_time: SIZE 8..16384, LEAF and DEPTH >= 0, FRAMES >= 1\n");
+    const double node_cost = argc == 9 ? atof(argv[8]) : 0.0;
+    if (size < 8 || size > 16384 || leaf < 0 || depth < 0 || frames < 1 ||
+        !(node_cost >= 0.0 && node_cost <= BVH_NODE_COST_MAX)) {
+        fprintf(stderr, "bvh_kernel_time: SIZE 8..16384, LEAF and DEPTH >= 0, FRAMES >= 1, NODE_COST 0..%g\n",
+                (double)BVH_NODE_COST_MAX);
         return 2;
     }
     rtt_isa isa;
@@ -129,7 +133,8 @@ int main(int argc, char **argv)
     }
     bvh_tree tree;
     memset(&tree, 0, sizeof tree);
-    const bvh_build_options build = {.leaf_size = (uint32_t)leaf, .max_depth = (uint32_t)depth, .threads = 1};
+    const bvh_build_options build = {
+        .leaf_size = (uint32_t)leaf, .max_depth = (uint32_t)depth, .node_cost = (float)node_cost, .threads = 1};
     const double build_start = kerneltime_thread_seconds();
     if (!bvh_build_sah(scene, &build, &tree, &err)) {
         fprintf(stderr, "bvh_kernel_time: %s\n", err.message);

@@ -8,9 +8,10 @@
  * sweep's fixed cost would dominate small nodes; Embree's 4 + n / 20 is
  * faster still but costs 0.7-0.9% SAH, bench/results/bvh-build.md); a sweep over the bins' counts and boxes
  * gives every plane's cost
- *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA   (C_trav = C_isect = 1),
- * and the cheapest plane splits the node unless a leaf, C_isect * N, is no
- * dearer and N fits in a leaf (options.leaf_size).  A node with more than
+ *   C = C_trav + C_isect * (N_L * SA_L + N_R * SA_R) / SA
+ * (C_isect = 1, C_trav = options.node_cost, BVH_DEFAULT_NODE_COST), and the
+ * cheapest plane splits the node unless a leaf, C_isect * N, is no dearer
+ * and N fits in a leaf (options.leaf_size).  A node with more than
  * leaf_size triangles is always split (at the median of its order when
  * every centroid coincides); at options.max_depth a node is a leaf whatever
  * it holds.  Binning runs in SSE lanes, all three axes in one pass over the
@@ -127,6 +128,7 @@ typedef struct builder {
     prim_ref *refs;            /* partitioned node by node */
     bvh_node *slots;           /* inner nodes before the layout */
     uint32_t leaf_size, max_depth;
+    float node_cost;           /* C_trav in units of C_isect */
 } builder;
 
 /* What the builder decided for a range: a leaf, or a split at `mid`. */
@@ -344,7 +346,7 @@ static split_choice choose_split(const builder *b, uint32_t begin, uint32_t end,
     }
     const float area = box4_half_area(&box, unit);
     /* C_trav + (N_L SA_L + N_R SA_R) / SA against the leaf's N (in units of C_isect) */
-    const bool leaf_cheaper = best_axis < 0 || !(area > 0.0f) || 1.0f + best_cost / area >= (float)n;
+    const bool leaf_cheaper = best_axis < 0 || !(area > 0.0f) || b->node_cost + best_cost / area >= (float)n;
     if (n <= b->leaf_size && leaf_cheaper) return (split_choice){true, 0};
 
     uint32_t mid;
@@ -600,6 +602,8 @@ bool bvh_build_sah(const rtt_scene *scene, const bvh_build_options *options, bvh
     b.leaf_size = options->leaf_size ? options->leaf_size : BVH_DEFAULT_LEAF_SIZE;
     if (b.leaf_size > BVH_LEAF_SIZE_MAX) b.leaf_size = BVH_LEAF_SIZE_MAX;
     b.max_depth = options->max_depth && options->max_depth < BVH_DEPTH_LIMIT ? options->max_depth : BVH_DEPTH_LIMIT;
+    b.node_cost = options->node_cost > 0.0f && options->node_cost <= BVH_NODE_COST_MAX ? options->node_cost
+                                                                                        : BVH_DEFAULT_NODE_COST;
     const uint32_t threads = rtt_thread_count(options->threads);
 
     const uint32_t n_tri = scene->triangle_count;

@@ -13,10 +13,19 @@
  * that chose them: bench/results/bvh-build.md). */
 #define BVH_LEAF_SIZE_MAX 64u
 #define BVH_DEFAULT_LEAF_SIZE 4u
+/* The SAH's cost of a node step in triangle tests: 2, not the textbook 1,
+ * since the frusta kernels test a leaf's triangles against every frustum
+ * at once (bvh-mft's camera path four triangles' set-up at a time) while a
+ * node step waits on its box test and branches: bvh-mft primary +5 to 12%
+ * on the meshes, bvh-packet +1 to 12%, frusta:16 -2 to +5% (bench/results/
+ * bvh-mft.md, eleventh session). */
+#define BVH_DEFAULT_NODE_COST 1.5f
+#define BVH_NODE_COST_MAX 64.0f
 
 typedef struct bvh_build_options {
     uint32_t leaf_size;   /* most records a leaf holds below the depth bound, 1..BVH_LEAF_SIZE_MAX (0 → default) */
     uint32_t max_depth;   /* 1..BVH_DEPTH_LIMIT (0 → BVH_DEPTH_LIMIT); a node there is a leaf whatever it holds */
+    float node_cost;      /* the SAH's C_trav over C_isect, (0, BVH_NODE_COST_MAX] (0 or outside → default) */
     uint32_t threads;     /* 0 → one per core */
 } bvh_build_options;
 
