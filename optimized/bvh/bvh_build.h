@@ -13,12 +13,14 @@
  * that chose them: bench/results/bvh-build.md). */
 #define BVH_LEAF_SIZE_MAX 64u
 #define BVH_DEFAULT_LEAF_SIZE 4u
-/* The SAH's cost of a node step in triangle tests: 2, not the textbook 1,
- * since the frusta kernels test a leaf's triangles against every frustum
- * at once (bvh-mft's camera path four triangles' set-up at a time) while a
- * node step waits on its box test and branches: bvh-mft primary +5 to 12%
- * on the meshes, bvh-packet +1 to 12%, frusta:16 -2 to +5% (bench/results/
- * bvh-mft.md, eleventh session). */
+/* The SAH's cost of a node step in triangle tests: 1.5, not the textbook
+ * 1, since the frusta kernels test a leaf's triangles against every
+ * frustum at once (bvh-mft's camera path makes four triangles' set-up at a
+ * time) while a node step waits on its box test and its branches.  Against
+ * 1: bvh-mft primary +5 to 6% on the meshes, the maps within 0.2%;
+ * frusta:16 -0.6 to +3%; bvh-packet -0.2 to +2.8%.  2 gained the meshes'
+ * primary rays up to 9% but cost frusta:16 on the maps 2 to 5%
+ * (bench/results/bvh-mft.md, eleventh session). */
 #define BVH_DEFAULT_NODE_COST 1.5f
 #define BVH_NODE_COST_MAX 64.0f
 
