@@ -164,11 +164,13 @@ static inline void frusta_edges(const bvh_corners *tri, const mft_bounds *g, fru
     }
 }
 
-/* Which frusta see the triangle facing them (D > 0) and which backing,
- * from frusta_edges' D. */
-static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uint32_t *backing)
+/* Which lanes see the triangle facing them (D > margin) and which backing
+ * (D < -margin), from D, the magnitudes of its terms, the corners' largest
+ * |component| relative to the origin (reach), area_eps = |normal|_1
+ * sqrt(3) eps and the normals' rounding bound cross_error; frusta_orientation
+ * from frusta_edges' terms, frusta_pinhole_setup from its quads'. */
+static inline void frusta_facing(vf det, vf det_mag, vf reach, vf area_eps, vf cross_error, vm *facing, vm *backing)
 {
-    const vf eps = vf_set1(FRUSTA_EPS), zero = vf_set1(0.0f);
     /* D decides the orientation only when the origin lies clear of the
      * triangle's plane on the scale of its corners: D = 2 area x distance,
      * so the distance must pass eps times the farthest corner, |rel|_2 <=
@@ -176,11 +178,17 @@ static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uin
      * an origin on an edge of a long sliver has |D| = det_mag yet sits on
      * the triangle), and D must pass its own rounding: n[0]'s error
      * (cross_error per component) times |rel[0]|_1 <= 3 reach */
-    const vf reach = t->reach;
-    const vf det_margin =
-        vf_add(vf_max(vf_mul(t->det_mag, eps), vf_mul(reach, vf_set1(t->area * FRUSTA_SQRT3 * FRUSTA_EPS))),
-               vf_mul(t->cross_error, vf_mul(reach, vf_set1(FRUSTA_DET_TERMS))));
-    *facing = vm_bits(vf_gt(t->det, det_margin)), *backing = vm_bits(vf_lt(t->det, vf_sub(zero, det_margin)));
+    const vf det_margin = vf_add(vf_max(vf_mul(det_mag, vf_set1(FRUSTA_EPS)), vf_mul(reach, area_eps)),
+                                 vf_mul(cross_error, vf_mul(reach, vf_set1(FRUSTA_DET_TERMS))));
+    *facing = vf_gt(det, det_margin), *backing = vf_lt(det, vf_sub(vf_set1(0.0f), det_margin));
+}
+
+static inline void frusta_orientation(const frusta_tri *t, uint32_t *facing, uint32_t *backing)
+{
+    vm face, back;
+    frusta_facing(t->det, t->det_mag, t->reach, vf_set1(t->area * FRUSTA_SQRT3 * FRUSTA_EPS), t->cross_error, &face,
+                  &back);
+    *facing = vm_bits(face), *backing = vm_bits(back);
 }
 
 /* The frusta of `active` some of whose directions may cross the triangle
@@ -268,7 +276,7 @@ typedef struct mft_cone {
  * 2^-20.5, of sum_k |n_k| (|corner_k| + |du_k| x + |dv_k| y) <= |n|_1
  * size, size camera_cones' largest sum over an axis of the corners' terms)
  * is covered three times over by pixel_scale's 2^-19 size over scale, and
- * n's by cross_error over |d|_1 <= l1.  The orientation (frusta_orientation's
+ * n's by cross_error over |d|_1 <= l1.  The orientation (frusta_facing's
  * D and margin) is one for every frustum: a triangle facing them is culled
  * from those whose directions all fall below an edge, a backing one from
  * those above, one whose plane passes near the eye from none.
@@ -346,14 +354,12 @@ static inline void frusta_pinhole_setup(const bvh_corners *tri, uint32_t count, 
     const vf reach = vf_shuffle(most, most, 0x00), edge_max = vf_shuffle(most, most, 0x55);
     const vf det = vf_shuffle(det4, det4, 0x00), det_mag = vf_shuffle(mag4, mag4, 0x00);
     const vf area = vf_shuffle(area4, area4, 0x00);
-    /* frusta_orientation's margin, with frusta_edges' area and cross_error */
+    /* the orientation, with frusta_edges' cross_error and area term */
     const vf cross_error = vf_mul(reach, vf_mul(edge_max, vf_set1(FRUSTA_CROSS_ERROR)));
-    const vf mag_margin = vf_mul(det_mag, vf_set1(FRUSTA_EPS));
-    const vf plane_margin = vf_mul(reach, vf_mul(vf_mul(area, vf_set1(FRUSTA_SQRT3)), vf_set1(FRUSTA_EPS)));
-    const vf det_margin =
-        vf_add(vf_max(mag_margin, plane_margin), vf_mul(cross_error, vf_mul(reach, vf_set1(FRUSTA_DET_TERMS))));
-    const vm facing = vf_gt(det, det_margin);
-    s->facing = vm_bits(facing), s->backing = vm_bits(vf_lt(det, vf_sub(zero, det_margin)));
+    const vf area_eps = vf_mul(vf_mul(area, vf_set1(FRUSTA_SQRT3)), vf_set1(FRUSTA_EPS));
+    vm facing, backing;
+    frusta_facing(det, det_mag, reach, area_eps, cross_error, &facing, &backing);
+    s->facing = vm_bits(facing), s->backing = vm_bits(backing);
     /* facing: culled where an edge function stays below -margin over the
      * block; backing: where one stays above margin (its negation below).
      * Per edge (lane) its edge function's frame terms f[j] = sign n.frame[j]. */
