@@ -94,6 +94,15 @@ static rtt_scene *soup_with_specials(uint32_t count, float size, uint64_t seed)
     return scene;
 }
 
+static void build_split(const rtt_scene *scene, uint32_t leaf_size, uint32_t max_depth, uint32_t threads,
+                        float split_share, bvh_tree *tree)
+{
+    bvh_build_options opt = {.leaf_size = leaf_size, .max_depth = max_depth, .threads = threads, .split_share = split_share};
+    rtt_error err = {{0}};
+    if (!bvh_build_sah(scene, &opt, tree, &err)) fail_msg("build: %s", err.message);
+}
+
+/* The default build (pre-splitting on; the soups below have no triangle it cuts). */
 static void build(const rtt_scene *scene, uint32_t leaf_size, uint32_t max_depth, uint32_t threads, bvh_tree *tree)
 {
     bvh_build_options opt = {.leaf_size = leaf_size, .max_depth = max_depth, .threads = threads};
@@ -110,7 +119,7 @@ static void test_builder_invariants_for_leaf_sizes_and_depths(void **state)
     for (size_t l = 0; l < sizeof leaf_sizes / sizeof leaf_sizes[0]; l++)
         for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
             bvh_tree tree;
-            build(scene, leaf_sizes[l], depths[d], 2, &tree);
+            build_split(scene, leaf_sizes[l], depths[d], 2, -1.0f, &tree); /* one reference per triangle */
             walk w = {.scene = scene, .tree = &tree, .leaf_size = leaf_sizes[l],
                       .max_depth = depths[d] ? depths[d] : BVH_DEPTH_LIMIT};
             w.seen = calloc(scene->triangle_count, 1);
@@ -132,6 +141,138 @@ static void test_builder_invariants_for_leaf_sizes_and_depths(void **state)
             free(w.seen);
             bvh_tree_free(&tree);
         }
+    rtt_scene_free(scene);
+}
+
+/* Pre-splitting (bvh_build.c): a soup of small triangles with a few that
+ * span the scene.  Per leaf, every record's prim is a triangle with a
+ * record; each triangle is in one leaf at least, and only the big ones in
+ * more; the references stay within the cap; and every point of every
+ * triangle (a grid of barycentric points in double, the corners among
+ * them) lies in the boxes of some leaf holding its record and of all that
+ * leaf's ancestors, so a ray meeting the triangle anywhere reaches a leaf
+ * that tests it.  The same at one and two threads, byte for byte. */
+typedef struct split_walk {
+    const rtt_scene *scene;
+    const bvh_tree *tree;
+    uint32_t *leaves_of;   /* per prim: leaves holding it */
+    uint8_t *covered;      /* per prim and sample point */
+    uint32_t records;
+} split_walk;
+
+enum { SPLIT_GRID = 8, SPLIT_POINTS = (SPLIT_GRID + 1) * (SPLIT_GRID + 2) / 2 };
+
+static void split_point(const rtt_scene *scene, uint32_t prim, int k, double q[3])
+{
+    rtt_vec3 v[3];
+    rtt_scene_triangle(scene, prim, v);
+    int i = 0, j = 0, at = 0;
+    for (i = 0; i <= SPLIT_GRID; i++)
+        for (j = 0; j <= SPLIT_GRID - i; j++)
+            if (at++ == k) goto found;
+found:;
+    const double a = (double)i / SPLIT_GRID, b = (double)j / SPLIT_GRID, c = 1.0 - a - b;
+    for (int x = 0; x < 3; x++)
+        q[x] = c * rtt_v3_get(v[0], x) + a * rtt_v3_get(v[1], x) + b * rtt_v3_get(v[2], x);
+}
+
+static bool box_holds_point(const bvh_child *c, const double q[3])
+{
+    for (int x = 0; x < 3; x++)
+        if (!(c->lo[x] <= q[x] && q[x] <= c->hi[x])) return false;
+    return true;
+}
+
+static void split_walk_child(split_walk *w, const bvh_child *c, const bvh_child **chain, uint32_t depth)
+{
+    chain[depth] = c;
+    if (c->count == 0) {
+        for (int k = 0; k < 2; k++) split_walk_child(w, &w->tree->nodes[c->index].child[k], chain, depth + 1);
+        return;
+    }
+    assert_true(c->index + c->count <= w->tree->triangle_count);
+    for (uint32_t i = 0; i < c->count; i++) {
+        const uint32_t prim = w->tree->triangles[c->index + i].prim;
+        assert_true(prim < w->scene->triangle_count);
+        assert_int_equal(w->tree->corners[c->index + i].prim, prim);
+        w->leaves_of[prim]++;
+        w->records++;
+        for (int k = 0; k < SPLIT_POINTS; k++) {
+            double q[3];
+            split_point(w->scene, prim, k, q);
+            bool inside = true;
+            for (uint32_t d = 0; d <= depth && inside; d++) inside = box_holds_point(chain[d], q);
+            if (inside) w->covered[(size_t)prim * SPLIT_POINTS + k] = 1;
+        }
+    }
+}
+
+static void test_pre_split_triangles_are_covered_by_their_leaves(void **state)
+{
+    (void)state;
+    rtt_scene *small = soup_with_specials(4000, 0.02f, 53);
+    /* the soup's triangles and 24 big ones across the box, some slanted */
+    const uint32_t big = 24, n = small->triangle_count + big;
+    float *xyz = malloc((size_t)n * 9 * sizeof *xyz);
+    assert_non_null(xyz);
+    for (uint32_t t = 0; t < small->triangle_count; t++) {
+        rtt_vec3 v[3];
+        rtt_scene_triangle(small, t, v);
+        for (int c = 0; c < 3; c++)
+            for (int x = 0; x < 3; x++) xyz[9 * t + 3 * c + x] = rtt_v3_get(v[c], x);
+    }
+    rng r = {59};
+    for (uint32_t t = small->triangle_count; t < n; t++)
+        for (int c = 0; c < 9; c++) xyz[9 * t + c] = rng_range(&r, -1.2f, 1.2f);
+    rtt_error err = {{0}};
+    rtt_scene *scene = rtt_scene_from_triangles(xyz, n, &err);
+    free(xyz);
+    assert_non_null(scene);
+    const float shares[] = {0.0f, 0.02f, 1.0f};
+    for (size_t s = 0; s < sizeof shares / sizeof shares[0]; s++) {
+        bvh_tree tree, two;
+        build_split(scene, 4, 0, 1, shares[s], &tree);
+        build_split(scene, 4, 0, 2, shares[s], &two);
+        assert_int_equal(tree.triangle_count, two.triangle_count);
+        assert_memory_equal(tree.nodes, two.nodes, tree.node_count * sizeof *tree.nodes);
+        assert_memory_equal(tree.corners, two.corners, tree.triangle_count * sizeof *tree.corners);
+        bvh_tree_free(&two);
+        split_walk w = {.scene = scene, .tree = &tree};
+        w.leaves_of = calloc(scene->triangle_count, sizeof *w.leaves_of);
+        w.covered = calloc((size_t)scene->triangle_count * SPLIT_POINTS, 1);
+        assert_non_null(w.leaves_of);
+        assert_non_null(w.covered);
+        const bvh_child *chain[BVH_TRAVERSAL_STACK + 1];
+        split_walk_child(&w, &tree.root, chain, 0);
+        assert_int_equal(w.records, tree.triangle_count);
+        uint32_t with_record = 0, split = 0;
+        for (uint32_t p = 0; p < scene->triangle_count; p++) {
+            rtt_vec3 v[3];
+            rtt_scene_triangle(scene, p, v);
+            kd_triangle rec;
+            if (!kd_triangle_record(&rec, v, p)) {
+                assert_int_equal(w.leaves_of[p], 0);
+                continue;
+            }
+            with_record++;
+            if (w.leaves_of[p] == 0) fail_msg("share %g: triangle %u is in no leaf", shares[s], p);
+            if (w.leaves_of[p] > 1) {
+                split++;
+                if (p < small->triangle_count) fail_msg("share %g: small triangle %u was cut", shares[s], p);
+            }
+            for (int k = 0; k < SPLIT_POINTS; k++)
+                if (!w.covered[(size_t)p * SPLIT_POINTS + k])
+                    fail_msg("share %g: point %d of triangle %u is in no leaf holding it", shares[s], k, p);
+        }
+        assert_true(tree.info.references == tree.triangle_count);
+        assert_true(tree.info.references <= tree.info.reference_cap);
+        assert_true(split > 0); /* the big ones were cut at every share tried */
+        assert_true(tree.triangle_count > with_record);
+        free(w.leaves_of);
+        free(w.covered);
+        bvh_tree_free(&tree);
+    }
+    rtt_scene_free(small);
     rtt_scene_free(scene);
 }
 
@@ -815,6 +956,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_builder_invariants_for_leaf_sizes_and_depths),
+        cmocka_unit_test(test_pre_split_triangles_are_covered_by_their_leaves),
         cmocka_unit_test(test_build_takes_no_denormal_operand),
         cmocka_unit_test(test_one_and_two_threads_build_the_same_bytes),
         cmocka_unit_test(test_degenerate_only_and_empty_scenes_build_and_miss),

@@ -113,9 +113,11 @@ static bool embree_best(const rtt_scene *scene, uint32_t runs, times *best)
 }
 #endif
 
+static float split_share; /* --split-share */
+
 static bool ours_best(const rtt_scene *scene, uint32_t threads, uint32_t runs, times *best, rtt_tree_info *info)
 {
-    const bvh_build_options options = {.threads = threads};
+    const bvh_build_options options = {.threads = threads, .split_share = split_share};
     for (uint32_t r = 0; r < runs; r++) {
         bvh_tree tree;
         rtt_error err = {{0}};
@@ -159,10 +161,12 @@ static bool report(const char *name, const rtt_scene *scene, uint32_t runs, uint
 
 static void usage(FILE *to)
 {
-    fprintf(to, "usage: bvh_build_time [--runs N] [--threads T] [--sphere U V] [SCENE...]\n"
+    fprintf(to, "usage: bvh_build_time [--runs N] [--threads T] [--split-share S] [--sphere U V] [SCENE...]\n"
                 "  our BVH build (one thread) against Embree's high-quality build (threads=1),\n"
                 "  best of N runs (default 5) in thread CPU time; --threads T adds our build's wall\n"
-                "  time on T threads; --sphere U V adds a generated wavy sphere of 2UV triangles\n");
+                "  time on T threads; --split-share S the pre-splitting's share of extra references\n"
+                "  (default the builder's, negative none); --sphere U V adds a generated wavy sphere\n"
+                "  of 2UV triangles\n");
 }
 
 static bool parse_count(const char *s, uint32_t *out)
@@ -187,6 +191,11 @@ int main(int argc, char **argv)
         } else if (strcmp(argv[a], "--threads") == 0 && a + 1 < argc) {
             if (!parse_count(argv[++a], &threads))
                 return fprintf(stderr, "bvh_build_time: bad --threads %s\n", argv[a]), 2;
+        } else if (strcmp(argv[a], "--split-share") == 0 && a + 1 < argc) {
+            char *end;
+            split_share = strtof(argv[++a], &end);
+            if (*argv[a] == '\0' || *end != '\0' || !(split_share <= BVH_SPLIT_SHARE_MAX))
+                return fprintf(stderr, "bvh_build_time: bad --split-share %s\n", argv[a]), 2;
         } else if (strcmp(argv[a], "--sphere") == 0 && a + 2 < argc) {
             if (!parse_count(argv[a + 1], &sphere_u) || !parse_count(argv[a + 2], &sphere_v))
                 return fprintf(stderr, "bvh_build_time: bad --sphere %s %s\n", argv[a + 1], argv[a + 2]), 2;

@@ -106,18 +106,20 @@ static bool soft_points_make(const rtt_scene *scene, const bench_rays *primary, 
 
 int main(int argc, char **argv)
 {
-    if (argc != 8 && argc != 9) {
+    if (argc < 8 || argc > 10) {
         fprintf(stderr, "usage: bvh_kernel_time SCENE bvh-mono|bvh-packet|bvh-mft|bvh-mft-camera|soft SIZE LEAF DEPTH "
-                        "FRAMES VIEWS [NODE_COST]\n");
+                        "FRAMES VIEWS [NODE_COST [SPLIT_SHARE]]\n");
         return 2;
     }
     const char *path = argv[1], *name = argv[2], *views_path = argv[7];
     const int size = atoi(argv[3]), leaf = atoi(argv[4]), depth = atoi(argv[5]), frames = atoi(argv[6]);
-    const double node_cost = argc == 9 ? atof(argv[8]) : 0.0;
+    const double node_cost = argc >= 9 ? atof(argv[8]) : 0.0, split_share = argc == 10 ? atof(argv[9]) : 0.0;
     if (size < 8 || size > 16384 || leaf < 0 || depth < 0 || frames < 1 ||
-        !(node_cost >= 0.0 && node_cost <= BVH_NODE_COST_MAX)) {
-        fprintf(stderr, "bvh_kernel_time: SIZE 8..16384, LEAF and DEPTH >= 0, FRAMES >= 1, NODE_COST 0..%g\n",
-                (double)BVH_NODE_COST_MAX);
+        !(node_cost >= 0.0 && node_cost <= BVH_NODE_COST_MAX) || !(split_share <= BVH_SPLIT_SHARE_MAX)) {
+        fprintf(stderr,
+                "bvh_kernel_time: SIZE 8..16384, LEAF and DEPTH >= 0, FRAMES >= 1, NODE_COST 0..%g (0: default), "
+                "SPLIT_SHARE at most %g (0: default, negative: none)\n",
+                (double)BVH_NODE_COST_MAX, (double)BVH_SPLIT_SHARE_MAX);
         return 2;
     }
     rtt_isa isa;
@@ -134,7 +136,8 @@ int main(int argc, char **argv)
     bvh_tree tree;
     memset(&tree, 0, sizeof tree);
     const bvh_build_options build = {
-        .leaf_size = (uint32_t)leaf, .max_depth = (uint32_t)depth, .node_cost = (float)node_cost, .threads = 1};
+        .leaf_size = (uint32_t)leaf, .max_depth = (uint32_t)depth, .node_cost = (float)node_cost,
+        .split_share = (float)split_share, .threads = 1};
     const double build_start = kerneltime_thread_seconds();
     if (!bvh_build_sah(scene, &build, &tree, &err)) {
         fprintf(stderr, "bvh_kernel_time: %s\n", err.message);

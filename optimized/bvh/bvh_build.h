@@ -23,11 +23,24 @@
  * (bench/results/bvh-mft.md, eleventh session). */
 #define BVH_DEFAULT_NODE_COST 1.5f
 #define BVH_NODE_COST_MAX 64.0f
+/* Pre-splitting (bvh_build.c): the references it may add, a share of the
+ * triangles, and which triangles it cuts: those whose box's area is this
+ * many times the top of the median box area's binade or more.  0.1 and 8:
+ * czest3ctf's primary rays +23%, its soft shadows +4% (+2 to +31% over
+ * five views), ctf_inyard's soft shadows +10%, primary rays -4 to -5% on
+ * ctf_inyard and oa_dm4; the meshes have no such triangles (none on
+ * armadillo and the elephant, 67 on bunny00); the build +20% on the maps
+ * (bench/results/bvh-mft.md, twelfth session). */
+#define BVH_DEFAULT_SPLIT_SHARE 0.1f
+#define BVH_SPLIT_SHARE_MAX 1.0f
+#define BVH_SPLIT_AREA_FACTOR 8.0f
 
 typedef struct bvh_build_options {
     uint32_t leaf_size;   /* most records a leaf holds below the depth bound, 1..BVH_LEAF_SIZE_MAX (0 → default) */
     uint32_t max_depth;   /* 1..BVH_DEPTH_LIMIT (0 → BVH_DEPTH_LIMIT); a node there is a leaf whatever it holds */
     float node_cost;      /* the SAH's C_trav over C_isect, (0, BVH_NODE_COST_MAX] (0 or outside → default) */
+    float split_share;    /* pre-splitting's extra references over the triangles, at most BVH_SPLIT_SHARE_MAX
+                           * (0 → BVH_DEFAULT_SPLIT_SHARE, negative → none: one reference per triangle) */
     uint32_t threads;     /* 0 → one per core */
 } bvh_build_options;
 

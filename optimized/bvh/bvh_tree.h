@@ -66,7 +66,8 @@ typedef struct bvh_tree {
     kd_triangle *triangles;   /* records in leaf order */
     bvh_corners *corners;     /* per record, the same order */
     void *arrays;             /* the one allocation holding nodes, triangles and corners (engine/pages.h) */
-    uint32_t node_count, triangle_count;
+    uint32_t node_count, triangle_count; /* triangle_count: records, in leaf order (a pre-split triangle has one
+                                          * per leaf its parts went to, bvh_build.c) */
     bvh_child root;           /* the root's box and reference (count 0 and node 0, or a leaf) */
     bool watertight;          /* the triangle test: false projected (records), true watertight (corners) */
     /* Back-face culling (../solids.h; bvh-mft's camera path): per record,
