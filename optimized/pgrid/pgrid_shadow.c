@@ -247,15 +247,19 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
     uint64_t *records = scratch->records;
     for (uint32_t first = 0; first < count; first += LANES)
         make_keys(L, rays, first, count - first < LANES ? count - first : LANES, keys);
-    uint32_t runs = 0, lo = UINT32_MAX, hi = 0;
+    /* without a branch per ray: a run's entry is written at every ray and
+     * kept by the count moving on only where a run starts (a mesh's rays
+     * seen from the light change cells every ray or two, and the branch
+     * was mispredicted as often) */
+    uint32_t runs = 0, lo = UINT32_MAX, hi = 0, before = ~keys[0];
     for (uint32_t i = 0; i < count; i++) {
         const uint32_t key = keys[i];
-        if (i && key == keys[i - 1]) continue;
         run_first[runs] = i;
         records[runs] = (uint64_t)key << 32 | runs;
-        runs++;
-        if (key < lo) lo = key;
-        if (key > hi) hi = key;
+        runs += key != before;
+        before = key;
+        lo = key < lo ? key : lo;
+        hi = key > hi ? key : hi;
     }
     run_first[runs] = count;
     /* which rays may start inside a culled solid, in batch order (their
