@@ -163,14 +163,17 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
     return true;
 }
 
+/* The count and fill stages' bands per face at most (two threads or more: two). */
+#define PGRID_LIGHT_BANDS_MAX 2u
+
 /* What a build's tasks share. */
 typedef struct light_build {
     pgrid_print_job job;
     pgrid_prints_fn prints;
     uint32_t bands, row_threads; /* row_threads: the threads whose rows light->row_records holds (bands > 1) */
     uint32_t band_row[PGRID_LIGHT_FACES][3]; /* face f's band k: rows band_row[f][k] .. band_row[f][k + 1] */
-    uint32_t band_refs[PGRID_LIGHT_FACES][2];  /* per band its references (the count stage's) */
-    uint32_t band_base[PGRID_LIGHT_FACES][2];  /* per band where its references start in refs */
+    uint32_t band_refs[PGRID_LIGHT_FACES][PGRID_LIGHT_BANDS_MAX];  /* per band its references (the count stage's) */
+    uint32_t band_base[PGRID_LIGHT_FACES][PGRID_LIGHT_BANDS_MAX];  /* per band where its references start in refs */
     size_t cells;
 } light_build;
 
@@ -355,6 +358,8 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
     uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
                        *restrict cell_front = light->cell_front;
     float *restrict cell_min = light->cell_min;
+    /* the band's spare slot past the references (pgrid_light_rebuild grows refs by PGRID_LIGHT_BANDS_MAX) */
+    const size_t spare = light->ref_count + task % b->bands;
     if (fill) {
         uint32_t at = b->band_base[face][task % b->bands];
         for (size_t c = first; c < last; c++) {
@@ -378,6 +383,41 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
             const pgrid_footprint f = prints[i];
             if (f.y1 < r0 || f.y0 >= r1) continue;
             const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
+            const uint32_t wx = (uint32_t)(f.x1 - f.x0), wy = y1 - y0;
+            if ((wx | wy) <= 1u) {
+                /* at most 2 x 2 cells (a mesh's triangles mostly): the four
+                 * corners without a loop, a corner outside the footprint
+                 * being the first cell again with nothing added (its cursor
+                 * untouched, its record written to the band's spare slot
+                 * past the references; a minimum taken twice is the same):
+                 * the loops' exits were mispredicted every few records */
+                const size_t c00 = ((size_t)face * res + y0) * res + f.x0, c01 = c00 + wx;
+                const size_t c10 = c00 + (size_t)wy * res, c11 = c10 + wx;
+                const uint32_t v01 = wx, v10 = wy, v11 = wx & wy;
+                if (fill) {
+                    uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
+                    refs[own[c00]++] = i;
+                    refs[v01 ? own[c01] : spare] = i, own[c01] += v01;
+                    refs[v10 ? own[c10] : spare] = i, own[c10] += v10;
+                    refs[v11 ? own[c11] : spare] = i, own[c11] += v11;
+                    continue;
+                }
+                total += (wx + 1u) * (wy + 1u);
+                if (record_front[i]) {
+                    main_cursor[c00]++, cell_front[c00]++;
+                    main_cursor[c01] += v01, cell_front[c01] += v01;
+                    main_cursor[c10] += v10, cell_front[c10] += v10;
+                    main_cursor[c11] += v11, cell_front[c11] += v11;
+                    continue;
+                }
+                const float d = bound[i];
+                main_cursor[c00]++, main_cursor[c01] += v01, main_cursor[c10] += v10, main_cursor[c11] += v11;
+                cell_min[c00] = d < cell_min[c00] ? d : cell_min[c00];
+                cell_min[c01] = d < cell_min[c01] ? d : cell_min[c01];
+                cell_min[c10] = d < cell_min[c10] ? d : cell_min[c10];
+                cell_min[c11] = d < cell_min[c11] ? d : cell_min[c11];
+                continue;
+            }
             if (fill) {
                 uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
                 for (uint32_t y = y0; y <= y1; y++) {
@@ -471,7 +511,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     light_build b = {.job = {.light = light, .grids = grids, .E = E, .res = res, .n = n},
                      .prints = grids->prints ? grids->prints : pgrid_light_prints_scalar,
                      .cells = cells,
-                     .bands = threads > 1 ? 2 : 1,
+                     .bands = threads > 1 ? PGRID_LIGHT_BANDS_MAX : 1,
                      .row_threads = row_threads};
     if (b.bands > 1) memset(light->row_records, 0, (size_t)row_threads * PGRID_LIGHT_FACES * res * sizeof *light->row_records);
     rtt_parallel_run(chunks, threads, footprint_chunk, &b);
@@ -530,7 +570,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     }
     light->cell_first[cells] = total;
     light->ref_count = total;
-    if (!grow(&light->refs, &light->ref_capacity, light->ref_count + 1, sizeof *light->refs)) {
+    if (!grow(&light->refs, &light->ref_capacity, light->ref_count + PGRID_LIGHT_BANDS_MAX, sizeof *light->refs)) {
         pgrid_light_free(light);
         return false;
     }
