@@ -163,8 +163,10 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
     return true;
 }
 
-/* The count and fill stages' bands per face at most (two threads or more: two). */
+/* The count and fill stages' bands per face at most (two threads or more:
+ * two), and the fill's spare slots past the references, one per task. */
 #define PGRID_LIGHT_BANDS_MAX 2u
+#define PGRID_LIGHT_SPARE_SLOTS (PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX)
 
 /* What a build's tasks share. */
 typedef struct light_build {
@@ -358,8 +360,9 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
     uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
                        *restrict cell_front = light->cell_front;
     float *restrict cell_min = light->cell_min;
-    /* the band's spare slot past the references (pgrid_light_rebuild grows refs by PGRID_LIGHT_BANDS_MAX) */
-    const size_t spare = light->ref_count + task % b->bands;
+    /* the task's own spare slot past the references (a slot per face and band: tasks of two faces run at
+     * once; pgrid_light_rebuild grows refs by PGRID_LIGHT_SPARE_SLOTS) */
+    const size_t spare = light->ref_count + task;
     if (fill) {
         uint32_t at = b->band_base[face][task % b->bands];
         for (size_t c = first; c < last; c++) {
@@ -388,7 +391,7 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
                 /* at most 2 x 2 cells (a mesh's triangles mostly): the four
                  * corners without a loop, a corner outside the footprint
                  * being the first cell again with nothing added (its cursor
-                 * untouched, its record written to the band's spare slot
+                 * untouched, its record written to the task's spare slot
                  * past the references; a minimum taken twice is the same):
                  * the loops' exits were mispredicted every few records */
                 const size_t c00 = ((size_t)face * res + y0) * res + f.x0, c01 = c00 + wx;
@@ -570,7 +573,7 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     }
     light->cell_first[cells] = total;
     light->ref_count = total;
-    if (!grow(&light->refs, &light->ref_capacity, light->ref_count + PGRID_LIGHT_BANDS_MAX, sizeof *light->refs)) {
+    if (!grow(&light->refs, &light->ref_capacity, light->ref_count + PGRID_LIGHT_SPARE_SLOTS, sizeof *light->refs)) {
         pgrid_light_free(light);
         return false;
     }
