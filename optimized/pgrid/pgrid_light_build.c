@@ -164,9 +164,13 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
 }
 
 /* The count and fill stages' bands per face at most (two threads or more:
- * two), and the fill's spare slots past the references, one per task. */
+ * two), and the fill's spare slots past the references: one per task, each
+ * in a 64-byte line of its own (two tasks' slots in one line had the
+ * threads pass it to and fro at every record: the fill slower on two
+ * threads than on one). */
 #define PGRID_LIGHT_BANDS_MAX 2u
-#define PGRID_LIGHT_SPARE_SLOTS (PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX)
+#define PGRID_LIGHT_SPARE_STRIDE 16u
+#define PGRID_LIGHT_SPARE_SLOTS ((PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX + 1u) * PGRID_LIGHT_SPARE_STRIDE)
 
 /* What a build's tasks share. */
 typedef struct light_build {
@@ -360,9 +364,9 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
     uint32_t *restrict refs = light->refs, *restrict cell_first = light->cell_first,
                        *restrict cell_front = light->cell_front;
     float *restrict cell_min = light->cell_min;
-    /* the task's own spare slot past the references (a slot per face and band: tasks of two faces run at
-     * once; pgrid_light_rebuild grows refs by PGRID_LIGHT_SPARE_SLOTS) */
-    const size_t spare = light->ref_count + task;
+    /* the task's own spare slot past the references (a slot per face and band, a line apart: tasks of two
+     * faces run at once; pgrid_light_rebuild grows refs by PGRID_LIGHT_SPARE_SLOTS) */
+    const size_t spare = light->ref_count + (size_t)(task + 1u) * PGRID_LIGHT_SPARE_STRIDE; /* none in the last references' line */
     if (fill) {
         uint32_t at = b->band_base[face][task % b->bands];
         for (size_t c = first; c < last; c++) {
