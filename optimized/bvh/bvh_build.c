@@ -80,11 +80,18 @@ typedef struct box3 {
     float lo[3], hi[3];
 } box3;
 
-static double box_half_area(const box3 *b)
+/* Half the surface area of the box [lo, hi] in double (0 along an empty axis). */
+static double half_area(const double lo[3], const double hi[3])
 {
     double d[3];
-    for (int k = 0; k < 3; k++) d[k] = b->hi[k] > b->lo[k] ? (double)b->hi[k] - (double)b->lo[k] : 0.0;
+    for (int k = 0; k < 3; k++) d[k] = hi[k] > lo[k] ? hi[k] - lo[k] : 0.0;
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+static double box_half_area(const box3 *b)
+{
+    const double lo[3] = {b->lo[0], b->lo[1], b->lo[2]}, hi[3] = {b->hi[0], b->hi[1], b->hi[2]};
+    return half_area(lo, hi);
 }
 
 /* 32 bytes: a triangle's box in SSE lanes, its record index in the fourth
@@ -442,29 +449,29 @@ static bool dyadic_plane(const dbox *b, const double scene_lo[3], const double s
     return best < 64;
 }
 
-static double dbox_half_area(const dbox *b)
-{
-    double d[3];
-    for (int k = 0; k < 3; k++) d[k] = b->hi[k] > b->lo[k] ? b->hi[k] - b->lo[k] : 0.0;
-    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
-}
-
-/* A convex polygon (a triangle's part) in double. */
+/* A convex polygon (a triangle's part) in double: a triangle cut by
+ * axis-aligned planes has at most 9 corners (3 + 2 per axis); room for
+ * more, for what rounding may add. */
+enum { POLYGON_MAX = 16 };
 typedef struct polygon {
     int n;
-    double v[9][3];
+    double v[POLYGON_MAX][3];
 } polygon;
 
-/* The part of `in` on one side of the plane x[axis] = at (`upper`: x >= at); its box. */
-static void polygon_cut(const polygon *in, int axis, double at, bool upper, polygon *out, dbox *box)
+/* The part of `in` on one side of the plane x[axis] = at (`upper`: x >= at)
+ * and its box; false (nothing made) when it would not fit: a corner
+ * dropped would leave the box short of the part. */
+static bool polygon_cut(const polygon *in, int axis, double at, bool upper, polygon *out, dbox *box)
 {
     const double sign = upper ? 1.0 : -1.0;
     out->n = 0;
     for (int i = 0; i < in->n; i++) {
         const double *a = in->v[i], *c = in->v[(i + 1) % in->n];
         const double da = sign * (a[axis] - at), dc = sign * (c[axis] - at);
-        if (da >= 0.0 && out->n < 9) memcpy(out->v[out->n++], a, sizeof out->v[0]);
-        if (((da < 0.0 && dc > 0.0) || (da > 0.0 && dc < 0.0)) && out->n < 9) {
+        const bool keep = da >= 0.0, cross = (da < 0.0 && dc > 0.0) || (da > 0.0 && dc < 0.0);
+        if (out->n + keep + cross > POLYGON_MAX) return false;
+        if (keep) memcpy(out->v[out->n++], a, sizeof out->v[0]);
+        if (cross) {
             const double t = da / (da - dc);
             double *q = out->v[out->n++];
             for (int k = 0; k < 3; k++) q[k] = a[k] + t * (c[k] - a[k]);
@@ -477,6 +484,7 @@ static void polygon_cut(const polygon *in, int axis, double at, bool upper, poly
             box->lo[k] = out->v[i][k] < box->lo[k] ? out->v[i][k] : box->lo[k];
             box->hi[k] = out->v[i][k] > box->hi[k] ? out->v[i][k] : box->hi[k];
         }
+    return true;
 }
 
 /* `pieces` more references for the record's part `poly` (box b) at
@@ -493,13 +501,13 @@ static void split_count(const polygon *poly, const dbox *b, uint32_t pieces, uin
     }
     polygon part[2];
     dbox box[2];
-    polygon_cut(poly, axis, plane, false, &part[0], &box[0]);
-    polygon_cut(poly, axis, plane, true, &part[1], &box[1]);
-    if (part[0].n < 3 || part[1].n < 3) { /* the plane only touches it: no cut */
+    /* no cut when the plane only touches the part, or a part would not fit */
+    if (!polygon_cut(poly, axis, plane, false, &part[0], &box[0]) ||
+        !polygon_cut(poly, axis, plane, true, &part[1], &box[1]) || part[0].n < 3 || part[1].n < 3) {
         refs[(*at)++] = ref_of(b, record);
         return;
     }
-    const double a0 = dbox_half_area(&box[0]), a1 = dbox_half_area(&box[1]);
+    const double a0 = half_area(box[0].lo, box[0].hi), a1 = half_area(box[1].lo, box[1].hi);
     const uint32_t left = (uint32_t)((double)(pieces - 1u) * (a0 + a1 > 0.0 ? a0 / (a0 + a1) : 0.5) + 0.5);
     split_count(&part[0], &box[0], left, record, scene_lo, scene_ext, refs, at);
     split_count(&part[1], &box[1], pieces - 1u - left, record, scene_lo, scene_ext, refs, at);
