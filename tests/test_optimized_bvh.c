@@ -162,18 +162,18 @@ typedef struct split_walk {
 
 enum { SPLIT_GRID = 8, SPLIT_POINTS = (SPLIT_GRID + 1) * (SPLIT_GRID + 2) / 2 };
 
-static void split_point(const rtt_scene *scene, uint32_t prim, int k, double q[3])
+/* The grid's points of triangle `prim`, in double. */
+static void split_points(const rtt_scene *scene, uint32_t prim, double q[SPLIT_POINTS][3])
 {
     rtt_vec3 v[3];
     rtt_scene_triangle(scene, prim, v);
-    int i = 0, j = 0, at = 0;
-    for (i = 0; i <= SPLIT_GRID; i++)
-        for (j = 0; j <= SPLIT_GRID - i; j++)
-            if (at++ == k) goto found;
-found:;
-    const double a = (double)i / SPLIT_GRID, b = (double)j / SPLIT_GRID, c = 1.0 - a - b;
-    for (int x = 0; x < 3; x++)
-        q[x] = c * rtt_v3_get(v[0], x) + a * rtt_v3_get(v[1], x) + b * rtt_v3_get(v[2], x);
+    int k = 0;
+    for (int i = 0; i <= SPLIT_GRID; i++)
+        for (int j = 0; j <= SPLIT_GRID - i; j++, k++) {
+            const double a = (double)i / SPLIT_GRID, b = (double)j / SPLIT_GRID, c = 1.0 - a - b;
+            for (int x = 0; x < 3; x++)
+                q[k][x] = c * rtt_v3_get(v[0], x) + a * rtt_v3_get(v[1], x) + b * rtt_v3_get(v[2], x);
+        }
 }
 
 static bool box_holds_point(const bvh_child *c, const double q[3])
@@ -197,11 +197,11 @@ static void split_walk_child(split_walk *w, const bvh_child *c, const bvh_child 
         assert_int_equal(w->tree->corners[c->index + i].prim, prim);
         w->leaves_of[prim]++;
         w->records++;
+        double q[SPLIT_POINTS][3];
+        split_points(w->scene, prim, q);
         for (int k = 0; k < SPLIT_POINTS; k++) {
-            double q[3];
-            split_point(w->scene, prim, k, q);
             bool inside = true;
-            for (uint32_t d = 0; d <= depth && inside; d++) inside = box_holds_point(chain[d], q);
+            for (uint32_t d = 0; d <= depth && inside; d++) inside = box_holds_point(chain[d], q[k]);
             if (inside) w->covered[(size_t)prim * SPLIT_POINTS + k] = 1;
         }
     }
