@@ -73,9 +73,11 @@ static const cli_option render_options[] = {
     CLI_OPTIONS_KD_ENGINE(render_args, render.engine),
     {.name = "--shadows", .value_name = "METHOD",
      .help = "none, hard (default), multi:N, cone:N, pyramid:N (N = 1..256 samples), edgewidth[:R] (sphere and point "
-             "lights; refused with quad lights), interleaved[:N][:nofilter] (N = 4..32, default 16: the pixel's 4x4 "
-             "interleaved sample set, then the 4x4 discontinuity filter; the reference and embree engines), "
-             "frusta[:N][:nofilter] (interleaved's samples and filter, each pixel's samples traced as one of 16 "
+             "lights; refused with quad lights), interleaved[:N][:nofilter|:refine] (N = 4..32, default 16: the pixel's "
+             "4x4 interleaved sample set, then the 4x4 discontinuity filter; :refine adds a second pass that "
+             "retraces the pixels the filter moved past their samples' noise with all 16 sets, 16N rays; the "
+             "reference and embree engines), "
+             "frusta[:N][:nofilter|:refine] (interleaved's samples and filter, each pixel's samples traced as one of 16 "
              "multi-frusta; the optimized engine with --accel bvh), pgrid (hard "
              "shadows through a perspective grid per light; the optimized engine), pgrid:N (N = 1..256: "
              "multi:N's samples, and image, through a 3D perspective grid per light, each point's N rays "

@@ -30,13 +30,14 @@ static bool parse_sample_count(const char *text, const char *count, rtt_render_o
     return true;
 }
 
-/* "[:N][:nofilter]" after "interleaved" or "frusta": N in 4..32 (default 16), the filter on unless :nofilter. */
+/* "[:N][:nofilter|:refine]" after "interleaved" or "frusta": N in 4..32 (default 16), the filter on unless
+ * :nofilter, the refining second pass with :refine. */
 static bool parse_interleaved(const char *text, const char *rest, rtt_shadow_method method, rtt_render_options *opt,
                               rtt_error *err)
 {
     const char *name = method == RTT_SHADOWS_FRUSTA ? "frusta" : "interleaved";
     uint32_t n = RTT_INTERLEAVED_DEFAULT_SAMPLES;
-    bool filter = true;
+    bool filter = true, refine = false;
     if (*rest == ':' && rest[1] >= '0' && rest[1] <= '9') {
         char *end = NULL;
         long v = strtol(rest + 1, &end, 10);
@@ -48,12 +49,15 @@ static bool parse_interleaved(const char *text, const char *rest, rtt_shadow_met
     }
     if (strcmp(rest, ":nofilter") == 0)
         filter = false;
+    else if (strcmp(rest, ":refine") == 0)
+        refine = true;
     else if (*rest != '\0')
-        return rtt_error_set(err, "shadow method \"%s\": expected %s[:N][:nofilter], N from %u to %u", text, name,
-                             RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
+        return rtt_error_set(err, "shadow method \"%s\": expected %s[:N][:nofilter|:refine], N from %u to %u", text,
+                             name, RTT_INTERLEAVED_MIN_SAMPLES, RTT_INTERLEAVED_MAX_SAMPLES);
     opt->shadows = method;
     opt->shadow_samples = n;
     opt->shadow_filter = filter;
+    opt->shadow_refine = refine;
     return true;
 }
 
@@ -89,7 +93,7 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
         return parse_interleaved(text, text + 6, RTT_SHADOWS_FRUSTA, opt, err);
     return rtt_error_set(err,
                          "shadow method \"%s\": expected none, hard, multi:N, cone:N, pyramid:N, edgewidth[:R], "
-                         "interleaved[:N][:nofilter], frusta[:N][:nofilter], pgrid or pgrid:N",
+                         "interleaved[:N][:nofilter|:refine], frusta[:N][:nofilter|:refine], pgrid or pgrid:N",
                          text);
 }
 

@@ -12,12 +12,14 @@
  *   multi:N   N rays to rtt_light_sample(light, p, i, N, pixel) on sphere
  *             and quad lights, the mean of their transmissions; one ray for
  *             point lights.
- *   interleaved:N[:nofilter]  N rays to the samples of the pixel's 4x4
- *             interleaved set (rtt/interleaved.h) on lights with area, one
- *             ray for the others; the primary hit's light terms go to
- *             rtt_shadow_planes, whose visibility is filtered by the 4x4
- *             discontinuity filter (unless :nofilter) and composed once
- *             every tile is done.
+ *   interleaved:N[:nofilter|:refine]  N rays to the samples of the
+ *             pixel's 4x4 interleaved set (rtt/interleaved.h) on lights with
+ *             area, one ray for the others; the primary hit's light terms
+ *             go to rtt_shadow_planes, whose visibility is filtered by the
+ *             4x4 discontinuity filter (unless :nofilter) and composed once
+ *             every tile is done; with :refine the pixels the filter moved
+ *             past their samples' noise are retraced first with all 16 sets
+ *             (rtt_engine_refined_visibility, one pixel after another).
  * A shadow ray's transmission is 1 when it is clear; when it is occluded in
  * a scene with transparent materials, the ray is traced again for its
  * closest hits, one surface after the other (tnear moved to each hit), and
@@ -87,25 +89,8 @@ static rtt_hit trace_closest(const render_job *job, const rtt_ray *ray)
  * the surfaces it crosses, nearest first (shade.h). */
 static float segment_transmission(const render_job *job, rtt_vec3 p, rtt_vec3 target, ray_counts *counts)
 {
-    rtt_vec3 to_target = rtt_v3_sub(target, p);
-    float distance = rtt_v3_length(to_target);
-    if (!(distance > 2.0f * job->epsilon)) return 1.0f; /* nothing fits between */
-    rtt_vec3 dir = rtt_v3_scale(to_target, 1.0f / distance);
-    rtt_ray ray = {{p.x, p.y, p.z}, {dir.x, dir.y, dir.z}, job->epsilon, distance - job->epsilon};
-    uint8_t occluded = 0;
-    rtt_engine_occluded(job->tracer, &ray, &occluded, 1);
-    counts->shadow++;
-    if (!occluded) return 1.0f;
-    if (!job->transparent_shadows) return 0.0f;
-    float transmission = 1.0f;
-    for (uint32_t layer = 0; layer < RTT_SHADOW_MAX_LAYERS; layer++) {
-        rtt_hit hit = trace_closest(job, &ray);
-        if (hit.prim == RTT_MISS) return transmission;
-        transmission *= rtt_shadow_transmission(job->scene, hit.prim);
-        if (transmission == 0.0f) return 0.0f;
-        ray.tnear = hit.t; /* past this surface: hits count only beyond tnear */
-    }
-    return 0.0f;
+    return rtt_engine_segment_transmission(job->tracer, job->scene, p, target, job->epsilon, job->transparent_shadows,
+                                           &counts->shadow);
 }
 
 /* vis in [0, 1] of the light from p by the chosen shadow method. */
@@ -172,6 +157,9 @@ static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32
         float vis = light_visibility(job, light, s->point, pixel, counts);
         if (planes) {
             const size_t at = (size_t)planes->width * planes->height * i + pixel;
+            planes->point[3 * (size_t)pixel + 0] = s->point.x;
+            planes->point[3 * (size_t)pixel + 1] = s->point.y;
+            planes->point[3 * (size_t)pixel + 2] = s->point.z;
             planes->visibility[at] = vis;
             rtt_vec3 c = rtt_v3_scale(contribution, weight);
             planes->contribution[3 * at + 0] = c.x;
@@ -282,6 +270,21 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     atomic_fetch_add(&job->secondary, counts.secondary);
 }
 
+/* The refining pass (rtt/interleaved.h), one pixel after another. */
+static bool refine_pixels(void *context, uint32_t light, const uint32_t *pixel, size_t count, float *vis)
+{
+    render_job *job = context;
+    const rtt_shadow_planes *planes = job->planes;
+    uint64_t rays = 0;
+    for (size_t i = 0; i < count; i++) {
+        const float *p = &planes->point[3 * (size_t)pixel[i]];
+        vis[i] = rtt_engine_refined_visibility(job->tracer, job->scene, &job->scene->lights[light], rtt_v3(p[0], p[1], p[2]),
+                                               job->shadow_samples, job->epsilon, job->transparent_shadows, &rays);
+    }
+    atomic_fetch_add(&job->shadow, rays);
+    return true;
+}
+
 static const char *shadow_method_text(const rtt_render_options *opt, char *buffer, size_t size)
 {
     switch (opt->shadows) {
@@ -351,7 +354,10 @@ bool rtt_reference_render(const rtt_scene *scene, rtt_engine *tracer, const rtt_
                        opt->progress, opt->progress_context);
     if (job.edge_tree) rtt_kd_reference_free(&edge_tree);
     if (job.planes) {
-        bool resolved = rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
+        bool resolved = opt->shadow_refine && opt->shadow_filter
+                            ? rtt_shadow_planes_resolve_refined(&planes, job.shadow_samples, NULL, refine_pixels, &job,
+                                                                out->rgb, NULL)
+                            : rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
         rtt_shadow_planes_free(&planes);
         if (!resolved) return rtt_error_set(err, "%s: out of memory for the shadow filter", scene->path);
     }

@@ -107,7 +107,7 @@ void rtt_discontinuity_filter(const float *visibility, const float *depth, const
 
 uint64_t rtt_shadow_planes_bytes(uint32_t width, uint32_t height, uint32_t lights)
 {
-    const uint64_t pixels = (uint64_t)width * height, per_pixel = 7u * sizeof(float) + (uint64_t)lights * 16u;
+    const uint64_t pixels = (uint64_t)width * height, per_pixel = 10u * sizeof(float) + (uint64_t)lights * 16u;
     if (pixels && per_pixel > (UINT64_MAX - lights) / pixels) return UINT64_MAX; /* saturates */
     return pixels * per_pixel + lights;
 }
@@ -125,11 +125,12 @@ bool rtt_shadow_planes_init(rtt_shadow_planes *planes, uint32_t width, uint32_t 
     planes->lights = count;
     planes->rest = calloc(3 * pixels + 1, sizeof(float));
     planes->normal = calloc(3 * pixels + 1, sizeof(float));
+    planes->point = calloc(3 * pixels + 1, sizeof(float));
     planes->depth = malloc((pixels + 1) * sizeof(float));
     planes->visibility = malloc((pixels * per_light + 1) * sizeof(float));
     planes->contribution = calloc(3 * pixels * per_light + 1, sizeof(float));
     planes->soft = calloc(per_light, sizeof(bool));
-    if (!planes->rest || !planes->normal || !planes->depth || !planes->visibility || !planes->contribution ||
+    if (!planes->rest || !planes->normal || !planes->point || !planes->depth || !planes->visibility || !planes->contribution ||
         !planes->soft) {
         rtt_shadow_planes_free(planes);
         return false;
@@ -160,6 +161,7 @@ void rtt_shadow_planes_free(rtt_shadow_planes *planes)
 {
     free(planes->rest);
     free(planes->normal);
+    free(planes->point);
     free(planes->depth);
     free(planes->visibility);
     free(planes->contribution);
@@ -167,20 +169,30 @@ void rtt_shadow_planes_free(rtt_shadow_planes *planes)
     memset(planes, 0, sizeof *planes);
 }
 
-bool rtt_shadow_planes_resolve(const rtt_shadow_planes *planes, bool filter, const rtt_discontinuity_thresholds *t,
-                               float *rgb)
+bool rtt_refine_needed(float visibility, float filtered, uint32_t samples)
+{
+    const float spread = sqrtf(filtered * (1.0f - filtered) / (float)samples);
+    return fabsf(filtered - visibility) > spread + RTT_REFINE_MARGIN;
+}
+
+/* The soft lights' planes filtered into `filtered` (pixels * lights), the
+ * others copied. */
+static void filter_planes(const rtt_shadow_planes *planes, const rtt_discontinuity_thresholds *t, float *filtered)
 {
     const size_t pixels = (size_t)planes->width * planes->height;
-    float *filtered = NULL;
-    if (filter && planes->lights && !(filtered = malloc(pixels * planes->lights * sizeof(float)))) return false;
-    for (uint32_t l = 0; filtered && l < planes->lights; l++) {
+    for (uint32_t l = 0; l < planes->lights; l++) {
         if (planes->soft[l])
             rtt_discontinuity_filter(&planes->visibility[pixels * l], planes->depth, planes->normal, planes->width,
                                      planes->height, t, &filtered[pixels * l]);
         else
             memcpy(&filtered[pixels * l], &planes->visibility[pixels * l], pixels * sizeof(float));
     }
-    const float *vis = filtered ? filtered : planes->visibility;
+}
+
+/* rgb = rest + every light's contribution times vis (NaN: left out). */
+static void compose(const rtt_shadow_planes *planes, const float *vis, float *rgb)
+{
+    const size_t pixels = (size_t)planes->width * planes->height;
     for (size_t p = 0; p < pixels; p++) {
         rtt_vec3 colour = rtt_v3(planes->rest[3 * p], planes->rest[3 * p + 1], planes->rest[3 * p + 2]);
         for (uint32_t l = 0; l < planes->lights; l++) {
@@ -193,6 +205,50 @@ bool rtt_shadow_planes_resolve(const rtt_shadow_planes *planes, bool filter, con
         rgb[3 * p + 1] = colour.y;
         rgb[3 * p + 2] = colour.z;
     }
+}
+
+bool rtt_shadow_planes_resolve(const rtt_shadow_planes *planes, bool filter, const rtt_discontinuity_thresholds *t,
+                               float *rgb)
+{
+    const size_t pixels = (size_t)planes->width * planes->height;
+    float *filtered = NULL;
+    if (filter && planes->lights && !(filtered = malloc(pixels * planes->lights * sizeof(float)))) return false;
+    if (filtered) filter_planes(planes, t, filtered);
+    compose(planes, filtered ? filtered : planes->visibility, rgb);
     free(filtered);
     return true;
+}
+
+bool rtt_shadow_planes_resolve_refined(const rtt_shadow_planes *planes, uint32_t samples,
+                                       const rtt_discontinuity_thresholds *t, rtt_refine_fn refine, void *context,
+                                       float *rgb, uint64_t *refined)
+{
+    const size_t pixels = (size_t)planes->width * planes->height;
+    if (refined) *refined = 0;
+    if (!planes->lights) {
+        compose(planes, planes->visibility, rgb);
+        return true;
+    }
+    float *filtered = malloc(pixels * planes->lights * sizeof(float)), *vis = malloc(pixels * sizeof(float));
+    uint32_t *list = malloc(pixels * sizeof(uint32_t)); /* pixels < 2^32: the planes' cap */
+    bool ok = filtered && vis && list;
+    if (ok) filter_planes(planes, t, filtered);
+    for (uint32_t l = 0; ok && l < planes->lights; l++) {
+        if (!planes->soft[l]) continue;
+        const float *own = &planes->visibility[pixels * l];
+        float *out = &filtered[pixels * l];
+        size_t count = 0;
+        for (size_t p = 0; p < pixels; p++) /* a pixel with a visibility has a hit */
+            if (!isnan(own[p]) && isfinite(planes->depth[p]) && rtt_refine_needed(own[p], out[p], samples))
+                list[count++] = (uint32_t)p;
+        if (!count) continue;
+        ok = refine(context, l, list, count, vis);
+        for (size_t i = 0; ok && i < count; i++) out[list[i]] = vis[i];
+        if (refined) *refined += count;
+    }
+    if (ok) compose(planes, filtered, rgb);
+    free(filtered);
+    free(list);
+    free(vis);
+    return ok;
 }

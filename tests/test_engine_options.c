@@ -240,9 +240,12 @@ static void test_interleaved_parses_its_count_and_filter_flag(void **state)
     rtt_render_options opt;
     rtt_render_options_default(&opt);
     assert_true(opt.shadow_filter);
-    static const struct { const char *text; uint32_t n; bool filter; } good[] = {
-        {"interleaved", 16, true},          {"interleaved:4", 4, true},         {"interleaved:32", 32, true},
-        {"interleaved:8:nofilter", 8, false}, {"interleaved:nofilter", 16, false},
+    assert_false(opt.shadow_refine);
+    static const struct { const char *text; uint32_t n; bool filter, refine; } good[] = {
+        {"interleaved", 16, true, false},          {"interleaved:4", 4, true, false},
+        {"interleaved:32", 32, true, false},       {"interleaved:8:nofilter", 8, false, false},
+        {"interleaved:nofilter", 16, false, false}, {"interleaved:refine", 16, true, true},
+        {"interleaved:8:refine", 8, true, true},
     };
     for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
         rtt_render_options_default(&opt);
@@ -250,7 +253,11 @@ static void test_interleaved_parses_its_count_and_filter_flag(void **state)
         assert_int_equal(opt.shadows, RTT_SHADOWS_INTERLEAVED);
         assert_int_equal(opt.shadow_samples, good[i].n);
         assert_int_equal(opt.shadow_filter, good[i].filter);
+        assert_int_equal(opt.shadow_refine, good[i].refine);
     }
+    assert_false(rtt_shadow_method_parse("interleaved:refine:nofilter", &opt, &err));
+    assert_string_equal(err.message, "shadow method \"interleaved:refine:nofilter\": expected "
+                                     "interleaved[:N][:nofilter|:refine], N from 4 to 32");
     assert_string_equal(rtt_shadow_method_name(RTT_SHADOWS_INTERLEAVED), "interleaved");
     assert_false(rtt_shadow_method_parse("interleaved:64", &opt, &err));
     assert_string_equal(err.message, "shadow method \"interleaved:64\": the sample count must be a whole number from 4 to 32");

@@ -385,16 +385,18 @@ static void test_renders_equal_interleaved_and_packet_hard_shadows(void **state)
             opt.engine.isa = isa;
             opt.width = opt.height = 96;
             opt.threads = 2;
-            for (int filter = 0; filter < 2; filter++) {
+            for (int filter = 0; filter < 3; filter++) { /* :nofilter, filtered, :refine */
                 const uint32_t n = filter ? 16 : 8;
-                opt.shadow_filter = filter;
+                opt.shadow_filter = filter > 0;
+                opt.shadow_refine = filter == 2;
                 opt.shadow_samples = n;
                 opt.shadows = RTT_SHADOWS_INTERLEAVED;
                 rtt_image *want = render_scene(engine, &opt);
                 opt.shadows = RTT_SHADOWS_FRUSTA;
                 rtt_image *got = render_scene(engine, &opt);
-                print_message("%s %s %s frusta:%u%s against interleaved:%u\n", scenes[s / 2],
-                              rtt_engine_isect_name(engine), rtt_isa_name(isa), n, filter ? "" : ":nofilter", n);
+                const char *mode = filter == 0 ? ":nofilter" : filter == 2 ? ":refine" : "";
+                print_message("%s %s %s frusta:%u%s against interleaved:%u%s\n", scenes[s / 2],
+                              rtt_engine_isect_name(engine), rtt_isa_name(isa), n, mode, n, mode);
                 assert_memory_equal(got->rgb, want->rgb, sizeof(float) * 3 * 96 * 96);
                 rtt_image_free(want), rtt_image_free(got);
             }

@@ -320,10 +320,97 @@ static void test_planes_compose_rest_plus_filtered_light_terms(void **state)
     assert_null(planes.visibility);
 }
 
+static void test_refine_picks_what_the_filter_moved_past_the_noise(void **state)
+{
+    (void)state;
+    /* a lit pixel beside a contact shadow, the filter's 0.7 three standard deviations of 16 samples away */
+    assert_true(rtt_refine_needed(1.0f, 0.7f, 16));
+    assert_true(rtt_refine_needed(0.0f, 0.3f, 16));
+    /* a smooth penumbra: within one deviation (0.125) plus the margin */
+    assert_false(rtt_refine_needed(0.5625f, 0.5f, 16));
+    assert_false(rtt_refine_needed(0.375f, 0.5f, 16));
+    /* the tail of a penumbra: all 16 samples clear where 95% are, no refining */
+    assert_false(rtt_refine_needed(1.0f, 0.95f, 16));
+    /* fewer samples, more noise: what 16 refine, 4 leave */
+    assert_true(rtt_refine_needed(0.25f, 0.5f, 16));
+    assert_false(rtt_refine_needed(0.25f, 0.5f, 4));
+    /* flat regions never */
+    assert_false(rtt_refine_needed(1.0f, 1.0f, 16));
+    assert_false(rtt_refine_needed(0.0f, 0.0f, 32));
+}
+
+typedef struct refine_calls {
+    uint32_t light;
+    size_t count;
+    uint32_t pixel[W * H];
+    const rtt_shadow_planes *planes;
+} refine_calls;
+
+/* The test's second pass: records what it is asked and answers 0.5, or
+ * fails when asked to (count SIZE_MAX on entry). */
+static bool refine_record(void *context, uint32_t light, const uint32_t *pixel, size_t count, float *vis)
+{
+    refine_calls *calls = context;
+    if (calls->count == SIZE_MAX) return false;
+    calls->light = light;
+    for (size_t i = 0; i < count; i++) {
+        calls->pixel[calls->count++] = pixel[i];
+        const float *p = &calls->planes->point[3 * (size_t)pixel[i]];
+        assert_near(p[0], (float)(pixel[i] % W), 0); /* the planes' point reaches the pass */
+        vis[i] = 0.5f;
+    }
+    return true;
+}
+
+static void test_refine_retraces_the_pixels_the_filter_smeared(void **state)
+{
+    (void)state;
+    rtt_light lights[2] = {sphere_light, quad_light};
+    lights[0].type = RTT_LIGHT_POINT; /* light 0 hard: never refined */
+    lights[0].radius = 0;
+    rtt_shadow_planes planes;
+    assert_true(rtt_shadow_planes_init(&planes, W, H, lights, 2));
+    const size_t n = (size_t)W * H;
+    /* one surface; light 1: a sharp shadow edge between columns 3 and 4, as at a contact shadow */
+    for (size_t p = 0; p < n; p++) {
+        planes.depth[p] = 2.0f;
+        planes.normal[3 * p + 2] = 1.0f;
+        planes.point[3 * p] = (float)(p % W);
+        planes.rest[3 * p] = 0.25f;
+        planes.visibility[p] = (p % W) < 4 ? 0.0f : 1.0f;
+        planes.visibility[n + p] = (p % W) < 4 ? 0.0f : 1.0f;
+        for (int c = 0; c < 3; c++) planes.contribution[3 * (n + p) + c] = 1.0f;
+    }
+    float filtered[W * H], rgb[3 * W * H];
+    rtt_discontinuity_filter(&planes.visibility[n], planes.depth, planes.normal, W, H, NULL, filtered);
+    refine_calls calls = {.planes = &planes};
+    uint64_t refined = 0;
+    assert_true(rtt_shadow_planes_resolve_refined(&planes, 16, NULL, refine_record, &calls, rgb, &refined));
+    assert_int_equal(calls.light, 1);
+    assert_int_equal(refined, calls.count);
+    /* exactly the pixels the rule picks, in pixel order: the two columns each side of the edge */
+    size_t want = 0;
+    for (size_t p = 0; p < n; p++) {
+        const bool pick = rtt_refine_needed(planes.visibility[n + p], filtered[p], 16);
+        assert_int_equal(pick, (p % W) >= 2 && (p % W) <= 5);
+        if (!pick) {
+            assert_near(rgb[3 * p], 0.25f + filtered[p], 1e-6f);
+            continue;
+        }
+        assert_int_equal(calls.pixel[want++], p);
+        assert_near(rgb[3 * p], 0.25f + 0.5f, 0);
+    }
+    assert_int_equal(want, calls.count);
+    /* a failing pass fails the resolve */
+    calls.count = SIZE_MAX;
+    assert_false(rtt_shadow_planes_resolve_refined(&planes, 16, NULL, refine_record, &calls, rgb, NULL));
+    rtt_shadow_planes_free(&planes);
+}
+
 static void test_planes_too_large_are_refused_with_the_figures(void **state)
 {
     (void)state;
-    assert_int_equal(rtt_shadow_planes_bytes(10, 10, 2), 100u * 28u + 100u * 2u * 16u + 2u);
+    assert_int_equal(rtt_shadow_planes_bytes(10, 10, 2), 100u * 40u + 100u * 2u * 16u + 2u);
     assert_int_equal(rtt_shadow_planes_bytes(UINT32_MAX, UINT32_MAX, UINT32_MAX), UINT64_MAX);
     static rtt_light lights[300];
     rtt_scene scene;
@@ -334,7 +421,7 @@ static void test_planes_too_large_are_refused_with_the_figures(void **state)
     rtt_shadow_planes planes;
     rtt_error err = {{0}};
     assert_false(rtt_shadow_planes_create(&planes, &scene, 4096, 4096, &err));
-    assert_string_equal(err.message, "map.bsp: interleaved shadows keep 75.4 GiB of planes for 4096x4096 pixels and "
+    assert_string_equal(err.message, "map.bsp: interleaved shadows keep 75.6 GiB of planes for 4096x4096 pixels and "
                                      "300 lights, more than 4 GiB: render smaller or with fewer lights");
     assert_null(planes.visibility);
     assert_true(rtt_shadow_planes_create(&planes, &scene, 16, 8, &err));
@@ -354,6 +441,8 @@ int main(void)
         cmocka_unit_test(test_filter_keeps_depth_and_normal_edges),
         cmocka_unit_test(test_filter_skips_pixels_without_visibility_or_depth),
         cmocka_unit_test(test_planes_compose_rest_plus_filtered_light_terms),
+        cmocka_unit_test(test_refine_picks_what_the_filter_moved_past_the_noise),
+        cmocka_unit_test(test_refine_retraces_the_pixels_the_filter_smeared),
         cmocka_unit_test(test_planes_too_large_are_refused_with_the_figures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

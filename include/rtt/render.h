@@ -67,6 +67,8 @@ typedef struct rtt_render_options {
     rtt_shadow_method shadows;       /* default hard */
     uint32_t shadow_samples;         /* multi/cone/pyramid: N, 1..256; interleaved: 4..32 (default 16) */
     bool shadow_filter;              /* interleaved: the 4x4 discontinuity filter (default on; :nofilter) */
+    bool shadow_refine;              /* interleaved: a second pass retraces the pixels the filter smeared (:refine;
+                                      * rtt/interleaved.h, rtt_shadow_planes_resolve_refined) */
     uint32_t spp;                    /* anti-aliasing samples per pixel, 1..RTT_MAX_SPP (rtt_pixel_sample); 0 → 1 */
     float edge_radius;               /* edgewidth: R, early-exit width (0 → default) */
     bool edge_leak_fix;              /* edgewidth: entry/exit must share a vertex */
@@ -127,5 +129,20 @@ bool rtt_render_check(const rtt_scene *scene, const rtt_render_options *opt, con
 /* Parses "none", "hard", "multi:N", "cone:N", "pyramid:N", "edgewidth[:R]",
  * "interleaved[:N][:nofilter]", "frusta[:N][:nofilter]". */
 bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_error *err);
+
+/* The shadow segment from p to target (rtt/shade.h: tnear = epsilon, tfar
+ * = |target - p| - epsilon; nothing when |target - p| <= 2 epsilon) through
+ * engine: the light that passes it, 1 clear, 0 blocked and, with
+ * `transparent` (rtt_scene_has_transparent_shadows), the product of the
+ * transmissions of the surfaces it crosses, nearest first, at most
+ * RTT_SHADOW_MAX_LAYERS.  *rays counts the segments traced.  The reference
+ * renderer's shadow ray. */
+float rtt_engine_segment_transmission(rtt_engine *engine, const rtt_scene *scene, rtt_vec3 p, rtt_vec3 target,
+                                      float epsilon, bool transparent, uint64_t *rays);
+/* The refined visibility of rtt/interleaved.h: light's 16 sets of n samples
+ * from p, each segment's transmission summed set by set, sample by sample,
+ * over 16 n. */
+float rtt_engine_refined_visibility(rtt_engine *engine, const rtt_scene *scene, const rtt_light *light, rtt_vec3 p,
+                                    uint32_t n, float epsilon, bool transparent, uint64_t *rays);
 
 #endif

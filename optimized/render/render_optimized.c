@@ -7,7 +7,8 @@
  * edgewidth[:R], interleaved:N), secondary omni packets, colours.  For
  * interleaved:N the tiles fill rtt_shadow_planes (the primary hits' light
  * terms, depth, normal and the rest of the colour), and one pass after the
- * last tile filters and composes the image as the reference does.
+ * last tile filters and composes the image as the reference does (with
+ * :refine retracing the pixels the filter smeared first, refine_pixels).
  *
  * Primary rays are rtt_camera_ray's, the same as the reference renderer's.
  * Scratch is per thread (indexed by the tile callback's thread argument) and
@@ -230,6 +231,31 @@ static void gather_stats(const render_job *job, rtt_render_stats *stats)
     }
 }
 
+/* The refining pass of interleaved:N:refine and frusta:N:refine
+ * (rtt/interleaved.h), after the tiles, on one thread: frusta:N's lights
+ * through the soft-shadow frusta (sp_frusta_refine), the others' samples
+ * ray by ray through the engine (rtt_engine_refined_visibility). */
+typedef struct refine_job {
+    const render_job *job;
+    rtt_engine *engine;
+    const rtt_shadow_planes *planes;
+    uint64_t rays;
+} refine_job;
+
+static bool refine_pixels(void *context, uint32_t light, const uint32_t *pixel, size_t count, float *vis)
+{
+    refine_job *r = context;
+    const sp_shading *sh = &r->job->shading;
+    const rtt_light *L = &r->job->scene->lights[light];
+    if (sp_frusta_soft(sh, L)) return sp_frusta_refine(sh, &r->job->tracer, light, r->planes->point, pixel, count, vis, &r->rays);
+    for (size_t i = 0; i < count; i++) {
+        const float *p = &r->planes->point[3 * (size_t)pixel[i]];
+        vis[i] = rtt_engine_refined_visibility(r->engine, r->job->scene, L, rtt_v3(p[0], p[1], p[2]), sh->shadow_samples,
+                                               sh->epsilon, sh->transparent_shadows, &r->rays);
+    }
+    return true;
+}
+
 /* A frame's light grids back: the engine's to the engine (kept for the
  * next frame), the frame's own freed. */
 static void light_grids_release(rtt_engine *engine, pgrid_shadows *grids, bool lent)
@@ -379,15 +405,23 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
                            &job, opt->progress, opt->progress_context);
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
+    refine_job refine = {.job = &job, .engine = engine, .planes = &planes};
+    const uint64_t refine_start = rtt_clock_ns();
     if (job.shading.planes) {
-        ok = ok && rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
+        if (opt->shadow_refine && opt->shadow_filter)
+            ok = ok && rtt_shadow_planes_resolve_refined(&planes, job.shading.shadow_samples, NULL, refine_pixels,
+                                                         &refine, out->rgb, NULL);
+        else
+            ok = ok && rtt_shadow_planes_resolve(&planes, opt->shadow_filter, NULL, out->rgb);
         rtt_shadow_planes_free(&planes);
     }
+    const double refine_seconds = 1e-9 * (double)(rtt_clock_ns() - refine_start);
     free(frusta_sets);
     if (ok && stats) {
         gather_stats(&job, stats);
         if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
         stats->seconds_secondary += light_grids->build_seconds + soft_grids.build_seconds;
+        if (refine.rays) stats->shadow_rays += refine.rays, stats->seconds_secondary += refine_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.pgrid) pgrid_render_end(job.pgrid);

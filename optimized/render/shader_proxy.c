@@ -391,6 +391,9 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             }
             if (planes) { /* as the reference's local_colour */
                 const size_t at = (size_t)planes->width * planes->height * l + node->pixel;
+                planes->point[3 * (size_t)node->pixel + 0] = surf->point.x;
+                planes->point[3 * (size_t)node->pixel + 1] = surf->point.y;
+                planes->point[3 * (size_t)node->pixel + 2] = surf->point.z;
                 planes->visibility[at] = vis;
                 rtt_vec3 c = rtt_v3_scale(q->contribution, 1.0f - wr - wt);
                 planes->contribution[3 * at + 0] = c.x;

@@ -48,16 +48,22 @@ bool sp_frusta_begin(sp_scratch *s, size_t points)
            SP_RESERVE(s, frusta_pixel, points, uint32_t) && SP_RESERVE(s, frusta_mask, points, uint32_t);
 }
 
+/* Shading point p's frustum of set `set` towards the light of frame `frame` (as seen from p). */
+static bvh_shadow_point shadow_point(const rtt_light_frame *frame, rtt_vec3 p, uint32_t set)
+{
+    return (bvh_shadow_point){.org = {p.x, p.y, p.z},
+                              .base = {frame->base.x, frame->base.y, frame->base.z},
+                              .du = {frame->du.x, frame->du.y, frame->du.z},
+                              .dv = {frame->dv.x, frame->dv.y, frame->dv.z},
+                              .set = set};
+}
+
 uint32_t sp_frusta_push_point(sp_scratch *s, const sp_shading *sh, uint32_t light, rtt_vec3 p, uint32_t pixel)
 {
     const uint32_t i = s->frusta_count++;
     const rtt_light_frame frame = rtt_light_sample_frame(&sh->scene->lights[light], p);
-    bvh_shadow_point *pt = &SP_ARRAY(s->frusta_points, bvh_shadow_point)[i];
-    *pt = (bvh_shadow_point){.org = {p.x, p.y, p.z},
-                             .base = {frame.base.x, frame.base.y, frame.base.z},
-                             .du = {frame.du.x, frame.du.y, frame.du.z},
-                             .dv = {frame.dv.x, frame.dv.y, frame.dv.z},
-                             .set = rtt_interleaved_set(pixel % sh->width, pixel / sh->width)};
+    SP_ARRAY(s->frusta_points, bvh_shadow_point)[i] =
+        shadow_point(&frame, p, rtt_interleaved_set(pixel % sh->width, pixel / sh->width));
     SP_ARRAY(s->frusta_light, uint32_t)[i] = light;
     SP_ARRAY(s->frusta_pixel, uint32_t)[i] = pixel;
     SP_ARRAY(s->frusta_mask, uint32_t)[i] = 0;
@@ -68,6 +74,47 @@ uint32_t sp_frusta_clear_samples(const sp_scratch *s, uint32_t point, uint32_t n
 {
     const uint32_t mask = SP_ARRAY(s->frusta_mask, uint32_t)[point];
     return n - (uint32_t)__builtin_popcount(mask);
+}
+
+/* Pixels refined a kernel call at a time: 16 frusta each. */
+#define REFINE_CHUNK 256u
+
+bool sp_frusta_refine(const sp_shading *sh, const sp_tracer *tr, uint32_t light, const float *point,
+                      const uint32_t *pixel, size_t count, float *vis, uint64_t *rays)
+{
+    enum { SETS = RTT_INTERLEAVED_SETS };
+    bvh_shadow_point *points = malloc(REFINE_CHUNK * SETS * sizeof *points);
+    uint32_t *occluded = malloc(REFINE_CHUNK * SETS * sizeof *occluded);
+    if (!points || !occluded) {
+        free(points);
+        free(occluded);
+        return false;
+    }
+    const rtt_light *L = &sh->scene->lights[light];
+    const uint32_t all = SETS * sh->shadow_samples;
+    for (size_t first = 0; first < count; first += REFINE_CHUNK) {
+        const size_t m = count - first < REFINE_CHUNK ? count - first : REFINE_CHUNK;
+        for (size_t i = 0; i < m; i++) {
+            const float *at = &point[3 * (size_t)pixel[first + i]];
+            const rtt_vec3 p = rtt_v3(at[0], at[1], at[2]);
+            const rtt_light_frame frame = rtt_light_sample_frame(L, p);
+            for (uint32_t set = 0; set < SETS; set++) points[i * SETS + set] = shadow_point(&frame, p, set);
+        }
+        tr->bvh_shadows->trace(tr->bvh, &(bvh_shadow_query){.points = points,
+                                                            .count = m * SETS,
+                                                            .sets = &sh->frusta_sets[light],
+                                                            .epsilon = sh->epsilon,
+                                                            .occluded = occluded});
+        for (size_t i = 0; i < m; i++) {
+            uint32_t blocked = 0;
+            for (uint32_t set = 0; set < SETS; set++) blocked += (uint32_t)__builtin_popcount(occluded[i * SETS + set]);
+            vis[first + i] = (float)(all - blocked) / (float)all; /* the reference's sum of 0s and 1s over 16 N */
+        }
+    }
+    *rays += (uint64_t)all * count;
+    free(points);
+    free(occluded);
+    return true;
 }
 
 /* ---- the 4x4 block order ---- */

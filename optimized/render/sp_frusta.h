@@ -34,6 +34,15 @@ void sp_frusta_trace_points(const sp_shading *sh, const sp_tracer *tr, sp_scratc
 /* The samples of point `point` that reach the light (of n). */
 uint32_t sp_frusta_clear_samples(const sp_scratch *s, uint32_t point, uint32_t n);
 
+/* The refining pass of frusta:N:refine (rtt/interleaved.h) for lights
+ * sp_frusta_soft takes: each of the `count` pixels' 16 sets as 16 frusta
+ * from its shading point (point: 3 floats per pixel, the shadow planes'),
+ * traced together (one kernel pass on AVX-512); vis[i] the clear share of
+ * the 16 N samples.  *rays grows by 16 N a pixel.  False when out of
+ * memory. */
+bool sp_frusta_refine(const sp_shading *sh, const sp_tracer *tr, uint32_t light, const float *point,
+                      const uint32_t *pixel, size_t count, float *vis, uint64_t *rays);
+
 /* Hard shadows through bvh-mft: does this render trace them so? */
 bool sp_frusta_hard(const sp_shading *sh, const sp_tracer *tr);
 /* Room for `rays` notes; the light and pixel of shadow ray `ray`. */
