@@ -406,10 +406,10 @@ static inline uint32_t frusta_pinhole_cull(const frusta_pinhole_tris *s, uint32_
  * |n|_1 corner_max for every corner c, so |n|_1 (eps corner_max +
  * corner_grow) covers frusta_cull's eps times n.d's terms and the corners'
  * rounding, and cross_error corner_l1 n's; three products an edge and
- * corner, no magnitudes.  The caller makes t (frusta_edges) and may read
- * its normal after. */
+ * corner, no magnitudes.  The caller makes t (frusta_edges), and
+ * facing and backing by frusta_orientation, and may read its normal after. */
 static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const vf corner[4][3], vf corner_max, vf corner_l1,
-                                            vf corner_grow, vm active)
+                                            vf corner_grow, vm active, uint32_t facing, uint32_t backing)
 {
     const vf zero = vf_set1(0.0f), normal_error = vf_mul(t->cross_error, corner_l1);
     const vf scale = vf_add(vf_mul(vf_set1(FRUSTA_EPS), corner_max), corner_grow);
@@ -427,8 +427,6 @@ static inline uint32_t frusta_triangle_cone(const frusta_tri *t, const vf corner
         below = vm_or(below, vf_lt(hi, vf_sub(zero, margin)));
         above = vm_or(above, vf_gt(lo, margin));
     }
-    uint32_t facing, backing;
-    frusta_orientation(t, &facing, &backing);
     return vm_bits(active) & ~((facing & vm_bits(below)) | (backing & vm_bits(above)));
 }
 

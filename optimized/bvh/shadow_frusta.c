@@ -310,9 +310,11 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
             if (counters) counters->triangles += (uint64_t)__builtin_popcount(lanes);
             frusta_tri t;
             frusta_edges(&tree->corners[rec], &g->b, &t);
-            uint32_t survive =
-                frusta_triangle_cone(&t, g->corner, g->corner_max, g->corner_l1, g->corner_grow, vm_of_bits(lanes));
-            if (survive) survive &= ~beside_plane(&t, g, eps, survive);
+            uint32_t facing, backing;
+            frusta_orientation(&t, &facing, &backing);
+            uint32_t survive = frusta_triangle_cone(&t, g->corner, g->corner_max, g->corner_l1, g->corner_grow,
+                                                    vm_of_bits(lanes), facing, backing);
+            if (survive & ~(facing | backing)) survive &= ~beside_plane(&t, g, eps, survive & ~(facing | backing));
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;
