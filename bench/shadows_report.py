@@ -111,8 +111,9 @@ def main():
                             ("pyramid:16", lambda l: l == "pyramid:16"),
                             ("interleaved:N (reference)", lambda l: l.startswith("interleaved") and "nofilter" not in l),
                             ("interleaved:N:nofilter (reference)", lambda l: l.startswith("interleaved") and "nofilter" in l),
-                            ("frusta:N", lambda l: l.startswith("frusta") and "nofilter" not in l),
-                            ("frusta:N:nofilter", lambda l: l.startswith("frusta") and "nofilter" in l)])
+                            ("frusta:N", lambda l: l.startswith("frusta") and ":nofilter" not in l and ":refine" not in l),
+                            ("frusta:N:nofilter", lambda l: l.startswith("frusta") and ":nofilter" in l),
+                            ("frusta:N:refine", lambda l: l.startswith("frusta") and ":refine" in l)])
     dat = os.path.join(out, "shadows.dat")
     with open(dat, "w") as f:
         for fam, test in families.items():
