@@ -18,8 +18,9 @@
 # interleaved:4, 8, 16, 32 with and without the discontinuity filter
 # (labels "interleaved:N ref", "interleaved:N:nofilter ref"; one run each:
 # they are there for their error, the reference's time is the oracle's);
-# and frusta:4, 8, 16, 32 with and without the filter (the optimized
-# renderer with --accel bvh: the same samples as multi-frusta).  Then cone:16
+# and frusta:4, 8, 16, 32 with and without the filter and with the
+# refining second pass (:refine; the optimized renderer with --accel bvh:
+# the same samples as multi-frusta).  Then cone:16
 # against pyramid:16 with the light radius set to 1 and to 2 (Table 4.6).
 # Every row names its engine.
 #
@@ -122,6 +123,7 @@ while IFS=$'\t' read -r name scene; do
     for n in 4 8 16 32; do
         render "$name" "$scene" "frusta:$n" 0 "frusta:$n"
         render "$name" "$scene" "frusta:$n:nofilter" 0 "frusta:$n:nofilter"
+        render "$name" "$scene" "frusta:$n:refine" 0 "frusta:$n:refine"
     done
 done <"$scenes"
 
