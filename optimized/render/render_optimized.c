@@ -21,6 +21,7 @@
  * kernels report their whole time as traversal), shading (shader proxy
  * without tracing) and secondary (shadow and secondary ray tracing).
  * Timers run only when stats are requested and never change results. */
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -232,28 +233,56 @@ static void gather_stats(const render_job *job, rtt_render_stats *stats)
 }
 
 /* The refining pass of interleaved:N:refine and frusta:N:refine
- * (rtt/interleaved.h), after the tiles, on one thread: frusta:N's lights
- * through the soft-shadow frusta (sp_frusta_refine), the others' samples
- * ray by ray through the engine (rtt_engine_refined_visibility). */
+ * (rtt/interleaved.h), after the tiles, on the frame's threads in tasks of
+ * REFINE_TASK pixels: frusta:N's lights through the soft-shadow frusta
+ * (sp_frusta_refine), the others' samples ray by ray through the engine
+ * (rtt_engine_refined_visibility).  A pixel's answer is its own, so the
+ * image does not depend on the thread count. */
+#define REFINE_TASK 64u
+
 typedef struct refine_job {
     const render_job *job;
     rtt_engine *engine;
     const rtt_shadow_planes *planes;
-    uint64_t rays;
+    /* the light and pixels of the current call */
+    uint32_t light;
+    const uint32_t *pixel;
+    size_t count;
+    float *vis;
+    _Atomic uint64_t rays;
+    atomic_bool failed;
 } refine_job;
+
+static void refine_task(void *context, uint32_t thread, uint32_t task)
+{
+    (void)thread;
+    refine_job *r = context;
+    const sp_shading *sh = &r->job->shading;
+    const rtt_light *L = &r->job->scene->lights[r->light];
+    const size_t first = (size_t)task * REFINE_TASK, n = r->count - first < REFINE_TASK ? r->count - first : REFINE_TASK;
+    uint64_t rays = 0;
+    if (sp_frusta_soft(sh, L)) {
+        if (!sp_frusta_refine(sh, &r->job->tracer, r->light, r->planes->point, r->pixel + first, n, r->vis + first,
+                              &rays))
+            atomic_store(&r->failed, true);
+    } else {
+        for (size_t i = first; i < first + n; i++) {
+            const float *p = &r->planes->point[3 * (size_t)r->pixel[i]];
+            r->vis[i] = rtt_engine_refined_visibility(r->engine, r->job->scene, L, rtt_v3(p[0], p[1], p[2]),
+                                                      sh->shadow_samples, sh->epsilon, sh->transparent_shadows, &rays);
+        }
+    }
+    atomic_fetch_add(&r->rays, rays);
+}
 
 static bool refine_pixels(void *context, uint32_t light, const uint32_t *pixel, size_t count, float *vis)
 {
     refine_job *r = context;
-    const sp_shading *sh = &r->job->shading;
-    const rtt_light *L = &r->job->scene->lights[light];
-    if (sp_frusta_soft(sh, L)) return sp_frusta_refine(sh, &r->job->tracer, light, r->planes->point, pixel, count, vis, &r->rays);
-    for (size_t i = 0; i < count; i++) {
-        const float *p = &r->planes->point[3 * (size_t)pixel[i]];
-        vis[i] = rtt_engine_refined_visibility(r->engine, r->job->scene, L, rtt_v3(p[0], p[1], p[2]), sh->shadow_samples,
-                                               sh->epsilon, sh->transparent_shadows, &r->rays);
-    }
-    return true;
+    r->light = light, r->pixel = pixel, r->count = count, r->vis = vis;
+    const size_t tasks = (count + REFINE_TASK - 1) / REFINE_TASK;
+    if (tasks > UINT32_MAX) return false;
+    rtt_parallel_run((uint32_t)tasks, r->job->threads, refine_task, r);
+    return !atomic_load(&r->failed);
 }
 
 /* A frame's light grids back: the engine's to the engine (kept for the
@@ -406,6 +435,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         for (uint32_t t = 0; t < threads; t++) ok = ok && !sp_scratch_failed(job.scratch[t]);
     }
     refine_job refine = {.job = &job, .engine = engine, .planes = &planes};
+    atomic_init(&refine.rays, 0);
+    atomic_init(&refine.failed, false);
     const uint64_t refine_start = rtt_clock_ns();
     if (job.shading.planes) {
         if (opt->shadow_refine && opt->shadow_filter)
@@ -421,7 +452,8 @@ bool rtt_optimized_render(rtt_engine *engine, const rtt_render_options *opt, rtt
         gather_stats(&job, stats);
         if (use_pgrid) stats->seconds_primary_traversal += pgrid.build_seconds;
         stats->seconds_secondary += light_grids->build_seconds + soft_grids.build_seconds;
-        if (refine.rays) stats->shadow_rays += refine.rays, stats->seconds_secondary += refine_seconds;
+        const uint64_t refine_rays = atomic_load(&refine.rays);
+        if (refine_rays) stats->shadow_rays += refine_rays, stats->seconds_secondary += refine_seconds;
         stats->seconds_total = 1e-9 * (double)(rtt_clock_ns() - start);
     }
     if (job.pgrid) pgrid_render_end(job.pgrid);

@@ -83,8 +83,9 @@ bool sp_frusta_refine(const sp_shading *sh, const sp_tracer *tr, uint32_t light,
                       const uint32_t *pixel, size_t count, float *vis, uint64_t *rays)
 {
     enum { SETS = RTT_INTERLEAVED_SETS };
-    bvh_shadow_point *points = malloc(REFINE_CHUNK * SETS * sizeof *points);
-    uint32_t *occluded = malloc(REFINE_CHUNK * SETS * sizeof *occluded);
+    const size_t room = count < REFINE_CHUNK ? count : REFINE_CHUNK;
+    bvh_shadow_point *points = malloc((room ? room : 1) * SETS * sizeof *points);
+    uint32_t *occluded = malloc((room ? room : 1) * SETS * sizeof *occluded);
     if (!points || !occluded) {
         free(points);
         free(occluded);
