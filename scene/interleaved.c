@@ -130,8 +130,8 @@ bool rtt_shadow_planes_init(rtt_shadow_planes *planes, uint32_t width, uint32_t 
     planes->visibility = malloc((pixels * per_light + 1) * sizeof(float));
     planes->contribution = calloc(3 * pixels * per_light + 1, sizeof(float));
     planes->soft = calloc(per_light, sizeof(bool));
-    if (!planes->rest || !planes->normal || !planes->point || !planes->depth || !planes->visibility || !planes->contribution ||
-        !planes->soft) {
+    if (!planes->rest || !planes->normal || !planes->point || !planes->depth || !planes->visibility ||
+        !planes->contribution || !planes->soft) {
         rtt_shadow_planes_free(planes);
         return false;
     }
@@ -229,8 +229,9 @@ bool rtt_shadow_planes_resolve_refined(const rtt_shadow_planes *planes, uint32_t
         compose(planes, planes->visibility, rgb);
         return true;
     }
-    float *filtered = malloc(pixels * planes->lights * sizeof(float)), *vis = malloc(pixels * sizeof(float));
-    uint32_t *list = malloc(pixels * sizeof(uint32_t)); /* pixels < 2^32: the planes' cap */
+    const size_t room = pixels ? pixels : 1;
+    float *filtered = malloc(room * planes->lights * sizeof(float)), *vis = malloc(room * sizeof(float));
+    uint32_t *list = malloc(room * sizeof(uint32_t)); /* pixels < 2^32: the planes' cap */
     bool ok = filtered && vis && list;
     if (ok) filter_planes(planes, t, filtered);
     for (uint32_t l = 0; ok && l < planes->lights; l++) {

@@ -212,6 +212,13 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
     const float mean = 1.0f / (float)job->spp;
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t c = 3 * (y * job->width + x0); c < 3 * (y * job->width + x1); c++) job->out->rgb[c] *= mean;
+    /* interleaved planes: the rest of the colour is the samples' mean, as
+     * the reference's (the light terms are sample 0's, in the planes) */
+    rtt_shadow_planes *planes = job->shading.planes;
+    if (planes)
+        for (uint32_t y = y0; y < y1; y++)
+            memcpy(&planes->rest[3 * (size_t)(y * job->width + x0)], &job->out->rgb[3 * (size_t)(y * job->width + x0)],
+                   3 * (size_t)(x1 - x0) * sizeof(float));
 }
 
 static void gather_stats(const render_job *job, rtt_render_stats *stats)
