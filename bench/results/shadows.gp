@@ -1,9 +1,9 @@
 set terminal pngcairo size 900,600
-set output 'bench/results/shadows.png'
+set output '/work/main/bench/results/shadows.png'
 set title 'Soft shadows: render time (x hard shadows) against RMSE to multi:256, per scene and method'
 set xlabel 'render time / hard-shadow render time (log)'
 set ylabel 'RMSE against multi:256 (log)'
 set logscale xy
 set key outside right
 set grid
-plot 'bench/results/shadows.dat' index 0 using 1:2 with points pt 5 ps 1.3 title 'hard', 'bench/results/shadows.dat' index 1 using 1:2 with points pt 6 ps 1.3 title 'edgewidth', 'bench/results/shadows.dat' index 2 using 1:2 with points pt 7 ps 1.3 title 'edgewidth + leak fix', 'bench/results/shadows.dat' index 3 using 1:2 with points pt 8 ps 1.3 title 'multi:N', 'bench/results/shadows.dat' index 4 using 1:2 with points pt 9 ps 1.3 title 'cone:16', 'bench/results/shadows.dat' index 5 using 1:2 with points pt 10 ps 1.3 title 'pyramid:16', 'bench/results/shadows.dat' index 6 using 1:2 with points pt 11 ps 1.3 title 'interleaved:N (reference)', 'bench/results/shadows.dat' index 7 using 1:2 with points pt 12 ps 1.3 title 'interleaved:N:nofilter (reference)'
+plot '/work/main/bench/results/shadows.dat' index 0 using 1:2 with points pt 5 ps 1.3 title 'hard', '/work/main/bench/results/shadows.dat' index 1 using 1:2 with points pt 6 ps 1.3 title 'edgewidth', '/work/main/bench/results/shadows.dat' index 2 using 1:2 with points pt 7 ps 1.3 title 'edgewidth + leak fix', '/work/main/bench/results/shadows.dat' index 3 using 1:2 with points pt 8 ps 1.3 title 'multi:N', '/work/main/bench/results/shadows.dat' index 4 using 1:2 with points pt 9 ps 1.3 title 'cone:16', '/work/main/bench/results/shadows.dat' index 5 using 1:2 with points pt 10 ps 1.3 title 'pyramid:16', '/work/main/bench/results/shadows.dat' index 6 using 1:2 with points pt 11 ps 1.3 title 'interleaved:N (reference)', '/work/main/bench/results/shadows.dat' index 7 using 1:2 with points pt 12 ps 1.3 title 'interleaved:N:nofilter (reference)', '/work/main/bench/results/shadows.dat' index 8 using 1:2 with points pt 13 ps 1.3 title 'frusta:N', '/work/main/bench/results/shadows.dat' index 9 using 1:2 with points pt 14 ps 1.3 title 'frusta:N:nofilter', '/work/main/bench/results/shadows.dat' index 10 using 1:2 with points pt 15 ps 1.3 title 'frusta:N:refine'
