@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Interleaved sampling and the discontinuity filter, measured: the error of
-# --shadows interleaved:N (N = 4, 8, 16, 32, with and without the filter)
-# against multi:256, beside multi:16 and multi:64, per scene and image size.
+# --shadows interleaved:N (N = 4, 8, 16, 32, with and without the filter, and
+# with the refining pass :refine) against multi:256, beside multi:16 and
+# multi:64, per scene and image size.
 # Every image is the reference renderer's (the image the optimized
 # interleaved:N and a frusta kernel reproduce); no timing.
 #
