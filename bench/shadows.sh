@@ -145,7 +145,7 @@ done
 
 python3 "$here/shadows_report.py" "$rows" "$results" "$threads" "$runs"
 if command -v gnuplot >/dev/null; then
-    gnuplot "$results/shadows.gp"
+    (cd "$results" && gnuplot shadows.gp)
 else
     echo "shadows.sh: gnuplot not found; no shadows.png" >&2
 fi

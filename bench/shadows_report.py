@@ -123,11 +123,13 @@ def main():
                     if test(r["label"]):
                         f.write(f"{r['time_vs_hard']:.6g} {r['rmse']:.6g} \"{s}:{r['label']}\"\n")
             f.write("\n\n")
-    plots = ", ".join(f"'{dat}' index {i} using 1:2 with points pt {i + 5} ps 1.3 title '{fam}'"
+    # the plot names its files relative to the results directory (shadows.sh runs gnuplot there), so the
+    # committed script holds no machine's paths
+    plots = ", ".join(f"'shadows.dat' index {i} using 1:2 with points pt {i + 5} ps 1.3 title '{fam}'"
                       for i, fam in enumerate(families))
     with open(os.path.join(out, "shadows.gp"), "w") as f:
         f.write(f"""set terminal pngcairo size 900,600
-set output '{os.path.join(out, "shadows.png")}'
+set output 'shadows.png'
 set title 'Soft shadows: render time (x hard shadows) against RMSE to multi:256, per scene and method'
 set xlabel 'render time / hard-shadow render time (log)'
 set ylabel 'RMSE against multi:256 (log)'
