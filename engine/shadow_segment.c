@@ -32,8 +32,9 @@ float rtt_engine_segment_transmission(rtt_engine *engine, const rtt_scene *scene
     return 0.0f;
 }
 
-float rtt_engine_refined_visibility(rtt_engine *engine, const rtt_scene *scene, const rtt_light *light, rtt_vec3 p,
-                                    uint32_t n, float epsilon, bool transparent, uint64_t *rays)
+/* The refined visibility of one point. */
+static float refined_visibility(rtt_engine *engine, const rtt_scene *scene, const rtt_light *light, rtt_vec3 p,
+                                uint32_t n, float epsilon, bool transparent, uint64_t *rays)
 {
     const rtt_light_frame frame = rtt_light_sample_frame(light, p);
     float clear = 0.0f;
@@ -46,4 +47,15 @@ float rtt_engine_refined_visibility(rtt_engine *engine, const rtt_scene *scene, 
             clear += rtt_engine_segment_transmission(engine, scene, p, target, epsilon, transparent, rays);
         }
     return clear / (float)(RTT_INTERLEAVED_SETS * n);
+}
+
+void rtt_engine_refined_visibilities(rtt_engine *engine, const rtt_scene *scene, const rtt_shadow_planes *planes,
+                                     uint32_t light, const uint32_t *pixel, size_t count, uint32_t n, float epsilon,
+                                     bool transparent, float *vis, uint64_t *rays)
+{
+    for (size_t i = 0; i < count; i++) {
+        const float *p = &planes->point[3 * (size_t)pixel[i]];
+        vis[i] = refined_visibility(engine, scene, &scene->lights[light], rtt_v3(p[0], p[1], p[2]), n, epsilon,
+                                    transparent, rays);
+    }
 }

@@ -19,7 +19,7 @@
  *             4x4 discontinuity filter (unless :nofilter) and composed once
  *             every tile is done; with :refine the pixels the filter moved
  *             past their samples' noise are retraced first with all 16 sets
- *             (rtt_engine_refined_visibility, one pixel after another).
+ *             (rtt_engine_refined_visibilities, one pixel after another).
  * A shadow ray's transmission is 1 when it is clear; when it is occluded in
  * a scene with transparent materials, the ray is traced again for its
  * closest hits, one surface after the other (tnear moved to each hit), and
@@ -147,6 +147,11 @@ static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32
 {
     const rtt_scene *scene = job->scene;
     rtt_vec3 colour = rtt_v3_scale(s->diffuse, scene->ambient);
+    if (planes) { /* the shadow rays' origin, for the refining pass */
+        planes->point[3 * (size_t)pixel + 0] = s->point.x;
+        planes->point[3 * (size_t)pixel + 1] = s->point.y;
+        planes->point[3 * (size_t)pixel + 2] = s->point.z;
+    }
     for (uint32_t i = 0; i < scene->light_count; i++) {
         const rtt_light *light = &scene->lights[i];
         rtt_vec3 to_light = rtt_v3_sub(light->position, s->point);
@@ -157,9 +162,6 @@ static rtt_vec3 local_colour(const render_job *job, const rtt_surface *s, uint32
         float vis = light_visibility(job, light, s->point, pixel, counts);
         if (planes) {
             const size_t at = (size_t)planes->width * planes->height * i + pixel;
-            planes->point[3 * (size_t)pixel + 0] = s->point.x;
-            planes->point[3 * (size_t)pixel + 1] = s->point.y;
-            planes->point[3 * (size_t)pixel + 2] = s->point.z;
             planes->visibility[at] = vis;
             rtt_vec3 c = rtt_v3_scale(contribution, weight);
             planes->contribution[3 * at + 0] = c.x;
@@ -274,13 +276,9 @@ static void render_tile(void *context, uint32_t thread, uint32_t x0, uint32_t y0
 static bool refine_pixels(void *context, uint32_t light, const uint32_t *pixel, size_t count, float *vis)
 {
     render_job *job = context;
-    const rtt_shadow_planes *planes = job->planes;
     uint64_t rays = 0;
-    for (size_t i = 0; i < count; i++) {
-        const float *p = &planes->point[3 * (size_t)pixel[i]];
-        vis[i] = rtt_engine_refined_visibility(job->tracer, job->scene, &job->scene->lights[light], rtt_v3(p[0], p[1], p[2]),
-                                               job->shadow_samples, job->epsilon, job->transparent_shadows, &rays);
-    }
+    rtt_engine_refined_visibilities(job->tracer, job->scene, job->planes, light, pixel, count, job->shadow_samples,
+                                    job->epsilon, job->transparent_shadows, vis, &rays);
     atomic_fetch_add(&job->shadow, rays);
     return true;
 }

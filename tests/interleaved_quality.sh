@@ -39,14 +39,12 @@ m64=$(rmse multi64) filtered=$(rmse filtered) unfiltered=$(rmse unfiltered)
 echo "RMSE against multi:256: multi:64 $m64, interleaved:16 $filtered, interleaved:16:nofilter $unfiltered"
 [ -n "$m64" ] && [ -n "$filtered" ] && [ -n "$unfiltered" ] || { echo "FAIL: no RMSE from rtt compare"; exit 1; }
 failures=0
-if ! awk -v a="$filtered" -v b="$m64" 'BEGIN { exit !(a <= b) }'; then
-    echo "FAIL: filtered interleaved:16 ($filtered) is further from multi:256 than multi:64 ($m64)"
-    failures=$((failures + 1))
-fi
-if ! awk -v a="$filtered" -v b="$unfiltered" 'BEGIN { exit !(a < b) }'; then
-    echo "FAIL: the filter does not bring interleaved:16 closer to multi:256 ($filtered against $unfiltered)"
-    failures=$((failures + 1))
-fi
+expect() { # A OP B MESSAGE: a failure unless A OP B (OP: <= or <)
+    awk -v a="$1" -v b="$3" "BEGIN { exit !(a $2 b) }" || { echo "FAIL: $4"; failures=$((failures + 1)); }
+}
+expect "$filtered" "<=" "$m64" "filtered interleaved:16 ($filtered) is further from multi:256 than multi:64 ($m64)"
+expect "$filtered" "<" "$unfiltered" \
+    "the filter does not bring interleaved:16 closer to multi:256 ($filtered against $unfiltered)"
 # shadow_on_shadow's contact shadows: the filter alone misses there, the
 # refining second pass (:refine) brings the image within multi:64's error
 scene="$src/scenes/shadow_on_shadow.json"
@@ -57,13 +55,9 @@ render interleaved:16:refine refined
 m64=$(rmse multi64) filtered=$(rmse filtered) refined=$(rmse refined)
 echo "shadow_on_shadow: multi:64 $m64, interleaved:16 $filtered, interleaved:16:refine $refined"
 [ -n "$m64" ] && [ -n "$filtered" ] && [ -n "$refined" ] || { echo "FAIL: no RMSE from rtt compare"; exit 1; }
-if ! awk -v a="$refined" -v b="$m64" 'BEGIN { exit !(a <= b) }'; then
-    echo "FAIL: interleaved:16:refine ($refined) is further from multi:256 than multi:64 ($m64) on shadow_on_shadow"
-    failures=$((failures + 1))
-fi
-if ! awk -v a="$refined" -v b="$filtered" 'BEGIN { exit !(a < b) }'; then
-    echo "FAIL: the second pass does not bring shadow_on_shadow closer to multi:256 ($refined against $filtered)"
-    failures=$((failures + 1))
-fi
+expect "$refined" "<=" "$m64" \
+    "interleaved:16:refine ($refined) is further from multi:256 than multi:64 ($m64) on shadow_on_shadow"
+expect "$refined" "<" "$filtered" \
+    "the second pass does not bring shadow_on_shadow closer to multi:256 ($refined against $filtered)"
 [ "$failures" = 0 ] && echo "interleaved_quality: the filtered images are within multi:64's error (shadow_on_shadow refined)"
 exit $((failures > 0))

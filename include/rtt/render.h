@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "rtt/engine.h"
+#include "rtt/interleaved.h"
 
 typedef enum rtt_shadow_method {
     RTT_SHADOWS_NONE = 0,
@@ -139,10 +140,12 @@ bool rtt_shadow_method_parse(const char *text, rtt_render_options *opt, rtt_erro
  * renderer's shadow ray. */
 float rtt_engine_segment_transmission(rtt_engine *engine, const rtt_scene *scene, rtt_vec3 p, rtt_vec3 target,
                                       float epsilon, bool transparent, uint64_t *rays);
-/* The refined visibility of rtt/interleaved.h: light's 16 sets of n samples
- * from p, each segment's transmission summed set by set, sample by sample,
- * over 16 n. */
-float rtt_engine_refined_visibility(rtt_engine *engine, const rtt_scene *scene, const rtt_light *light, rtt_vec3 p,
-                                    uint32_t n, float epsilon, bool transparent, uint64_t *rays);
+/* The refined visibility of rtt/interleaved.h of the `count` pixels
+ * pixel[i] of planes for light `light` into vis[i]: from the pixel's
+ * planes->point, the light's 16 sets of n samples, each segment's
+ * transmission (as above) summed set by set, sample by sample, over 16 n. */
+void rtt_engine_refined_visibilities(rtt_engine *engine, const rtt_scene *scene, const rtt_shadow_planes *planes,
+                                     uint32_t light, const uint32_t *pixel, size_t count, uint32_t n, float epsilon,
+                                     bool transparent, float *vis, uint64_t *rays);
 
 #endif

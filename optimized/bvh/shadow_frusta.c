@@ -314,7 +314,8 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
             frusta_orientation(&t, &facing, &backing);
             uint32_t survive = frusta_triangle_cone(&t, g->corner, g->corner_max, g->corner_l1, g->corner_grow,
                                                     vm_of_bits(lanes), facing, backing);
-            if (survive & ~(facing | backing)) survive &= ~beside_plane(&t, g, eps, survive & ~(facing | backing));
+            const uint32_t in_plane = survive & ~(facing | backing); /* what the edge test cannot cull */
+            if (in_plane) survive &= ~beside_plane(&t, g, eps, in_plane);
             while (survive) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
                 survive &= survive - 1u;

@@ -243,7 +243,7 @@ static void gather_stats(const render_job *job, rtt_render_stats *stats)
  * (rtt/interleaved.h), after the tiles, on the frame's threads in tasks of
  * REFINE_TASK pixels: frusta:N's lights through the soft-shadow frusta
  * (sp_frusta_refine), the others' samples ray by ray through the engine
- * (rtt_engine_refined_visibility).  A pixel's answer is its own, so the
+ * (rtt_engine_refined_visibilities).  A pixel's answer is its own, so the
  * image does not depend on the thread count. */
 #define REFINE_TASK 64u
 
@@ -273,11 +273,8 @@ static void refine_task(void *context, uint32_t thread, uint32_t task)
                               &rays))
             atomic_store(&r->failed, true);
     } else {
-        for (size_t i = first; i < first + n; i++) {
-            const float *p = &r->planes->point[3 * (size_t)r->pixel[i]];
-            r->vis[i] = rtt_engine_refined_visibility(r->engine, r->job->scene, L, rtt_v3(p[0], p[1], p[2]),
-                                                      sh->shadow_samples, sh->epsilon, sh->transparent_shadows, &rays);
-        }
+        rtt_engine_refined_visibilities(r->engine, r->job->scene, r->planes, r->light, r->pixel + first, n,
+                                        sh->shadow_samples, sh->epsilon, sh->transparent_shadows, r->vis + first, &rays);
     }
     atomic_fetch_add(&r->rays, rays);
 }

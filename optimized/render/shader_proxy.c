@@ -369,6 +369,11 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
         float wr, wt;
         rtt_shade_weights(m, d, sh->max_bounces, &wr, &wt);
         rtt_shadow_planes *planes = d == 0 ? sh->planes : NULL;
+        if (planes) { /* the shadow rays' origin, for the refining pass (as the reference's local_colour) */
+            planes->point[3 * (size_t)node->pixel + 0] = surf->point.x;
+            planes->point[3 * (size_t)node->pixel + 1] = surf->point.y;
+            planes->point[3 * (size_t)node->pixel + 2] = surf->point.z;
+        }
         rtt_vec3 colour = rtt_v3_scale(surf->diffuse, scene->ambient);
         for (uint32_t l = 0; l < scene->light_count; l++) {
             const sp_light_request *q = &req[l];
@@ -391,9 +396,6 @@ static void resolve_locals(const sp_shading *sh, sp_scratch *s, uint32_t d, uint
             }
             if (planes) { /* as the reference's local_colour */
                 const size_t at = (size_t)planes->width * planes->height * l + node->pixel;
-                planes->point[3 * (size_t)node->pixel + 0] = surf->point.x;
-                planes->point[3 * (size_t)node->pixel + 1] = surf->point.y;
-                planes->point[3 * (size_t)node->pixel + 2] = surf->point.z;
                 planes->visibility[at] = vis;
                 rtt_vec3 c = rtt_v3_scale(q->contribution, 1.0f - wr - wt);
                 planes->contribution[3 * at + 0] = c.x;
