@@ -70,7 +70,7 @@ static bool check_isa(rtt_isa isa, rtt_error *err)
     if (isa == RTT_ISA_AUTO) {
         const char *env = getenv("RTT_ISA");
         rtt_isa from_env;
-        if (!env) return true;
+        if (!env || !env[0]) return true; /* unset or set empty: the widest */
         if (!rtt_isa_parse(env, &from_env))
             return rtt_error_set(err, "RTT_ISA=%s: expected auto, sse4, avx2 or avx512", env);
         isa = from_env;

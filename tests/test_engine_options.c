@@ -195,6 +195,12 @@ static void test_rtt_isa_environment_picks_the_set_and_bad_values_are_errors(voi
     setenv("RTT_ISA", "mmx", 1);
     assert_false(rtt_engine_options_check("bare", &opt, &err));
     assert_string_equal(err.message, "RTT_ISA=mmx: expected auto, sse4, avx2 or avx512");
+    setenv("RTT_ISA", "", 1); /* set empty: as unset, the widest (a shell's RTT_ISA= ...) */
+    assert_true(rtt_engine_options_check("bare", &opt, &err));
+    rtt_isa widest = RTT_ISA_SSE4;
+    for (int isa = RTT_ISA_SSE4; isa < RTT_ISA_COUNT; isa++)
+        if (rtt_isa_supported((rtt_isa)isa)) widest = (rtt_isa)isa;
+    assert_int_equal(rtt_isa_resolve(RTT_ISA_AUTO), widest);
     unsetenv("RTT_ISA");
     assert_true(rtt_engine_options_check("bare", &opt, &err));
 }

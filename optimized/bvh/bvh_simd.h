@@ -12,6 +12,8 @@
  * vf_load_records8: BVH_W records of eight floats, one word per field.
  * vf_hmin/vf_hmax: the smallest/largest lane (for NaN-free words; the
  * callers put +-inf in the lanes that must not count).
+ * vi_mul: the low 32 bits of each lane's product; vf_trunc: each lane
+ * truncated to a signed integer (for lanes within int32's range).
  * vf_gather: lane l from base[index lane l] (hardware gathers on AVX2 and
  * AVX-512, four loads on SSE4.1).
  * Quads: a vector as BVH_W / 4 independent groups of four lanes (SSE's
@@ -75,6 +77,9 @@ static inline vi vi_add(vi a, vi b) { return _mm512_add_epi32(a, b); }
 static inline vf vf_gather(const float *base, vi index) { return _mm512_i32gather_ps(index, base, 4); }
 static inline vi vi_max_s(vi a, vi b) { return _mm512_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm512_cmpgt_epi32_mask(a, b); }
+static inline vm vi_eq(vi a, vi b) { return _mm512_cmpeq_epi32_mask(a, b); }
+static inline vi vi_mul(vi a, vi b) { return _mm512_mullo_epi32(a, b); }
+static inline vi vf_trunc(vf a) { return _mm512_cvttps_epi32(a); }
 static inline float vf_hmin(vf a) { return _mm512_reduce_min_ps(a); }
 /* out[a] lane l = p[8 l + a]: BVH_W consecutive records of eight floats, a
  * field per word.  Rays l and l + 8 share a zmm, an 8x8 transpose per half. */
@@ -146,6 +151,9 @@ static inline vi vi_add(vi a, vi b) { return _mm256_add_epi32(a, b); }
 static inline vf vf_gather(const float *base, vi index) { return _mm256_i32gather_ps(base, index, 4); }
 static inline vi vi_max_s(vi a, vi b) { return _mm256_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b)); }
+static inline vm vi_eq(vi a, vi b) { return _mm256_castsi256_ps(_mm256_cmpeq_epi32(a, b)); }
+static inline vi vi_mul(vi a, vi b) { return _mm256_mullo_epi32(a, b); }
+static inline vi vf_trunc(vf a) { return _mm256_cvttps_epi32(a); }
 static inline vi vi_blend(vm m, vi a, vi b)
 {
     return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), m));
@@ -231,6 +239,9 @@ static inline vf vf_gather(const float *base, vi index)
 }
 static inline vi vi_max_s(vi a, vi b) { return _mm_max_epi32(a, b); }
 static inline vm vi_gt_s(vi a, vi b) { return _mm_castsi128_ps(_mm_cmpgt_epi32(a, b)); }
+static inline vm vi_eq(vi a, vi b) { return _mm_castsi128_ps(_mm_cmpeq_epi32(a, b)); }
+static inline vi vi_mul(vi a, vi b) { return _mm_mullo_epi32(a, b); }
+static inline vi vf_trunc(vf a) { return _mm_cvttps_epi32(a); }
 static inline vi vi_blend(vm m, vi a, vi b)
 {
     return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b), m));

@@ -186,17 +186,17 @@ static inline void major_axis(vf x, vf y, vf z, vm *axis0, vm *axis1)
  * axis by the reference's tie rule, coordinates d[axis + 1], d[axis + 2]
  * over |d[axis]| clamped below at -1 (NaN too: any cell, the test
  * decides), res / 2 (s + 1) truncated, at most res - 1) and the
- * direction's dominant axis kz. */
-static void make_keys(const pgrid_light *L, const rtt_ray *rays, uint32_t first, uint32_t n, uint32_t *keys)
+ * direction's dominant axis kz.  The keys as a vector (lanes past n: the
+ * first ray's) and stored at keys[first ..]; the rays' words in `ray`
+ * (vf_load_records8's: org xyz, dir xyz, tnear, tfar). */
+static vi make_keys(const pgrid_light *L, const rtt_ray *rays, uint32_t first, uint32_t n, uint32_t *keys, vf ray[8])
 {
-    _Alignas(64) float face[LANES], sx[LANES], sy[LANES], kz[LANES];
     _Alignas(64) rtt_ray tail[LANES];
     const rtt_ray *lanes = rays + first;
     if (n < LANES) { /* the batch's last rays: no reading past them */
         for (uint32_t l = 0; l < LANES; l++) tail[l] = rays[first + (l < n ? l : 0)];
         lanes = tail;
     }
-    vf ray[8];
     vf_load_records8((const float *)lanes, ray);
     const vf dx = vf_sub(ray[0], vf_set1(L->position[0])), dy = vf_sub(ray[1], vf_set1(L->position[1])),
              dz = vf_sub(ray[2], vf_set1(L->position[2]));
@@ -207,31 +207,108 @@ static void make_keys(const pgrid_light *L, const rtt_ray *rays, uint32_t first,
     const vf s_num = vf_blend(x_major, vf_blend(y_major, dx, dz), dy);
     const vf t_num = vf_blend(x_major, vf_blend(y_major, dy, dx), dz);
     const vf axis = vf_blend(x_major, vf_blend(y_major, two, one), zero);
-    vf_store(face, vf_add(vf_add(axis, axis), vf_blend(vf_lt(along, zero), zero, one)));
+    const vf face = vf_add(vf_add(axis, axis), vf_blend(vf_lt(along, zero), zero, one));
     const vf half = vf_set1(0.5f * (float)L->res);
     vf s = vf_div(s_num, major), t = vf_div(t_num, major);
     s = vf_blend(vf_ge(s, minus_one), minus_one, s); /* also NaN: any cell, the test decides */
     t = vf_blend(vf_ge(t, minus_one), minus_one, t);
-    vf_store(sx, vf_mul(vf_add(s, one), half));
-    vf_store(sy, vf_mul(vf_add(t, one), half));
     vm dir_x, dir_y;
     major_axis(ray[3], ray[4], ray[5], &dir_x, &dir_y);
-    vf_store(kz, vf_blend(dir_x, vf_blend(dir_y, two, one), zero));
-    const uint32_t res = L->res;
-    for (uint32_t l = 0; l < n; l++) {
-        uint32_t x = (uint32_t)sx[l], y = (uint32_t)sy[l];
-        if (x >= res) x = res - 1;
-        if (y >= res) y = res - 1;
-        keys[first + l] = (((uint32_t)face[l] * res + y) * res + x) * 3u + (uint32_t)kz[l];
+    const vf kz = vf_blend(dir_x, vf_blend(dir_y, two, one), zero);
+    /* |s|, |t| <= 1 (a coordinate over the largest): the cells 0 .. res, truncated as integers */
+    const vi res = vi_set1(L->res), last = vi_set1(L->res - 1u);
+    const vi x = vi_min_s(vf_trunc(vf_mul(vf_add(s, one), half)), last);
+    const vi y = vi_min_s(vf_trunc(vf_mul(vf_add(t, one), half)), last);
+    const vi cell = vi_add(vi_mul(vi_add(vi_mul(vf_trunc(face), res), y), res), x);
+    const vi key = vi_add(vi_mul(cell, vi_set1(3u)), vf_trunc(kz));
+    _Alignas(64) uint32_t out[LANES];
+    vi_store(out, key);
+    memcpy(keys + first, out, n * sizeof *keys);
+    return key;
+}
+
+/* What a chunk's packets share. */
+typedef struct packet_context {
+    const pgrid_shadows *grids;
+    const pgrid_light *L;
+    vf within, slack; /* origins within 2M (pgrid_light.h), the distance test's slack */
+    uint32_t face_cells;
+} packet_context;
+
+/* The rays in `ray` (vf_load_records8's words; lanes from n on repeat a
+ * ray), all of key `key`, traced as one packet; `full`: the lanes that may
+ * start inside a culled solid.  The lanes occluded. */
+static uint32_t trace_packet(const packet_context *ctx, const vf ray[8], uint32_t lanes, uint32_t key, uint32_t full)
+{
+    const pgrid_shadows *grids = ctx->grids;
+    const pgrid_light *L = ctx->L;
+    shadow_packet p;
+    const uint32_t cell = key / 3u, kz = key % 3u;
+    p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
+    for (int a = 0; a < 3; a++) vf_store(p.org[a], ray[a]);
+    vf_store(p.tnear, ray[6]), vf_store(p.tfar, ray[7]);
+    const vf dkz = ray[3 + kz];
+    vf_store(p.sx, vf_div(ray[3 + p.kx], dkz));
+    vf_store(p.sy, vf_div(ray[3 + p.ky], dkz));
+    vf_store(p.sz, vf_div(vf_set1(1.0f), dkz));
+    /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
+    const vf reach = vf_add(vf_add(ray[6], ray[7]), ctx->slack);
+    vf_store(p.reach, reach);
+    uint32_t active = lanes;
+    /* a face no triangle's footprint meets keeps no cells: nothing there but the near list */
+    const bool kept = L->faces >> (cell / ctx->face_cells) & 1u;
+    uint32_t reaching = kept ? active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell]))) : 0;
+    /* an origin beyond 2M: every triangle (pgrid_light.h) */
+    const vf within = ctx->within;
+    const vm tame = vm_and(vm_and(vf_le(vf_abs(ray[0]), within), vf_le(vf_abs(ray[1]), within)),
+                           vf_le(vf_abs(ray[2]), within));
+    const uint32_t wild = active & ~vm_bits(tame);
+    uint32_t hit = 0, entering = 0;
+    if (wild) {
+        const packet_regs regs = packet_regs_load(&p);
+        for (uint32_t t = 0; wild & ~hit && t < grids->corner_count; t++)
+            hit |= occluded_lanes(&grids->corners[t], &regs, &p, wild & ~hit, NULL);
     }
+    active &= ~wild, reaching &= ~wild, full &= ~wild;
+    /* The front faces, for the lanes that may start inside a culled
+     * solid: first for those known now (most start on a face turned
+     * from the light, so go into the solid and leave it through a
+     * front face), then for those the kept lists find crossing a
+     * triangle at the origin (entering).  A lane's answer is whether
+     * any triangle it is tested against occludes it, so the order of
+     * the lists changes no answer, only how soon a lane is done. */
+    const uint32_t front_first = kept ? full & active : 0;
+    if (front_first)
+        hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell], &p,
+                             front_first, NULL);
+    uint32_t *watch = grids->culled_count ? &entering : NULL;
+    if (reaching & ~hit)
+        hit |= occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
+                             reaching & ~hit, watch);
+    if (L->near_count && (hit & active) != active)
+        hit |= occluded_list(grids, L, L->near, L->near_count, &p, active & ~hit, watch);
+    const uint32_t front = kept ? entering & ~front_first & active & ~hit : 0;
+    if (front)
+        hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell], &p,
+                             front, NULL);
+    return hit;
 }
 
 /* The rays sorted at once: a chunk of the batch (an eye-ray cell of
  * 128 x 128 pixels is four), its scratch on the stack, nothing allocated. */
 enum { CHUNK_RAYS = 4096 };
+/* LANES rays in a row of which this many share the first's key are a
+ * packet at once (the others left for the sort): ctf_inyard, czest3ctf,
+ * oa_dm4 best at 12 of 16 against 8 and 16 (bench/results/pgrid.md,
+ * fourteenth session) */
+#define PACKET_MIN (LANES * 3u / 4u)
+#ifndef PREFETCH_GROUPS
+#define PREFETCH_GROUPS 8u
+#endif
 typedef struct chunk_scratch {
     uint32_t keys[CHUNK_RAYS];          /* per ray */
-    uint32_t run_first[CHUNK_RAYS + 1]; /* per run of equal keys: its first ray */
+    uint32_t rest[CHUNK_RAYS];          /* the rays left for the sort, in batch order */
+    uint32_t run_first[CHUNK_RAYS + 1]; /* per run of equal keys: its first place in rest */
     uint64_t records[CHUNK_RAYS], spare[CHUNK_RAYS];
     uint8_t full[CHUNK_RAYS];           /* per ray: needs_front_faces */
 } chunk_scratch;
@@ -240,28 +317,10 @@ typedef struct chunk_scratch {
 static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, const rtt_ray *rays,
                            const uint32_t *origin_prim, uint32_t count, uint8_t *occluded, chunk_scratch *scratch)
 {
-    /* per ray its key; per run of equal keys in batch order (a coherent
-     * batch's neighbours mostly share a cell) a record and its first ray;
-     * the records sorted, so the packets read runs of one key in order */
-    uint32_t *keys = scratch->keys, *run_first = scratch->run_first;
-    uint64_t *records = scratch->records;
-    for (uint32_t first = 0; first < count; first += LANES)
-        make_keys(L, rays, first, count - first < LANES ? count - first : LANES, keys);
-    /* without a branch per ray: a run's entry is written at every ray and
-     * kept by the count moving on only where a run starts (a mesh's rays
-     * seen from the light change cells every ray or two, and the branch
-     * was mispredicted as often) */
-    uint32_t runs = 0, lo = UINT32_MAX, hi = 0, before = ~keys[0];
-    for (uint32_t i = 0; i < count; i++) {
-        const uint32_t key = keys[i];
-        run_first[runs] = i;
-        records[runs] = (uint64_t)key << 32 | runs;
-        runs += key != before;
-        before = key;
-        lo = key < lo ? key : lo;
-        hi = key > hi ? key : hi;
-    }
-    run_first[runs] = count;
+    /* the largest float at most 2M: |org| (a float) <= 2M iff |org| <= it */
+    float magnitude = (float)L->magnitude;
+    if ((double)magnitude > L->magnitude) magnitude = nextafterf(magnitude, 0.0f);
+    const packet_context ctx = {grids, L, vf_set1(magnitude), vf_set1(L->reach), L->res * L->res};
     /* which rays may start inside a culled solid, in batch order (their
      * triangles' bytes and normals read in the batch's coherent order, not
      * the packets') */
@@ -269,16 +328,59 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
     if (grids->culled_count)
         for (uint32_t i = 0; i < count; i++)
             full_ray[i] = needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS);
+    /* per ray its key; LANES rays in a row of one key (a coherent batch's
+     * neighbours mostly share a cell: the maps' rows nearly always) are a
+     * packet at once, from the words the keys were made from; the others
+     * are left for the sort */
+    uint32_t *keys = scratch->keys, *rest = scratch->rest, *run_first = scratch->run_first;
+    uint32_t rests = 0;
+    for (uint32_t first = 0; first < count; first += LANES) {
+        const uint32_t n = count - first < LANES ? count - first : LANES;
+        /* the batch streams in from memory: its lines asked for PREFETCH_GROUPS groups ahead */
+        if (first + (PREFETCH_GROUPS + 1u) * LANES <= count) {
+            const char *ahead = (const char *)(rays + first + PREFETCH_GROUPS * LANES);
+            for (uint32_t b = 0; b < LANES * sizeof *rays; b += 64) __builtin_prefetch(ahead + b);
+        }
+        vf ray[8];
+        const vi key = make_keys(L, rays, first, n, keys, ray);
+        const uint32_t same = vm_bits(vi_eq(key, vi_set1(keys[first]))) & (uint32_t)((1ull << n) - 1u);
+        uint32_t left = (uint32_t)((1ull << n) - 1u);
+        if ((uint32_t)__builtin_popcount(same) >= PACKET_MIN) {
+            uint32_t full = 0;
+            if (grids->culled_count)
+                for (uint32_t l = 0; l < n; l++) full |= (uint32_t)full_ray[first + l] << l;
+            const uint32_t hit = trace_packet(&ctx, ray, same, keys[first], full & same);
+            for (uint32_t bits = same; bits; bits &= bits - 1u) {
+                const uint32_t l = (uint32_t)__builtin_ctz(bits);
+                occluded[first + l] = (uint8_t)(hit >> l & 1u);
+            }
+            left &= ~same;
+        }
+        for (; left; left &= left - 1u) rest[rests++] = first + (uint32_t)__builtin_ctz(left);
+    }
+    if (!rests) return;
+    /* per run of equal keys in batch order a record and its first place;
+     * without a branch per ray: a run's entry is written at every ray and
+     * kept by the count moving on only where a run starts (a mesh's rays
+     * seen from the light change cells every ray or two, and the branch
+     * was mispredicted as often) */
+    uint64_t *records = scratch->records;
+    uint32_t runs = 0, lo = UINT32_MAX, hi = 0, before = ~keys[rest[0]];
+    for (uint32_t j = 0; j < rests; j++) {
+        const uint32_t key = keys[rest[j]];
+        run_first[runs] = j;
+        records[runs] = (uint64_t)key << 32 | runs;
+        runs += key != before;
+        before = key;
+        lo = key < lo ? key : lo;
+        hi = key > hi ? key : hi;
+    }
+    run_first[runs] = rests;
     /* by cell and axis, stably (a batch in pixel order stays so within a
      * cell; an eye-ray cell's rays see a band of the light's cells: one or
-     * two passes of a few hundred buckets) */
+     * two passes of a few hundred buckets), so the packets read runs of
+     * one key in order */
     const uint64_t *sorted = pgrid_sort_keys(records, scratch->spare, runs, lo, hi);
-    /* the largest float at most 2M: |org| (a float) <= 2M iff |org| <= it */
-    float magnitude = (float)L->magnitude;
-    if ((double)magnitude > L->magnitude) magnitude = nextafterf(magnitude, 0.0f);
-    const vf within = vf_set1(magnitude), slack = vf_set1(L->reach);
-    const uint32_t face_cells = L->res * L->res;
-    shadow_packet p;
     _Alignas(64) rtt_ray lane_rays[LANES];
     uint32_t index[LANES];
     for (uint32_t next = 0, taken = 0; next < runs;) {
@@ -288,64 +390,18 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
         while (n < LANES && next < runs && (uint32_t)(sorted[next] >> 32) == key) {
             const uint32_t run = (uint32_t)sorted[next], start = run_first[run] + taken, end = run_first[run + 1];
             const uint32_t take = end - start < LANES - n ? end - start : LANES - n;
-            for (uint32_t k = 0; k < take; k++) index[n++] = start + k;
+            for (uint32_t k = 0; k < take; k++) index[n++] = rest[start + k];
             taken += take;
             if (start + take == end) next++, taken = 0;
         }
-        const uint32_t cell = key / 3u, kz = key % 3u;
-        p.kz = kz, p.kx = kz == 2 ? 0 : kz + 1, p.ky = kz == 0 ? 2 : kz - 1;
         /* the lanes' rays as structure of arrays (lanes past n repeat the first) */
         for (uint32_t l = 0; l < LANES; l++) lane_rays[l] = rays[index[l < n ? l : 0]];
         vf ray[8];
         vf_load_records8((const float *)lane_rays, ray);
-        for (int a = 0; a < 3; a++) vf_store(p.org[a], ray[a]);
-        vf_store(p.tnear, ray[6]), vf_store(p.tfar, ray[7]);
-        const vf dkz = ray[3 + kz];
-        vf_store(p.sx, vf_div(ray[3 + p.kx], dkz));
-        vf_store(p.sy, vf_div(ray[3 + p.ky], dkz));
-        vf_store(p.sz, vf_div(vf_set1(1.0f), dkz));
-        /* the per-cell distance test: |L - p| is tnear + tfar for the proxy's rays */
-        const vf reach = vf_add(vf_add(ray[6], ray[7]), slack);
-        vf_store(p.reach, reach);
-        uint32_t active = (1u << n) - 1u; /* n <= LANES <= 16 */
-        /* a face no triangle's footprint meets keeps no cells: nothing there but the near list */
-        const bool kept = L->faces >> (cell / face_cells) & 1u;
-        uint32_t reaching = kept ? active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell]))) : 0;
-        /* an origin beyond 2M: every triangle (pgrid_light.h) */
-        const vm tame = vm_and(vm_and(vf_le(vf_abs(ray[0]), within), vf_le(vf_abs(ray[1]), within)),
-                               vf_le(vf_abs(ray[2]), within));
-        const uint32_t wild = active & ~vm_bits(tame);
         uint32_t full = 0;
         if (grids->culled_count)
             for (uint32_t l = 0; l < n; l++) full |= (uint32_t)full_ray[index[l]] << l;
-        uint32_t hit = 0, entering = 0;
-        if (wild) {
-            const packet_regs regs = packet_regs_load(&p);
-            for (uint32_t t = 0; wild & ~hit && t < grids->corner_count; t++)
-                hit |= occluded_lanes(&grids->corners[t], &regs, &p, wild & ~hit, NULL);
-        }
-        active &= ~wild, reaching &= ~wild, full &= ~wild;
-        /* The front faces, for the lanes that may start inside a culled
-         * solid: first for those known now (most start on a face turned
-         * from the light, so go into the solid and leave it through a
-         * front face), then for those the kept lists find crossing a
-         * triangle at the origin (entering).  A lane's answer is whether
-         * any triangle it is tested against occludes it, so the order of
-         * the lists changes no answer, only how soon a lane is done. */
-        const uint32_t front_first = kept ? full & active : 0;
-        if (front_first)
-            hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
-                                 &p, front_first, NULL);
-        uint32_t *watch = grids->culled_count ? &entering : NULL;
-        if (reaching & ~hit)
-            hit |= occluded_list(grids, L, L->refs + L->cell_first[cell], L->cell_front[cell] - L->cell_first[cell], &p,
-                                reaching & ~hit, watch);
-        if (L->near_count && (hit & active) != active)
-            hit |= occluded_list(grids, L, L->near, L->near_count, &p, active & ~hit, watch);
-        const uint32_t front = kept ? entering & ~front_first & active & ~hit : 0;
-        if (front)
-            hit |= occluded_list(grids, L, L->refs + L->cell_front[cell], L->cell_first[cell + 1] - L->cell_front[cell],
-                                 &p, front, NULL);
+        const uint32_t hit = trace_packet(&ctx, ray, (uint32_t)((1ull << n) - 1u), key, full);
         for (uint32_t l = 0; l < n; l++) occluded[index[l]] = (uint8_t)(hit >> l & 1u);
     }
 }
