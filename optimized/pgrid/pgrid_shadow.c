@@ -1,10 +1,12 @@
 /* Hunt & Mark 2008, section 5.2: shadow rays through a light's perspective
  * grid (pgrid_light.h).  The batch (one eye-ray cell's shadow rays to one
- * light, as the shader proxy hands them) is sorted by (light cell, dominant
- * axis of the ray's direction); each run is cut into packets of one vector,
- * 16 rays with AVX-512, 8 with AVX2, 4 with SSE4.1, which meet the cell's
- * triangles in object order, after the per-cell distance test, then the
- * near list.
+ * light, as the shader proxy hands them) is keyed by (light cell, dominant
+ * axis of the ray's direction) one vector of rays at a time, 16 with
+ * AVX-512, 8 with AVX2, 4 with SSE4.1: the rays of a vector that share its
+ * first ray's key, when three quarters of it do, are a packet at once; the
+ * rest are sorted by key and each run cut into packets of one vector.  A
+ * packet meets its cell's triangles in object order, after the per-cell
+ * distance test, then the near list.
  *
  * The test is Woop, Benthin & Wald's watertight one exactly as
  * ../isect/isect_woop_watertight.h and the reference compute it: the lanes
