@@ -229,8 +229,8 @@ void pgrid_shadows_free(pgrid_shadows *grids);
 /* The light-grid kernel (pgrid_shadow.c, one copy per instruction set):
  * occluded[i] = 1 when rays[i] (from its origin towards light `light`, as
  * the shader proxy makes them; origin_prim[i] the triangle its origin lies
- * on, RTT_MISS or origin_prim NULL when none or unknown) is blocked, else 0; the rays are sorted by
- * cell and dominant axis and traced per cell in packets of the set's lanes.
+ * on, RTT_MISS or origin_prim NULL when none or unknown) is blocked, else 0; the rays are keyed by
+ * cell and dominant axis and traced per key in packets of the set's lanes (pgrid_shadow.c).
  * False when out of memory. */
 typedef bool (*pgrid_occluded_fn)(const pgrid_shadows *grids, uint32_t light, const rtt_ray *rays,
                                   const uint32_t *origin_prim, uint32_t count, uint8_t *occluded);

@@ -237,9 +237,10 @@ typedef struct packet_context {
     uint32_t face_cells;
 } packet_context;
 
-/* The rays in `ray` (vf_load_records8's words; lanes from n on repeat a
- * ray), all of key `key`, traced as one packet; `full`: the lanes that may
- * start inside a culled solid.  The lanes occluded. */
+/* The lanes `lanes` of the rays in `ray` (vf_load_records8's words; the
+ * other lanes hold rays of other keys or repeats, left alone), all of key
+ * `key`, traced as one packet; `full`: those of them that may start inside
+ * a culled solid.  The lanes occluded. */
 static uint32_t trace_packet(const packet_context *ctx, const vf ray[8], uint32_t lanes, uint32_t key, uint32_t full)
 {
     const pgrid_shadows *grids = ctx->grids;
@@ -304,9 +305,9 @@ enum { CHUNK_RAYS = 4096 };
  * oa_dm4 best at 12 of 16 against 8 and 16 (bench/results/pgrid.md,
  * fourteenth session) */
 #define PACKET_MIN (LANES * 3u / 4u)
-#ifndef PREFETCH_GROUPS
+/* How many vectors of rays ahead the batch is prefetched: 8 against 4 and
+ * 16 on the same three maps (bench/results/pgrid.md, fourteenth session) */
 #define PREFETCH_GROUPS 8u
-#endif
 typedef struct chunk_scratch {
     uint32_t keys[CHUNK_RAYS];          /* per ray */
     uint32_t rest[CHUNK_RAYS];          /* the rays left for the sort, in batch order */
@@ -330,10 +331,11 @@ static void occluded_chunk(const pgrid_shadows *grids, const pgrid_light *L, con
     if (grids->culled_count)
         for (uint32_t i = 0; i < count; i++)
             full_ray[i] = needs_front_faces(grids, L, &rays[i], origin_prim ? origin_prim[i] : RTT_MISS);
-    /* per ray its key; LANES rays in a row of one key (a coherent batch's
-     * neighbours mostly share a cell: the maps' rows nearly always) are a
-     * packet at once, from the words the keys were made from; the others
-     * are left for the sort */
+    /* per ray its key; of LANES rays in a row, those of the first one's
+     * key are a packet at once when they are PACKET_MIN or more (a
+     * coherent batch's neighbours mostly share a cell: a map's, whose
+     * cells are wide, often), from the words the keys were made from; the
+     * others are left for the sort */
     uint32_t *keys = scratch->keys, *rest = scratch->rest, *run_first = scratch->run_first;
     uint32_t rests = 0;
     for (uint32_t first = 0; first < count; first += LANES) {
