@@ -31,13 +31,19 @@ rmse() { # IMAGE: its RMSE against the truth
     "$rtt" compare "$work/$1.exr" "$work/truth.exr" --json | sed -n 's/.*"rmse": *\([^,}]*\).*/\1/p'
 }
 
-render multi:256 truth
-render multi:64 multi64
-render interleaved:16 filtered
-render interleaved:16:nofilter unfiltered
-m64=$(rmse multi64) filtered=$(rmse filtered) unfiltered=$(rmse unfiltered)
+measure() { # METHOD: $scene's multi:256 (the truth), multi:64, interleaved:16 and METHOD rendered;
+    # m64, filtered and other set to the last three's RMSE against the truth
+    render multi:256 truth
+    render multi:64 multi64
+    render interleaved:16 filtered
+    render "$1" other
+    m64=$(rmse multi64) filtered=$(rmse filtered) other=$(rmse other)
+    [ -n "$m64" ] && [ -n "$filtered" ] && [ -n "$other" ] || { echo "FAIL: no RMSE from rtt compare"; exit 1; }
+}
+
+measure interleaved:16:nofilter
+unfiltered=$other
 echo "RMSE against multi:256: multi:64 $m64, interleaved:16 $filtered, interleaved:16:nofilter $unfiltered"
-[ -n "$m64" ] && [ -n "$filtered" ] && [ -n "$unfiltered" ] || { echo "FAIL: no RMSE from rtt compare"; exit 1; }
 failures=0
 expect() { # A OP B MESSAGE: a failure unless A OP B (OP: <= or <)
     awk -v a="$1" -v b="$3" "BEGIN { exit !(a $2 b) }" || { echo "FAIL: $4"; failures=$((failures + 1)); }
@@ -48,13 +54,9 @@ expect "$filtered" "<" "$unfiltered" \
 # shadow_on_shadow's contact shadows: the filter alone misses there, the
 # refining second pass (:refine) brings the image within multi:64's error
 scene="$src/scenes/shadow_on_shadow.json"
-render multi:256 truth
-render multi:64 multi64
-render interleaved:16 filtered
-render interleaved:16:refine refined
-m64=$(rmse multi64) filtered=$(rmse filtered) refined=$(rmse refined)
+measure interleaved:16:refine
+refined=$other
 echo "shadow_on_shadow: multi:64 $m64, interleaved:16 $filtered, interleaved:16:refine $refined"
-[ -n "$m64" ] && [ -n "$filtered" ] && [ -n "$refined" ] || { echo "FAIL: no RMSE from rtt compare"; exit 1; }
 expect "$refined" "<=" "$m64" \
     "interleaved:16:refine ($refined) is further from multi:256 than multi:64 ($m64) on shadow_on_shadow"
 expect "$refined" "<" "$filtered" \
