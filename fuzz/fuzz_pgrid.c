@@ -124,10 +124,19 @@ static void check_invariants(const pgrid_shadows *grids, const pgrid_light *ligh
 {
     const size_t face_cells = (size_t)light->res * light->res, cells = PGRID_LIGHT_FACES * face_cells;
     if (light->cell_first[cells] != light->ref_count) fuzz_fail("light grid: the cell ranges do not cover the references");
-    /* the kept faces' ranges tile the references in face order; the others hold no cells */
+    /* the kept cells' ranges tile the references in face order; the others hold none */
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+        const uint32_t *kept = light->kept_cells[face];
+        if ((light->faces >> face & 1u) != (kept[0] < kept[1]))
+            fuzz_fail("light grid: face %u's kept cells disagree with its bit", face);
+        if (kept[0] < kept[1] && (kept[0] % light->res || kept[1] % light->res || kept[0] < face * face_cells ||
+                                  kept[1] > (face + 1) * face_cells))
+            fuzz_fail("light grid: face %u's kept cells are not rows of it", face);
+    }
     uint32_t covered = 0;
     for (size_t c = 0; c < cells; c++) {
-        if (!(light->faces >> (c / face_cells) & 1u)) continue;
+        const uint32_t *kept = light->kept_cells[c / face_cells];
+        if (c < kept[0] || c >= kept[1]) continue;
         if (light->cell_first[c] != covered) fuzz_fail("light grid: cell %zu's range does not follow the last", c);
         covered = light->cell_first[c + 1];
         if (light->cell_front[c] < light->cell_first[c] || light->cell_front[c] > light->cell_first[c + 1])
@@ -140,8 +149,16 @@ static void check_invariants(const pgrid_shadows *grids, const pgrid_light *ligh
         }
     }
     if (covered != light->ref_count) fuzz_fail("light grid: the kept faces' cells do not cover the references");
-    for (uint32_t i = 0; i < grids->corner_count; i++)
+    for (uint32_t i = 0; i < grids->corner_count; i++) {
         if (light->face_mask[i] & ~light->faces) fuzz_fail("light grid: triangle %u has a footprint on a face not kept", i);
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+            if (!(light->face_mask[i] >> face & 1u)) continue;
+            const pgrid_footprint f = light->prints[(size_t)face * grids->corner_count + i];
+            const size_t first = ((size_t)face * light->res + f.y0) * light->res, end = ((size_t)face * light->res + f.y1 + 1) * light->res;
+            if (first < light->kept_cells[face][0] || end > light->kept_cells[face][1])
+                fuzz_fail("light grid: triangle %u's footprint on face %u meets rows not kept", i, face);
+        }
+    }
     for (uint32_t i = 0; i < light->near_count; i++)
         if (light->near[i] >= grids->corner_count) fuzz_fail("light grid: the near list names triangle %u", light->near[i]);
 }
@@ -262,14 +279,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         vector.prints = pgrid_kernel_find("", isa)->light_prints;
         pgrid_light other;
         if (!pgrid_light_build(&other, &vector, scene, position, res)) fuzz_fail("light grid: out of memory");
-        const size_t face_cells = (size_t)light.res * light.res, n = grids.corner_count;
-        bool cells_differ = other.faces != light.faces;
+        const size_t n = grids.corner_count;
+        bool cells_differ = other.faces != light.faces || memcmp(other.kept_cells, light.kept_cells, sizeof light.kept_cells);
         for (uint32_t face = 0; face < PGRID_LIGHT_FACES && !cells_differ; face++) {
-            const size_t at = face * face_cells;
-            if (light.faces >> face & 1u)
-                cells_differ = memcmp(other.cell_first + at, light.cell_first + at, (face_cells + 1) * sizeof *light.cell_first) ||
-                               memcmp(other.cell_front + at, light.cell_front + at, face_cells * sizeof *light.cell_front) ||
-                               memcmp(other.cell_min + at, light.cell_min + at, face_cells * sizeof *light.cell_min);
+            const size_t at = light.kept_cells[face][0], kept = light.kept_cells[face][1] - at;
+            if (kept)
+                cells_differ = memcmp(other.cell_first + at, light.cell_first + at, (kept + 1) * sizeof *light.cell_first) ||
+                               memcmp(other.cell_front + at, light.cell_front + at, kept * sizeof *light.cell_front) ||
+                               memcmp(other.cell_min + at, light.cell_min + at, kept * sizeof *light.cell_min);
         }
         if (cells_differ || other.ref_count != light.ref_count || other.near_count != light.near_count ||
             (light.ref_count && memcmp(other.refs, light.refs, light.ref_count * sizeof *light.refs)) ||

@@ -40,14 +40,17 @@ static void assert_same_grid(const pgrid_light *a, const pgrid_light *b, const r
     assert_int_equal(a->ref_count, b->ref_count);
     assert_int_equal(a->near_count, b->near_count);
     assert_int_equal(a->faces, b->faces);
-    const size_t face_cells = (size_t)a->res * a->res, cells = PGRID_LIGHT_FACES * face_cells;
+    const size_t cells = PGRID_LIGHT_FACES * (size_t)a->res * a->res;
     assert_int_equal(a->cell_first[cells], b->cell_first[cells]);
+    assert_memory_equal(a->kept_cells, b->kept_cells, sizeof a->kept_cells);
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
-        if (!(a->faces >> face & 1u)) continue; /* not kept: stale words */
-        const size_t first = face * face_cells;
-        assert_memory_equal(a->cell_first + first, b->cell_first + first, (face_cells + 1) * sizeof *a->cell_first);
-        assert_memory_equal(a->cell_front + first, b->cell_front + first, face_cells * sizeof *a->cell_front);
-        assert_memory_equal(a->cell_min + first, b->cell_min + first, face_cells * sizeof *a->cell_min);
+        /* the kept rows' cells; the others hold stale words */
+        const size_t first = a->kept_cells[face][0], kept = a->kept_cells[face][1] - first;
+        assert_int_equal(a->faces >> face & 1u, kept > 0);
+        if (!kept) continue;
+        assert_memory_equal(a->cell_first + first, b->cell_first + first, (kept + 1) * sizeof *a->cell_first);
+        assert_memory_equal(a->cell_front + first, b->cell_front + first, kept * sizeof *a->cell_front);
+        assert_memory_equal(a->cell_min + first, b->cell_min + first, kept * sizeof *a->cell_min);
     }
     if (a->ref_count) assert_memory_equal(a->refs, b->refs, a->ref_count * sizeof *a->refs);
     if (a->near_count) assert_memory_equal(a->near, b->near, a->near_count * sizeof *a->near);
@@ -111,8 +114,8 @@ static void check_light(const rtt_scene *s, rtt_engine *ref, const pgrid_shadows
         for (uint32_t i = 0; i < n; i++) assert_int_equal(ours[i], expected[i]);
     }
     size_t front = 0;
-    for (size_t c = 0; c < (size_t)PGRID_LIGHT_FACES * grid.res * grid.res; c++)
-        if (grid.faces >> (c / ((size_t)grid.res * grid.res)) & 1u) front += grid.cell_first[c + 1] - grid.cell_front[c];
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++)
+        for (size_t c = grid.kept_cells[face][0]; c < grid.kept_cells[face][1]; c++) front += grid.cell_first[c + 1] - grid.cell_front[c];
     print_message("%s: res %u, %u rays, %u occluded, %u near, %zu refs (%zu facing the light, of %u culled meshes)\n",
                   what, grid.res, n, blocked, grid.near_count, grid.ref_count, front, grids->culled_count);
     if (n > 100) assert_true(blocked > 0 && blocked < n); /* both answers were checked */

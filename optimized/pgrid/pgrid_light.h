@@ -103,8 +103,10 @@ typedef struct pgrid_light {
     float reach;               /* 4E: slack of the per-cell distance test */
     double magnitude;          /* 2M: a ray whose origin has a larger coordinate is tested against
                                 * every triangle (the reference's rounding follows the origin) */
-    uint32_t faces;            /* bit f: face f's cells are kept (some triangle has a footprint there); the
-                                * cells of the other faces hold stale words: a ray there meets the near list only */
+    uint32_t faces;            /* bit f: face f's cells are kept (some triangle has a footprint there) */
+    uint32_t kept_cells[PGRID_LIGHT_FACES][2]; /* face f's kept cells, [first, end): the whole rows its footprints
+                                * meet ({0, 0} when it keeps none); the other cells hold stale words: a ray
+                                * there meets the near list only */
     uint32_t *cell_first;      /* 6 res^2 + 1: cell c's references are refs[cell_first[c] .. cell_first[c + 1]) */
     float *cell_min;           /* per cell: the least distance bound d_T of its triangles (+inf: none) */
     float *bound;              /* per corner record: its d_T (the same test per triangle) */
@@ -174,6 +176,8 @@ typedef struct pgrid_shadows {
      * outward sides (kd_corners.outward) as floats at 9 corner_stride */
     float *corner_lanes;
     size_t corner_stride;
+    uint32_t *record_prim;         /* per record its corners' prim: the footprint stage's tasks read it, not
+                                    * the 48-byte records */
     /* back-face culling: per mesh 1 when it is closed and consistently
      * oriented (every directed edge's reverse used once, by vertex index),
      * its outward side (+1: the winding's normal, -1: the opposite) and

@@ -284,13 +284,13 @@ static void footprint_chunk(void *context, uint32_t thread, uint32_t task)
     b->prints(&b->job, task * CHUNK, end);
     pgrid_light *light = b->job.light;
     const uint32_t res = b->job.res;
-    const kd_corners *corners = b->job.grids->corners;
+    const uint32_t *record_prim = b->job.grids->record_prim;
     uint32_t counts[CHUNK_COUNTS] = {0};
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) counts[CHUNK_ROW_LO + face] = UINT32_MAX;
     uint32_t *rows = b->bands > 1 ? light->row_records + (size_t)thread * PGRID_LIGHT_FACES * res : NULL;
     for (uint32_t i = task * CHUNK; i < end; i++) {
         const uint32_t face_mask = light->face_mask[i];
-        if (light->record_front[i]) light->front[corners[i].prim] = light->record_front[i];
+        if (light->record_front[i]) light->front[record_prim[i]] = light->record_front[i];
         counts[CHUNK_NEAR] += record_is_near(light, i);
         for (uint32_t mask = face_mask; mask; mask &= mask - 1) {
             const uint32_t face = (uint32_t)__builtin_ctz(mask);
@@ -525,55 +525,70 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     /* per face how many records have a footprint on it (none: its cells
      * are not kept), from the chunks' counts; the near list, in record
      * order, from the chunks that have some */
-    uint32_t at[PGRID_LIGHT_FACES + 1] = {0};
+    uint32_t at[PGRID_LIGHT_FACES + 1] = {0}, row_lo[PGRID_LIGHT_FACES], row_hi[PGRID_LIGHT_FACES] = {0};
+    for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) row_lo[face] = res;
     light->near_count = 0;
     for (uint32_t chunk = 0; chunk < chunks; chunk++) {
         const uint32_t *counts = light->chunk_counts + (size_t)chunk * CHUNK_COUNTS;
-        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += counts[face];
+        for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+            if (!counts[face]) continue;
+            at[face + 1] += counts[face];
+            row_lo[face] = counts[CHUNK_ROW_LO + face] < row_lo[face] ? counts[CHUNK_ROW_LO + face] : row_lo[face];
+            row_hi[face] = counts[CHUNK_ROW_HI + face] > row_hi[face] ? counts[CHUNK_ROW_HI + face] : row_hi[face];
+        }
         if (!counts[CHUNK_NEAR]) continue;
         const uint32_t end = (chunk + 1) * CHUNK < n ? (chunk + 1) * CHUNK : n;
         for (uint32_t i = chunk * CHUNK; i < end; i++)
             if (record_is_near(light, i)) light->near[light->near_count++] = i;
     }
-    /* two bands: cut where half the face's records have started (a mesh
-     * covers part of a face: even rows would leave one thread most of it),
-     * from the rows the footprint tasks counted per thread */
+    /* a face's bands cover the rows its footprints meet, [row_lo, row_hi]
+     * (a mesh seen from a light covers a part of a face: the cells of the
+     * other rows are neither counted nor laid out); two bands: cut where
+     * half the face's records have started (even rows would leave one
+     * thread most of them), from the rows the footprint tasks counted per
+     * thread */
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
-        uint32_t cut = res / 2;
-        if (b.bands > 1 && at[face + 1]) {
-            uint32_t seen = 0, y = 0;
-            for (; y + 1 < res; y++) {
+        if (!at[face + 1]) {
+            memset(b.band_row[face], 0, sizeof b.band_row[face]);
+            continue;
+        }
+        const uint32_t end = row_hi[face] + 1;
+        uint32_t cut = end;
+        if (b.bands > 1) {
+            uint32_t seen = 0, y = row_lo[face];
+            for (; y + 1 < end; y++) {
                 uint32_t starting = 0;
                 for (uint32_t t = 0; t < b.row_threads; t++) starting += light->row_records[((size_t)t * PGRID_LIGHT_FACES + face) * res + y];
                 if (2 * (seen + starting) > at[face + 1]) break;
                 seen += starting;
             }
-            cut = y > 0 ? y : 1;
+            cut = y > row_lo[face] ? y : row_lo[face] + 1;
         }
-        b.band_row[face][0] = 0, b.band_row[face][1] = b.bands > 1 ? cut : res, b.band_row[face][2] = res;
+        b.band_row[face][0] = row_lo[face], b.band_row[face][1] = cut, b.band_row[face][2] = end;
     }
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
-    /* the kept faces' cells (pgrid_light.faces) in face order: the others
-     * (a mesh seen from outside lies on one or two faces) cost nothing.
-     * Each band's references start where the bands before it end (its
-     * task lays its cells out from there); a kept face followed by one
-     * that is not gets its end here, the others' is the next face's first
-     * cell, which that face's first band writes. */
+    /* the kept cells (pgrid_light.kept_cells) in face order: the others
+     * (a mesh seen from outside lies on one or two faces, and on some of
+     * their rows) cost nothing.  Each band's references start where the
+     * bands before it end (its task lays its cells out from there); the
+     * cell past a face's kept rows gets the face's end here (when it is
+     * the next face's first kept cell, that face's first band writes the
+     * same there after). */
     uint32_t total = 0;
     light->faces = 0;
-    const size_t face_cells = (size_t)res * res;
+    memset(light->kept_cells, 0, sizeof light->kept_cells);
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
         if (light->face_first[face] == light->face_first[face + 1]) continue;
         light->faces |= 1u << face;
+        light->kept_cells[face][0] = (uint32_t)(((size_t)face * res + b.band_row[face][0]) * res);
+        light->kept_cells[face][1] = (uint32_t)(((size_t)face * res + b.band_row[face][2]) * res);
         for (uint32_t band = 0; band < b.bands; band++) {
             b.band_base[face][band] = total;
             total += b.band_refs[face][band];
         }
-        const bool next_kept =
-            face + 1 < PGRID_LIGHT_FACES && light->face_first[face + 1] < light->face_first[face + 2];
-        if (!next_kept) light->cell_first[(face + 1) * face_cells] = total;
+        light->cell_first[light->kept_cells[face][1]] = total;
     }
     light->cell_first[cells] = total;
     light->ref_count = total;
@@ -591,6 +606,7 @@ void pgrid_shadows_free(pgrid_shadows *grids)
     free(grids->lights);
     free(grids->corners);
     free(grids->corner_lanes);
+    free(grids->record_prim);
     free(grids->mesh_culled);
     free(grids->mesh_outward);
     free(grids->mesh_box);
@@ -651,15 +667,20 @@ static bool corners_as_lanes(pgrid_shadows *grids)
 {
     const size_t stride = ((size_t)grids->corner_count + 16) & ~(size_t)15; /* a vector's reach past the last record */
     float *lanes = calloc(10 * stride, sizeof *lanes);
-    if (!lanes) return false;
+    uint32_t *prim = malloc(((size_t)grids->corner_count + 1) * sizeof *prim);
+    if (!lanes || !prim) {
+        free(lanes), free(prim);
+        return false;
+    }
     for (uint32_t i = 0; i < grids->corner_count; i++) {
         const kd_corners *k = &grids->corners[i];
+        prim[i] = k->prim;
         for (int a = 0; a < 3; a++)
             lanes[(size_t)a * stride + i] = k->a[a], lanes[(size_t)(3 + a) * stride + i] = k->b[a],
                                    lanes[(size_t)(6 + a) * stride + i] = k->c[a];
         lanes[9 * stride + i] = (float)k->outward;
     }
-    grids->corner_lanes = lanes, grids->corner_stride = stride;
+    grids->corner_lanes = lanes, grids->corner_stride = stride, grids->record_prim = prim;
     return true;
 }
 

@@ -258,8 +258,9 @@ static uint32_t trace_packet(const packet_context *ctx, const vf ray[8], uint32_
     const vf reach = vf_add(vf_add(ray[6], ray[7]), ctx->slack);
     vf_store(p.reach, reach);
     uint32_t active = lanes;
-    /* a face no triangle's footprint meets keeps no cells: nothing there but the near list */
-    const bool kept = L->faces >> (cell / ctx->face_cells) & 1u;
+    /* a face keeps the rows of cells its footprints meet: elsewhere nothing but the near list */
+    const uint32_t *kept_cells = L->kept_cells[cell / ctx->face_cells];
+    const bool kept = cell >= kept_cells[0] && cell < kept_cells[1];
     uint32_t reaching = kept ? active & ~vm_bits(vf_lt(reach, vf_set1(L->cell_min[cell]))) : 0;
     /* an origin beyond 2M: every triangle (pgrid_light.h) */
     const vf within = ctx->within;
