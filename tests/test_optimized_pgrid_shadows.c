@@ -465,7 +465,7 @@ static void test_light_grid_culling_on_the_bunny(void **state)
     const float position[3] = {light.x, light.y, light.z};
     pgrid_light_free(&grids.lights[0]);
     assert_true(pgrid_light_build(&grids.lights[0], &grids, s, position, 0));
-    /* res 0: the rule's (the bunny's 75k triangles: 300; a map's 4k: 64) */
+    /* res 0: the rule's (the bunny's 75k triangles: 400; a map's 4k: 64) */
     assert_int_equal(grids.lights[0].res, pgrid_light_res_rule(grids.corner_count));
     assert_int_equal(pgrid_light_res_rule(grids.corner_count), PGRID_LIGHT_RES_MESHES);
     assert_int_equal(pgrid_light_res_rule(4093), PGRID_LIGHT_RES_MAPS);

@@ -72,7 +72,7 @@
  * PGRID_LIGHT_RES_MAPS on few large triangles, PGRID_LIGHT_RES_MESHES on
  * many small ones. */
 #define PGRID_LIGHT_RES_MAPS 64u
-#define PGRID_LIGHT_RES_MESHES 300u
+#define PGRID_LIGHT_RES_MESHES 400u
 #define PGRID_LIGHT_RES_MAX 2048u
 #define PGRID_LIGHT_FACES 6u
 /* A ray from a light-facing triangle of a culled mesh whose direction makes
