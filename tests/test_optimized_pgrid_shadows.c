@@ -260,6 +260,86 @@ static void test_light_grid_rebuilt_on_threads_equals_one_thread(void **state)
 }
 
 /* A soup of random triangles, some huge, some tiny, lights among them. */
+/* Large slanted triangles around a light, whose footprints of many cells
+ * the build cuts to the cells their cone from the light meets
+ * (pgrid_light_build.c, cone_cut): shadow rays aimed past their edges and
+ * corners by a hair on either side, from beyond them, answer as the
+ * reference and the brute force at every instruction set, and the cut
+ * dropped cells (fewer references than the footprints' rectangles hold). */
+static void test_light_grid_cuts_large_footprints_to_their_cones(void **state)
+{
+    (void)state;
+    enum { TRIANGLES = 24, ALONG = 9, OFFSETS = 6 };
+    uint32_t seed = 777u;
+    float xyz[TRIANGLES * 9];
+    for (uint32_t i = 0; i < TRIANGLES; i++) {
+        /* a long thin triangle 1.5 to 3 from the light at the origin, slanted every way */
+        const float c[3] = {random_in(&seed, -3, 3), random_in(&seed, -3, 3), random_in(&seed, -3, 3)};
+        const float along[3] = {random_in(&seed, -2, 2), random_in(&seed, -2, 2), random_in(&seed, -2, 2)};
+        const float across[3] = {random_in(&seed, -0.4f, 0.4f), random_in(&seed, -0.4f, 0.4f), random_in(&seed, -0.4f, 0.4f)};
+        for (int k = 0; k < 3; k++) {
+            xyz[9 * i + k] = c[k] - along[k];
+            xyz[9 * i + 3 + k] = c[k] + along[k];
+            xyz[9 * i + 6 + k] = c[k] + across[k];
+        }
+    }
+    rtt_error err = {{0}};
+    rtt_scene *s = rtt_scene_from_triangles(xyz, TRIANGLES, &err);
+    assert_non_null(s);
+    rtt_engine *ref = rtt_reference_engine_create(s, NULL, &err);
+    assert_non_null(ref);
+    pgrid_shadows grids;
+    assert_true(pgrid_shadows_prepare(&grids, s, NULL, &err));
+    const rtt_vec3 light = {0.01f, -0.02f, 0.03f};
+    /* points beyond each triangle's edges and corners as seen from the light, off them by 1e-7 .. 1e-2 of
+     * the distance, on both sides */
+    const uint32_t count = TRIANGLES * 3 * ALONG * OFFSETS * 2;
+    rtt_vec3 *points = malloc(count * sizeof *points);
+    uint32_t *prims = malloc(count * sizeof *prims);
+    assert_true(points && prims);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < TRIANGLES; i++) {
+        rtt_vec3 v[3];
+        rtt_scene_triangle(s, i, v);
+        const rtt_vec3 centre = rtt_v3_scale(rtt_v3_add(rtt_v3_add(v[0], v[1]), v[2]), 1.0f / 3.0f);
+        for (int e = 0; e < 3; e++)
+            for (int a = 0; a < ALONG; a++) {
+                const float t = (float)a / (ALONG - 1); /* 0 and 1: the corners */
+                const rtt_vec3 on = rtt_v3_add(v[e], rtt_v3_scale(rtt_v3_sub(v[(e + 1) % 3], v[e]), t));
+                const rtt_vec3 out = rtt_v3_normalize(rtt_v3_sub(on, centre));
+                for (int o = 0; o < OFFSETS; o++)
+                    for (int side = -1; side <= 1; side += 2) {
+                        const float off = (float)side * powf(10.0f, -7.0f + (float)o) * rtt_v3_length(rtt_v3_sub(on, light));
+                        const rtt_vec3 aim = rtt_v3_add(on, rtt_v3_scale(out, off));
+                        points[n] = rtt_v3_add(light, rtt_v3_scale(rtt_v3_sub(aim, light), 1.6f));
+                        prims[n++] = RTT_MISS;
+                    }
+            }
+    }
+    /* the cut drops cells: fewer references than the rectangles' cells */
+    pgrid_light grid;
+    const float position[3] = {light.x, light.y, light.z};
+    for (uint32_t res = 16; res <= 256; res *= 4) {
+        assert_true(pgrid_light_build(&grid, &grids, s, position, res));
+        size_t rectangles = 0;
+        for (uint32_t i = 0; i < grids.corner_count; i++)
+            for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) {
+                if (!(grid.face_mask[i] >> face & 1u)) continue;
+                const pgrid_footprint f = grid.prints[(size_t)face * grids.corner_count + i];
+                rectangles += (size_t)(f.x1 - f.x0 + 1) * (f.y1 - f.y0 + 1);
+            }
+        print_message("cone cut, res %u: %zu references of %zu rectangle cells\n", res, grid.ref_count, rectangles);
+        assert_true(grid.ref_count < rectangles);
+        pgrid_light_free(&grid);
+        check_light(s, ref, &grids, points, prims, n, res, light, "large slanted triangles");
+    }
+    free(points);
+    free(prims);
+    pgrid_shadows_free(&grids);
+    rtt_engine_destroy(ref);
+    rtt_scene_free(s);
+}
+
 static void test_light_grid_on_a_triangle_soup(void **state)
 {
     (void)state;
@@ -525,6 +605,7 @@ int main(void)
         cmocka_unit_test(test_light_grid_rays_match_reference_and_brute_force),
         cmocka_unit_test(test_light_grid_rebuilt_on_threads_equals_one_thread),
         cmocka_unit_test(test_light_grid_on_a_triangle_soup),
+        cmocka_unit_test(test_light_grid_cuts_large_footprints_to_their_cones),
         cmocka_unit_test(test_light_grid_footprints_in_vectors_equal_scalar),
         cmocka_unit_test(test_light_grid_culling_on_the_bunny),
         cmocka_unit_test(test_render_pgrid_shadows_equal_hard),

@@ -17,7 +17,11 @@
  *
  *  - A triangle is binned by its exact footprint on each face, clipped
  *    (in double) to the face's pyramid widened by the margin mu_T and
- *    bounded by its clipped corners' face coordinates widened by mu_T too.
+ *    bounded by its clipped corners' face coordinates widened by mu_T too;
+ *    of a footprint of 16 cells or more, only the cells that the cone from
+ *    L over the triangle, widened by mu_T, meets (pgrid_light_build.c,
+ *    cone_cut: a map's large slanted triangles' rectangles are two fifths
+ *    cells they miss).
  *  - mu_T covers the rounding of the ray's own direction and of the
  *    reference's test: every point the reference can accept on the ray is
  *    within E = 2^-14 M of the exact segment p-L (M the largest coordinate
@@ -75,6 +79,8 @@
 #define PGRID_LIGHT_RES_MESHES 400u
 #define PGRID_LIGHT_RES_MAX 2048u
 #define PGRID_LIGHT_FACES 6u
+/* The light build's count and fill bands per face at most (pgrid_light_build.c) */
+#define PGRID_LIGHT_BANDS_MAX 2u
 /* A ray from a light-facing triangle of a culled mesh whose direction makes
  * a cosine below this with the triangle's outward normal grazes it: its
  * origin, rounded, may lie inside the solid, so it meets the front faces
@@ -138,6 +144,10 @@ typedef struct pgrid_light {
     uint32_t *chunk_counts;    /* per chunk of the footprint stage: its records with a footprint on each face,
                                 * its near ones, then per face its footprints' least first row and greatest
                                 * last row (pgrid_light_build.c, CHUNK_COUNTS) */
+    uint32_t *band_spans[PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX]; /* per count/fill band task: the cells
+                               * each row of its large footprints keeps, lo | hi << 16 (pgrid_light_build.c,
+                               * cone_cut), in the band's order */
+    size_t band_span_capacity[PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX];
     size_t cell_capacity, ref_capacity, corner_capacity, triangle_capacity, row_capacity, chunk_capacity;
 } pgrid_light;
 

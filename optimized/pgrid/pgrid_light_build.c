@@ -150,6 +150,7 @@ void pgrid_light_free(pgrid_light *light)
     free(light->face_mask);
     free(light->row_records);
     free(light->chunk_counts);
+    for (uint32_t task = 0; task < PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX; task++) free(light->band_spans[task]);
     memset(light, 0, sizeof *light);
 }
 
@@ -163,12 +164,12 @@ static bool grow(void *p, size_t *capacity, size_t count, size_t size)
     return true;
 }
 
-/* The count and fill stages' bands per face at most (two threads or more:
- * two), and the fill's spare slots past the references: one per task, each
+/* The count and fill stages' bands per face at most are
+ * PGRID_LIGHT_BANDS_MAX (two threads or more: two); the fill's spare slots
+ * past the references: one per task, each
  * in a 64-byte line of its own (two tasks' slots in one line had the
  * threads pass it to and fro at every record: the fill slower on two
  * threads than on one). */
-#define PGRID_LIGHT_BANDS_MAX 2u
 #define PGRID_LIGHT_SPARE_STRIDE 16u
 #define PGRID_LIGHT_SPARE_SLOTS ((PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX + 1u) * PGRID_LIGHT_SPARE_STRIDE)
 
@@ -180,6 +181,7 @@ typedef struct light_build {
     uint32_t band_row[PGRID_LIGHT_FACES][3]; /* face f's band k: rows band_row[f][k] .. band_row[f][k + 1] */
     uint32_t band_refs[PGRID_LIGHT_FACES][PGRID_LIGHT_BANDS_MAX];  /* per band its references (the count stage's) */
     uint32_t band_base[PGRID_LIGHT_FACES][PGRID_LIGHT_BANDS_MAX];  /* per band where its references start in refs */
+    bool failed[PGRID_LIGHT_FACES * PGRID_LIGHT_BANDS_MAX];        /* per band task: out of memory for its spans */
     size_t cells;
 } light_build;
 
@@ -320,6 +322,95 @@ static inline bool chunk_meets_band(const pgrid_light *light, uint32_t chunk, ui
     return counts[face] && counts[CHUNK_ROW_LO + face] < r1 && counts[CHUNK_ROW_HI + face] >= r0;
 }
 
+/* A footprint of CONE_CUT_CELLS cells or more covers the rectangle around
+ * the triangle's region on the face; a cell of it that the region, widened
+ * by mu as the rectangle is, does not meet takes no reference (a map's
+ * large slanted triangles left two fifths of their rectangles' cells).  The
+ * region is the cone from the light over the triangle: the directions d
+ * with n_e . d >= 0 for its three edge planes through the light (n_e = (p -
+ * L) x (q - L) for the edge pq, turned towards the third corner), on face f
+ * the points (s, t) with n_e . (sign, s, t) >= 0 in (axis, u, v) order.  A
+ * cell (x, y), widened by mu, lies outside edge e's half-plane when the
+ * largest value of n_e . (sign, s, t) over it, (A_e + y C_e) + x B_e, is
+ * below -tol_e, tol_e = 1e-12 |p - L|_1 |q - L|_1: far above the rounding of
+ * n_e and of the sums in double (some 1e-15 of it), so a cell is dropped
+ * only when the exact region widened by mu misses it.  mu from the
+ * record's bound (below its d_T: a larger mu than the footprint's).  A
+ * triangle nearly in a plane through the light (the corners' triple
+ * product below 1e-9 of their 1-norms' product: the cone flat, its
+ * orientation unsure) keeps its rectangle.  Per row the cells left are an
+ * interval (each edge's value is monotone in x), cone_row's; the count
+ * stage keeps each row's interval in its band's span list, which the fill
+ * stage reads back in the same order (pgrid_light.band_spans). */
+/* 16 against 9 and 25, best of 3 a frame on the six bench scenes
+ * (bench/results/pgrid.md, fifteenth session): smaller footprints, a
+ * mesh's, lose less than their cut costs */
+#define CONE_CUT_CELLS 16u
+typedef struct cone_cut {
+    double a[3], b[3], c[3], tol[3], inverse_b[3];
+} cone_cut;
+
+static bool cone_cut_make(const light_build *lb, uint32_t record, uint32_t face, cone_cut *k)
+{
+    const kd_corners *r = &lb->job.grids->corners[record];
+    const float *L = lb->job.light->position;
+    const float *corner[3] = {r->a, r->b, r->c};
+    double v[3][3], norm1[3];
+    for (int j = 0; j < 3; j++) {
+        for (int a = 0; a < 3; a++) v[j][a] = (double)corner[j][a] - (double)L[a];
+        norm1[j] = fabs(v[j][0]) + fabs(v[j][1]) + fabs(v[j][2]);
+    }
+    const double E = lb->job.E, res = (double)lb->job.res;
+    const double mu = 1e-5 + 4.0 * (2.0 * E / ((double)lb->job.light->bound[record] - 2.0 * E));
+    if (!(mu > 0.0 && mu < 1.0)) return false;
+    const uint32_t axis = face / 2, u = (axis + 1) % 3, w = (axis + 2) % 3;
+    const double sign = face % 2 ? -1.0 : 1.0, high = -1.0 + 2.0 / res + mu, low = -1.0 - mu;
+    for (int e = 0; e < 3; e++) {
+        const double *p = v[e], *q = v[(e + 1) % 3], *o = v[(e + 2) % 3];
+        double n[3] = {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
+        const double side = n[0] * o[0] + n[1] * o[1] + n[2] * o[2];
+        if (!(fabs(side) > 1e-9 * norm1[0] * norm1[1] * norm1[2])) return false; /* also NaN */
+        if (side < 0.0)
+            for (int a = 0; a < 3; a++) n[a] = -n[a];
+        k->a[e] = sign * n[axis] + n[u] * (n[u] > 0.0 ? high : low) + n[w] * (n[w] > 0.0 ? high : low);
+        k->b[e] = 2.0 * n[u] / res;
+        k->c[e] = 2.0 * n[w] / res;
+        k->tol[e] = 1e-12 * norm1[e] * norm1[(e + 1) % 3];
+        k->inverse_b[e] = k->b[e] != 0.0 ? 1.0 / k->b[e] : 0.0;
+    }
+    return true;
+}
+
+/* The cells of row y within [x0, x1] the cone leaves, [*lo, *hi]; false
+ * when none.  Each edge's value crosses -tol_e at x = (-tol_e - (A_e + y
+ * C_e)) / B_e, computed with an error (some 1e-15 |p - L|_1 |q - L|_1 / B_e
+ * cells) far below tol_e / B_e, the cells between that crossing and the
+ * exact value's zero: so the cells before the computed crossing (or after
+ * it, B_e < 0) lie outside the widened region, and the same computation in
+ * the count and the fill stages leaves the same cells. */
+static inline bool cone_row(const cone_cut *k, uint32_t y, uint32_t x0, uint32_t x1, uint32_t *lo, uint32_t *hi)
+{
+    double first = x0, last = x1;
+    for (int e = 0; e < 3; e++) {
+        const double r = k->a[e] + (double)y * k->c[e], limit = -k->tol[e];
+        if (k->b[e] == 0.0) {
+            if (!(r >= limit)) return false;
+            continue;
+        }
+        const double at = (limit - r) * k->inverse_b[e];
+        if (k->b[e] > 0.0) {
+            const double x = ceil(at);
+            first = x > first ? x : first; /* NaN: no cut */
+        } else {
+            const double x = floor(at);
+            last = x < last ? x : last;
+        }
+    }
+    if (!(first <= last)) return false;
+    *lo = (uint32_t)first, *hi = (uint32_t)last;
+    return true;
+}
+
 /* One band's cells: counted (`fill` false: references into the main
  * cursors, front ones into cell_front, the distance bound, the band's
  * total in band_refs), or (`fill` true) their lists laid out from the
@@ -382,7 +473,10 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
     }
     uint32_t total = 0;
     const uint32_t chunks = (records_end + CHUNK - 1) / CHUNK;
-    for (uint32_t chunk = 0; chunk < chunks; chunk++) {
+    /* the band's span list (cone_cut): written by the count, read by the fill */
+    uint32_t *restrict spans = light->band_spans[task];
+    size_t span_count = 0, span_capacity = light->band_span_capacity[task];
+    for (uint32_t chunk = 0; chunk < chunks && !b->failed[task]; chunk++) {
         if (!chunk_meets_band(light, chunk, face, r0, r1)) continue;
         const uint32_t end = (chunk + 1) * CHUNK < records_end ? (chunk + 1) * CHUNK : records_end;
         for (uint32_t i = chunk * CHUNK; i < end; i++) {
@@ -391,7 +485,10 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
             if (f.y1 < r0 || f.y0 >= r1) continue;
             const uint32_t y0 = f.y0 > r0 ? f.y0 : r0, y1 = f.y1 < r1 - 1 ? f.y1 : r1 - 1;
             const uint32_t wx = (uint32_t)(f.x1 - f.x0), wy = y1 - y0;
-            if ((wx | wy) <= 1u) {
+            /* a large footprint: the rows' cells the triangle's region meets (cone_cut), one span a row
+             * (decided on the whole footprint, not the band's rows: the same cells at any thread count) */
+            const bool large = (uint32_t)(f.x1 - f.x0 + 1) * (uint32_t)(f.y1 - f.y0 + 1) >= CONE_CUT_CELLS;
+            if ((wx | wy) <= 1u && !large) {
                 /* at most 2 x 2 cells (a mesh's triangles mostly): the four
                  * corners without a loop, a corner outside the footprint
                  * being the first cell again with nothing added (its cursor
@@ -428,30 +525,53 @@ BAND_PASS_NO_VECTORIZE static inline __attribute__((always_inline)) void band_pa
             if (fill) {
                 uint32_t *restrict own = record_front[i] ? front_cursor : main_cursor;
                 for (uint32_t y = y0; y <= y1; y++) {
+                    uint32_t lo = f.x0, hi = f.x1;
+                    if (large) {
+                        const uint32_t span = spans[span_count++];
+                        lo = span & 0xffffu, hi = span >> 16;
+                    }
                     const size_t row = ((size_t)face * res + y) * res;
-                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) refs[own[cell]++] = i;
+                    for (size_t cell = row + lo; cell <= row + hi; cell++) refs[own[cell]++] = i;
                 }
                 continue;
             }
-            total += (y1 - y0 + 1) * (uint32_t)(f.x1 - f.x0 + 1);
-            if (record_front[i]) { /* counted in both, bounds nothing */
-                for (uint32_t y = y0; y <= y1; y++) {
-                    const size_t row = ((size_t)face * res + y) * res;
-                    for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) main_cursor[cell]++, cell_front[cell]++;
+            if (large && span_count + (y1 - y0 + 1) > span_capacity) {
+                const size_t bigger = 2 * span_capacity + (y1 - y0 + 1) + 1024;
+                uint32_t *grown = realloc(spans, bigger * sizeof *spans);
+                if (!grown) {
+                    b->failed[task] = true;
+                    break;
                 }
-                continue;
+                spans = grown, span_capacity = bigger;
             }
+            cone_cut cut;
+            const bool cutting = large && cone_cut_make(b, i, face, &cut);
+            const bool facing = record_front[i] != 0; /* counted in both, bounds nothing */
             const float d = bound[i];
             for (uint32_t y = y0; y <= y1; y++) {
+                uint32_t lo = f.x0, hi = f.x1;
+                if (cutting && !cone_row(&cut, y, f.x0, f.x1, &lo, &hi)) {
+                    spans[span_count++] = 1u; /* none: lo 1 > hi 0 */
+                    continue;
+                }
+                if (large) spans[span_count++] = lo | hi << 16;
                 const size_t row = ((size_t)face * res + y) * res;
-                for (size_t cell = row + f.x0; cell <= row + f.x1; cell++) {
+                total += hi - lo + 1;
+                if (facing) {
+                    for (size_t cell = row + lo; cell <= row + hi; cell++) main_cursor[cell]++, cell_front[cell]++;
+                    continue;
+                }
+                for (size_t cell = row + lo; cell <= row + hi; cell++) {
                     main_cursor[cell]++;
                     cell_min[cell] = d < cell_min[cell] ? d : cell_min[cell];
                 }
             }
         }
     }
-    if (!fill) b->band_refs[face][task % b->bands] = total;
+    if (!fill) {
+        b->band_refs[face][task % b->bands] = total;
+        light->band_spans[task] = spans, light->band_span_capacity[task] = span_capacity;
+    }
 }
 
 BAND_PASS_NO_VECTORIZE static void count_band(void *context, uint32_t thread, uint32_t task)
@@ -569,6 +689,11 @@ bool pgrid_light_rebuild(pgrid_light *light, const pgrid_shadows *grids, const r
     for (uint32_t face = 0; face < PGRID_LIGHT_FACES; face++) at[face + 1] += at[face];
     memcpy(light->face_first, at, sizeof at);
     rtt_parallel_run(PGRID_LIGHT_FACES * b.bands, threads, count_band, &b);
+    for (uint32_t task = 0; task < PGRID_LIGHT_FACES * b.bands; task++)
+        if (b.failed[task]) {
+            pgrid_light_free(light);
+            return false;
+        }
     /* the kept cells (pgrid_light.kept_cells) in face order: the others
      * (a mesh seen from outside lies on one or two faces, and on some of
      * their rows) cost nothing.  Each band's references start where the
