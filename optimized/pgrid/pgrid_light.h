@@ -20,8 +20,8 @@
  *    bounded by its clipped corners' face coordinates widened by mu_T too;
  *    of a footprint of 16 cells or more, only the cells that the cone from
  *    L over the triangle, widened by mu_T, meets (pgrid_light_build.c,
- *    cone_cut: a map's large slanted triangles' rectangles are two fifths
- *    cells they miss).
+ *    cone_cut: two fifths of the cells of a map's large slanted triangles'
+ *    rectangles lie outside their cones).
  *  - mu_T covers the rounding of the ray's own direction and of the
  *    reference's test: every point the reference can accept on the ray is
  *    within E = 2^-14 M of the exact segment p-L (M the largest coordinate
