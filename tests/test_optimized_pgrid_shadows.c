@@ -259,7 +259,6 @@ static void test_light_grid_rebuilt_on_threads_equals_one_thread(void **state)
     sweep_lights(check_light_rebuild, 0);
 }
 
-/* A soup of random triangles, some huge, some tiny, lights among them. */
 /* Large slanted triangles around a light, whose footprints of many cells
  * the build cuts to the cells their cone from the light meets
  * (pgrid_light_build.c, cone_cut): shadow rays aimed past their edges and
@@ -340,6 +339,7 @@ static void test_light_grid_cuts_large_footprints_to_their_cones(void **state)
     rtt_scene_free(s);
 }
 
+/* A soup of random triangles, some huge, some tiny, lights among them. */
 static void test_light_grid_on_a_triangle_soup(void **state)
 {
     (void)state;

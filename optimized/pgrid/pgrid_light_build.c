@@ -192,6 +192,9 @@ enum { CHUNK = 2048 };
 enum { CHUNK_NEAR = PGRID_LIGHT_FACES, CHUNK_ROW_LO = PGRID_LIGHT_FACES + 1,
        CHUNK_ROW_HI = CHUNK_ROW_LO + PGRID_LIGHT_FACES, CHUNK_COUNTS = CHUNK_ROW_HI + PGRID_LIGHT_FACES };
 
+/* mu_T for a triangle whose distance bound from the light is d (pgrid_light.h) */
+static inline double record_margin(double E, double d) { return 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E)); }
+
 void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
 {
     pgrid_light *light = job->light;
@@ -222,7 +225,7 @@ void pgrid_light_print_record(const pgrid_print_job *job, uint32_t i)
         steep = front && side > PGRID_STEEP_COSINE * len * sqrt(far);
     }
     light->record_front[i] = front ? (steep ? PGRID_PRIM_STEEP : PGRID_PRIM_FACING) : 0;
-    const double mu = 1e-5 + 4.0 * (2.0 * E / (d - 2.0 * E));
+    const double mu = record_margin(E, d);
     if (!(d > NEAR_FACTOR * E) || !(mu <= MU_MAX)) {
         /* a near one: no footprint, face 0's y0 marks it for the near list */
         light->prints[i] = (pgrid_footprint){PGRID_FOOTPRINT_NONE, PGRID_FOOTPRINT_NONE, 0, 0};
@@ -361,7 +364,7 @@ static bool cone_cut_make(const light_build *lb, uint32_t record, uint32_t face,
         norm1[j] = fabs(v[j][0]) + fabs(v[j][1]) + fabs(v[j][2]);
     }
     const double E = lb->job.E, res = (double)lb->job.res;
-    const double mu = 1e-5 + 4.0 * (2.0 * E / ((double)lb->job.light->bound[record] - 2.0 * E));
+    const double mu = record_margin(E, (double)lb->job.light->bound[record]);
     if (!(mu > 0.0 && mu < 1.0)) return false;
     const uint32_t axis = face / 2, u = (axis + 1) % 3, w = (axis + 2) % 3;
     const double sign = face % 2 ? -1.0 : 1.0, high = -1.0 + 2.0 / res + mu, low = -1.0 - mu;
@@ -786,8 +789,8 @@ static bool order_records_in_space(pgrid_shadows *grids, const rtt_scene *scene)
     return true;
 }
 
-/* grids->corner_lanes from grids->corners (pgrid_light.h).  False when
- * out of memory. */
+/* grids->corner_lanes and grids->record_prim from grids->corners
+ * (pgrid_light.h).  False when out of memory. */
 static bool corners_as_lanes(pgrid_shadows *grids)
 {
     const size_t stride = ((size_t)grids->corner_count + 16) & ~(size_t)15; /* a vector's reach past the last record */
