@@ -14,7 +14,9 @@
  *    rounding of a target or of a ray's unit direction.
  *  - Per node one pass tests both children's boxes against every frustum
  *    (bvh_frusta.h: open-ended interval bounds with the zero fix); the
- *    active-frusta mask travels on the stack.
+ *    active-frusta mask travels on the stack.  A box that holds the ends
+ *    of the group's corner vectors (group_ends: every frustum reaches
+ *    them, on the light) is entered without a test.
  *  - At a leaf, per triangle: the common-origin Pluecker test against every
  *    active frustum at once over the cone of its four corner rays (the
  *    vectors to the 2D bounds' corners: every target is a convex
@@ -298,7 +300,8 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
     const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W;
     uint32_t top = 0, alive = frusta;
     const vf dist = vf_set1(1.0f);
-    stack[top++] = (mft_entry){&tree->root, frusta, MFT_UNTESTED};
+    stack[top++] = (mft_entry){&tree->root, frusta | (mft_holds_ends(&tree->root, &g->b) ? MFT_HOLDS_ENDS : 0u),
+                               MFT_UNTESTED};
     uint64_t aabb = 0;
     const bvh_child *c;
     uint32_t lanes;
@@ -395,6 +398,31 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
     g->corner_grow = grow;
 }
 
+/* The frusta's ends box (mft_bounds.ends_lo, hi): the points org +
+ * corner of the n live frusta (t = 1 = dist on the light), each sum's
+ * rounding covered by growing the box by 2^-22 of its largest coordinate
+ * (a sum is off by at most 2^-24 of itself). */
+static void group_ends(sf_group *g, uint32_t n)
+{
+    const vm dead = vm_of_bits(BVH_LANES_ALL & ~(uint32_t)((1ull << n) - 1u));
+    const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
+    float size = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        vf lo = inf, hi = minus_inf;
+        for (int c = 0; c < 4; c++) {
+            const vf end = vf_add(g->b.org[k], g->corner[c][k]);
+            lo = vf_min(lo, end), hi = vf_max(hi, end);
+        }
+        g->b.ends_lo[k] = vf_hmin(vf_blend(dead, lo, inf));
+        g->b.ends_hi[k] = vf_hmax(vf_blend(dead, hi, minus_inf));
+        const float a = fabsf(g->b.ends_lo[k]), b = fabsf(g->b.ends_hi[k]);
+        size = a > size ? a : size, size = b > size ? b : size;
+    }
+    const float grow = size * 0x1p-22f;
+    for (int k = 0; k < 3; k++) g->b.ends_lo[k] -= grow, g->b.ends_hi[k] += grow;
+    g->b.ends_known = isfinite(size);
+}
+
 void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
 {
     const bvh_shadow_sets *sets = q->sets;
@@ -411,6 +439,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
         mft_bounds_classify(&g.b);
+        group_ends(&g, n);
         if (q->counters) q->counters->packets += n;
         const uint32_t frusta = (uint32_t)((1ull << n) - 1u);
         if (tree->triangle_count > 0 && sets->samples > 0) trace_group(tree, &g, frusta, sets, q->epsilon, q->counters);
