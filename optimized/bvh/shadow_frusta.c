@@ -277,20 +277,21 @@ static inline uint32_t beside_plane(const frusta_tri *t, const sf_group *g, floa
  * drops the leaf for it instead of a ray test per triangle. */
 static uint32_t leaf_rays(const bvh_child *c, const sf_group *g, uint32_t lanes, uint32_t vecs, uint64_t *aabb)
 {
-    for (uint32_t bits = lanes & g->known; bits; bits &= bits - 1u) {
+    uint32_t drop = 0;
+    for (uint32_t bits = lanes & g->known & BVH_LANES_ALL; bits; bits &= bits - 1u) {
         const uint32_t f = (uint32_t)__builtin_ctz(bits), left = g->live[f] & ~g->occ[f];
-        bool enters = false;
+        uint32_t enters = 0;
         for (uint32_t v = 0; v < vecs && !enters; v++) {
             const uint32_t ray_lanes = left >> (v * BVH_W) & BVH_LANES_ALL;
             if (!ray_lanes) continue;
             const bvh_packet *r = &g->rays[f][v].r;
             vf entry;
             ++*aabb;
-            enters = vm_bits(bvh_packet_box(c, r, r->tfar, vm_of_bits(ray_lanes), &entry)) != 0;
+            enters = vm_bits(bvh_packet_box(c, r, r->tfar, vm_of_bits(ray_lanes), &entry)) & BVH_LANES_ALL;
         }
-        if (!enters) lanes &= ~(1u << f);
+        drop |= (uint32_t)(enters == 0) << f;
     }
-    return lanes;
+    return lanes & ~drop;
 }
 
 static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets, float eps,
@@ -319,16 +320,16 @@ static void trace_group(const bvh_tree *tree, sf_group *g, uint32_t frusta, cons
                                                     vm_of_bits(lanes), facing, backing);
             const uint32_t in_plane = survive & ~(facing | backing); /* what the edge test cannot cull */
             if (in_plane) survive &= ~beside_plane(&t, g, eps, in_plane);
-            while (survive) {
+            uint32_t done = 0;
+            for (survive &= BVH_LANES_ALL; survive; survive &= survive - 1u) {
                 const uint32_t f = (uint32_t)__builtin_ctz(survive);
-                survive &= survive - 1u;
                 if (counters) counters->isect_tests++;
                 const uint32_t before = g->occ[f];
-                if (frustum_rays(tree, rec, g, f, sets, eps))
-                    alive &= ~(1u << f), lanes &= ~(1u << f); /* the frustum terminates */
-                else if (g->occ[f] != before)
-                    newly |= 1u << f;
+                const uint32_t over = frustum_rays(tree, rec, g, f, sets, eps); /* the frustum terminates */
+                done |= over << f;
+                newly |= (uint32_t)(!over && g->occ[f] != before) << f;
             }
+            alive &= ~done, lanes &= ~done;
         }
         if ((newly &= alive)) shrink_corners(g, newly, sets);
     }
