@@ -41,7 +41,10 @@
  *    of a frustum's samples were newly occluded, its corner rays are
  *    recomputed through the corners of the 2D bounds of its samples still
  *    unoccluded, so later triangles are culled against the rays it has
- *    left (the direction box that steers the traversal is kept).
+ *    left, and the direction box that steers the traversal is made from
+ *    them too (the paper's "FS"; shrink_bounds), for the subtrees it
+ *    descends into from then on (those already on the stack keep the
+ *    frusta they were entered with).
  *
  * A sample ray is computed with the scalar renderers' operations in their
  * order (shader_proxy.c's shadow_segment: target, difference, length with
@@ -180,15 +183,40 @@ static void corner_sizes(sf_group *g)
     }
 }
 
+/* The traversal's direction boxes of the frusta `lanes` made again from
+ * their (shrunk) corner vectors, grown as group_bounds grows them (the
+ * same corner_grow covers the smaller rectangle's corners).  Only for
+ * frusta with no interval holding zero: a box inside the old one keeps
+ * every axis's sign, so the group's classes (mft_bounds_classify) stand;
+ * the ends box too (the shrunk corners end inside the old rectangle).
+ */
+static inline void shrink_bounds(sf_group *g, uint32_t lanes)
+{
+    lanes &= ~(g->b.straddle[0] | g->b.straddle[1] | g->b.straddle[2]);
+    if (!lanes) return;
+    const vm m = vm_of_bits(lanes);
+    const vf one = vf_set1(1.0f), grow = g->corner_grow;
+    for (int k = 0; k < 3; k++) {
+        vf lo = g->corner[0][k], hi = lo;
+        for (int c = 1; c < 4; c++) lo = vf_min(lo, g->corner[c][k]), hi = vf_max(hi, g->corner[c][k]);
+        g->b.dlo[k] = vf_blend(m, g->b.dlo[k], vf_sub(lo, grow));
+        g->b.dhi[k] = vf_blend(m, g->b.dhi[k], vf_add(hi, grow));
+        g->b.rlo[k] = vf_blend(m, g->b.rlo[k], vf_div(one, g->b.dlo[k]));
+        g->b.rhi[k] = vf_blend(m, g->b.rhi[k], vf_div(one, g->b.dhi[k]));
+    }
+}
+
 /* Frustum shrinking by recomputing the corner rays (Benthin & Wald 2009,
  * 5.3, "CR"): for each frustum of `frusta`, the 2D bounds of its samples
  * still unoccluded and the vectors to that rectangle's corners.  Every
  * such sample's target lies in the rectangle, so the new cone still holds
  * every ray the frustum has left to test, and the culling stays exact; the
  * rounding margin (corner_grow) is the full set's, which bounds the
- * smaller rectangle's too.  The direction box the traversal uses is kept
- * (the paper's FS, shrinking it as well, did not pay). */
-static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets)
+ * smaller rectangle's too.  Then the traversal's direction box
+ * (shrink_bounds).  Out of line: after few leaves, and inlined into
+ * trace_group with shrink_bounds it cost the maps 5-8% (the loop's code
+ * around it, not its own work). */
+static __attribute__((noinline)) void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *sets)
 {
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     const uint32_t vecs = (sets->samples + BVH_W - 1u) / BVH_W;
@@ -212,6 +240,7 @@ static void shrink_corners(sf_group *g, uint32_t frusta, const bvh_shadow_sets *
     }
     corner_vectors(g->b.org, g->base, g->du, g->dv, x0, x1, y0, y1, vm_of_bits(frusta), g->corner);
     corner_sizes(g);
+    shrink_bounds(g, frusta);
 }
 
 /* The frusta of `lanes` whose sample rays all stay on one side of the
