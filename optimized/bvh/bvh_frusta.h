@@ -73,10 +73,10 @@ static inline void mft_bounds_classify(mft_bounds *g)
  * frustum of the group has one): entered from below only along d > 0, from
  * above only along d < 0, at the steepest direction's entry, never left.
  * When every frustum of the group takes the same plane as its near one on
- * an axis (mft_bounds.near_side: nearly every group of the bench's soft,
- * camera and hard-shadow frusta, whose 16 are coherent), the planes are
- * read as they are instead of blended per lane: the same values, two
- * vector operations fewer per axis and box. */
+ * an axis (mft_bounds.near_side: 99.6-100% of the bench's soft-shadow
+ * groups per axis, whose 16 frusta are coherent), the planes are read as
+ * they are instead of blended per lane: the same values, two vector
+ * operations fewer per axis and box. */
 static inline vm frusta_box(const bvh_child *c, const mft_bounds *g, vf dist, vm active, vf *entry)
 {
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
@@ -502,7 +502,7 @@ _Static_assert(BVH_W < 32, "MFT_HOLDS_ENDS is above every lane's bit");
  * one small light, inside many big boxes).  The loop in this form (the
  * lanes' masks kept to their bits) ran frusta:16 on the maps 16-28%
  * quicker than the form before it even without that (GCC 12's code for
- * it; bench/results/frusta.md, seventeenth session).  Returns
+ * it; bench/results/bvh-mft.md, fifteenth session).  Returns
  * the leaf reached, *lanes its frusta (0: none left, nothing to test). */
 static inline const bvh_child *mft_descend(const bvh_tree *tree, const bvh_child *c, uint32_t *lanes,
                                            const mft_bounds *b, vf dist, uint32_t epoch, mft_entry *stack,

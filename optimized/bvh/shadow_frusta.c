@@ -185,11 +185,13 @@ static void corner_sizes(sf_group *g)
 
 /* The traversal's direction boxes of the frusta `lanes` made again from
  * their (shrunk) corner vectors, grown as group_bounds grows them (the
- * same corner_grow covers the smaller rectangle's corners).  Only for
- * frusta with no interval holding zero: a box inside the old one keeps
- * every axis's sign, so the group's classes (mft_bounds_classify) stand;
- * the ends box too (the shrunk corners end inside the old rectangle).
- */
+ * same corner_grow covers the smaller rectangle's corners), within the
+ * old boxes (both hold every ray left, so their intersection does; the
+ * shrunk corners' own rounding could otherwise reach past an old bound
+ * just above zero).  Only for frusta with no interval holding zero: a box
+ * inside the old one keeps every axis's sign, so the group's classes
+ * (mft_bounds_classify) stand; the ends box too (the shrunk corners end
+ * inside the old rectangle). */
 static inline void shrink_bounds(sf_group *g, uint32_t lanes)
 {
     lanes &= ~(g->b.straddle[0] | g->b.straddle[1] | g->b.straddle[2]);
@@ -199,8 +201,8 @@ static inline void shrink_bounds(sf_group *g, uint32_t lanes)
     for (int k = 0; k < 3; k++) {
         vf lo = g->corner[0][k], hi = lo;
         for (int c = 1; c < 4; c++) lo = vf_min(lo, g->corner[c][k]), hi = vf_max(hi, g->corner[c][k]);
-        g->b.dlo[k] = vf_blend(m, g->b.dlo[k], vf_sub(lo, grow));
-        g->b.dhi[k] = vf_blend(m, g->b.dhi[k], vf_add(hi, grow));
+        g->b.dlo[k] = vf_blend(m, g->b.dlo[k], vf_max(vf_sub(lo, grow), g->b.dlo[k]));
+        g->b.dhi[k] = vf_blend(m, g->b.dhi[k], vf_min(vf_add(hi, grow), g->b.dhi[k]));
         g->b.rlo[k] = vf_blend(m, g->b.rlo[k], vf_div(one, g->b.dlo[k]));
         g->b.rhi[k] = vf_blend(m, g->b.rhi[k], vf_div(one, g->b.dhi[k]));
     }
