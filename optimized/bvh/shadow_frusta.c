@@ -170,6 +170,14 @@ static void corner_vectors(const vf org[3], const vf base[3], const vf du[3], co
     }
 }
 
+/* Per frustum the least and the greatest component k of its four corner
+ * vectors (the direction box before its growth). */
+static inline void corner_range(const vf corner[4][3], int k, vf *lo, vf *hi)
+{
+    *lo = *hi = corner[0][k];
+    for (int c = 1; c < 4; c++) *lo = vf_min(*lo, corner[c][k]), *hi = vf_max(*hi, corner[c][k]);
+}
+
 /* Per frustum its corner vectors' largest |c|_1 (the edge and plane tests'
  * bound on |d|_1) and largest |component| (the edge test's margin). */
 static void corner_sizes(sf_group *g)
@@ -199,8 +207,8 @@ static inline void shrink_bounds(sf_group *g, uint32_t lanes)
     const vm m = vm_of_bits(lanes);
     const vf one = vf_set1(1.0f), grow = g->corner_grow;
     for (int k = 0; k < 3; k++) {
-        vf lo = g->corner[0][k], hi = lo;
-        for (int c = 1; c < 4; c++) lo = vf_min(lo, g->corner[c][k]), hi = vf_max(hi, g->corner[c][k]);
+        vf lo, hi;
+        corner_range(g->corner, k, &lo, &hi);
         g->b.dlo[k] = vf_blend(m, g->b.dlo[k], vf_max(vf_sub(lo, grow), g->b.dlo[k]));
         g->b.dhi[k] = vf_blend(m, g->b.dhi[k], vf_min(vf_add(hi, grow), g->b.dhi[k]));
         g->b.rlo[k] = vf_blend(m, g->b.rlo[k], vf_div(one, g->b.dlo[k]));
@@ -412,12 +420,8 @@ static void group_bounds(sf_group *g, const bvh_shadow_point *points, uint32_t n
         for (int k = 0; k < 3; k++) g->corner[c][k] = one; /* the dead lanes' */
     corner_vectors(org, base, du, dv, lo[0], hi[0], lo[1], hi[1], vm_of_bits(live), g->corner);
     for (int k = 0; k < 3; k++) {
-        dlo[k] = vf_set1(INFINITY), dhi[k] = vf_set1(-INFINITY);
-        for (int c = 0; c < 4; c++) {
-            const vf d = g->corner[c][k];
-            dlo[k] = vf_min(d, dlo[k]), dhi[k] = vf_max(d, dhi[k]);
-            size = vf_max(vf_abs(d), size);
-        }
+        corner_range(g->corner, k, &dlo[k], &dhi[k]);
+        size = vf_max(vf_max(vf_abs(dlo[k]), vf_abs(dhi[k])), size); /* the largest |corner component| */
     }
     const vf grow = vf_blend(dead, vf_mul(size, vf_set1(0x1p-16f)), zero);
     for (int k = 0; k < 3; k++) {
@@ -440,13 +444,10 @@ static void group_ends(sf_group *g, uint32_t n)
     const vf inf = vf_set1(INFINITY), minus_inf = vf_set1(-INFINITY);
     float size = 0.0f;
     for (int k = 0; k < 3; k++) {
-        vf lo = inf, hi = minus_inf;
-        for (int c = 0; c < 4; c++) {
-            const vf end = vf_add(g->b.org[k], g->corner[c][k]);
-            lo = vf_min(lo, end), hi = vf_max(hi, end);
-        }
-        g->b.ends_lo[k] = vf_hmin(vf_blend(dead, lo, inf));
-        g->b.ends_hi[k] = vf_hmax(vf_blend(dead, hi, minus_inf));
+        vf lo, hi; /* org + c is monotone in c, rounding and all: its extremes are org plus the corners' */
+        corner_range(g->corner, k, &lo, &hi);
+        g->b.ends_lo[k] = vf_hmin(vf_blend(dead, vf_add(g->b.org[k], lo), inf));
+        g->b.ends_hi[k] = vf_hmax(vf_blend(dead, vf_add(g->b.org[k], hi), minus_inf));
         const float a = fabsf(g->b.ends_lo[k]), b = fabsf(g->b.ends_hi[k]);
         size = a > size ? a : size, size = b > size ? b : size;
     }
