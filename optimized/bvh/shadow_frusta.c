@@ -456,6 +456,21 @@ static void group_ends(sf_group *g, uint32_t n)
     g->b.ends_known = isfinite(size);
 }
 
+/* The points of the group from `first` on (if any) asked for from memory:
+ * the points are a stream read once (a 1024^2 frame's are 52 MB), and
+ * group_bounds's gathers waited on them (2.7% of armadillo's frusta:16 in
+ * perf, their first gather's line).  Issued a group ahead, while the group
+ * before is traced: czest3ctf +6%, ctf_inyard +21%, oa_dm4 +23%, armadillo
+ * +3% (bench/results/bvh-mft.md, seventeenth session). */
+static inline void prefetch_points(const bvh_shadow_query *q, size_t first)
+{
+    if (first >= q->count) return;
+    const size_t n = q->count - first < SF_FRUSTA ? q->count - first : SF_FRUSTA;
+    const char *from = (const char *)&q->points[first], *end = (const char *)&q->points[first + n];
+    for (const char *line = from; line < end; line += 64) __builtin_prefetch(line);
+    __builtin_prefetch(end - 1); /* the last line, when `from` is not at a line's start */
+}
+
 void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
 {
     const bvh_shadow_sets *sets = q->sets;
@@ -468,6 +483,7 @@ void bvh_shadow_frusta(const bvh_tree *tree, const bvh_shadow_query *q)
             g.point[f] = f < n ? &q->points[first + f] : NULL;
         }
         group_bounds(&g, &q->points[first], n, sets);
+        prefetch_points(q, first + SF_FRUSTA);
         corner_sizes(&g);
         g.b.tnear = vf_set1(0.0f);
         g.b.grow = vf_set1(0.0f);
