@@ -141,8 +141,15 @@ static __attribute__((noinline)) uint32_t bvh_wt_decide_lanes(const vf parts[9],
 
 /* The lanes `active` (inside group g of s) whose ray hits `tri` with
  * tnear < t < tfar and t <= tbest; t, u, v of those lanes in the outputs
- * (u, v only when `want_uv`).  isect4_watertight_mask at packet width. */
-static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const bvh_packet *r, const bvh_wt_shears *s,
+ * (u, v only when `want_uv`).  isect4_watertight_mask at packet width.
+ * Always inlined into the closest-hit test (bvh_isect_watertight): GCC 12
+ * left it a call in the multi-frusta and packet kernels, whose outputs
+ * then went through memory (bvh-mft-camera +3 to +9%,
+ * bench/results/bvh-mft.md, seventeenth session); the occlusion test takes
+ * it through bvh_isect_watertight_mask, inlined or not as GCC weighs it
+ * (forced there too it cost the maps' frusta:16 about 4%). */
+static inline __attribute__((always_inline)) uint32_t
+bvh_wt_mask_inlined(const bvh_corners *tri, const bvh_packet *r, const bvh_wt_shears *s,
                                                  uint32_t g, uint32_t active, vf tbest, bool want_uv, vf *t_out,
                                                  vf *u_out, vf *v_out)
 {
@@ -193,6 +200,13 @@ static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const b
     return valid;
 }
 
+static inline uint32_t bvh_isect_watertight_mask(const bvh_corners *tri, const bvh_packet *r, const bvh_wt_shears *s,
+                                                 uint32_t g, uint32_t active, vf tbest, bool want_uv, vf *t_out,
+                                                 vf *u_out, vf *v_out)
+{
+    return bvh_wt_mask_inlined(tri, r, s, g, active, tbest, want_uv, t_out, u_out, v_out);
+}
+
 /* Closest hit of every group: lowers the lanes of `hits` under `active`
  * that hit `tri` closer (or as close with a smaller prim, tri->prim);
  * returns the lanes it lowered. */
@@ -204,7 +218,7 @@ static inline uint32_t bvh_isect_watertight(const bvh_corners *tri, const bvh_pa
         const uint32_t lanes = active & s->lanes[g];
         if (!lanes) continue;
         vf t, u, v;
-        uint32_t bits = bvh_isect_watertight_mask(tri, r, s, g, lanes, hits->t, true, &t, &u, &v);
+        uint32_t bits = bvh_wt_mask_inlined(tri, r, s, g, lanes, hits->t, true, &t, &u, &v);
         if (!bits) continue;
         const vi prim = vi_set1(tri->prim);
         const vm closer = vm_or(vf_lt(t, hits->t), vm_and(vf_eq(t, hits->t), vi_lt_u(prim, hits->prim)));
