@@ -144,14 +144,13 @@ static __attribute__((noinline)) uint32_t bvh_wt_decide_lanes(const vf parts[9],
  * (u, v only when `want_uv`).  isect4_watertight_mask at packet width.
  * Always inlined into the closest-hit test (bvh_isect_watertight): GCC 12
  * left it a call in the multi-frusta and packet kernels, whose outputs
- * then went through memory (bvh-mft-camera +3 to +9%,
- * bench/results/bvh-mft.md, seventeenth session); the occlusion test takes
+ * then went through memory (bvh-mft-camera +1 to +4%, the medians of
+ * pinned A/B pairs, bench/results/bvh-mft.md, seventeenth session); the occlusion test takes
  * it through bvh_isect_watertight_mask, inlined or not as GCC weighs it
  * (forced there too it cost the maps' frusta:16 about 4%). */
 static inline __attribute__((always_inline)) uint32_t
-bvh_wt_mask_inlined(const bvh_corners *tri, const bvh_packet *r, const bvh_wt_shears *s,
-                                                 uint32_t g, uint32_t active, vf tbest, bool want_uv, vf *t_out,
-                                                 vf *u_out, vf *v_out)
+bvh_wt_mask_inlined(const bvh_corners *tri, const bvh_packet *r, const bvh_wt_shears *s, uint32_t g, uint32_t active,
+                    vf tbest, bool want_uv, vf *t_out, vf *u_out, vf *v_out)
 {
     const uint32_t kx = s->kx[g], ky = s->ky[g], kz = s->kz[g];
     const float *pa = tri->v[0], *pb = tri->v[1], *pc = tri->v[2];

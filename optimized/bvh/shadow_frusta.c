@@ -461,7 +461,7 @@ static void group_ends(sf_group *g, uint32_t n)
  * group_bounds's gathers waited on them (2.7% of armadillo's frusta:16 in
  * perf, their first gather's line).  Issued a group ahead, while the group
  * before is traced: czest3ctf +6%, ctf_inyard +21%, oa_dm4 +23%, armadillo
- * +3% (bench/results/bvh-mft.md, seventeenth session). */
+ * 0 to +3% (bench/results/bvh-mft.md, seventeenth session). */
 static inline void prefetch_points(const bvh_shadow_query *q, size_t first)
 {
     if (first >= q->count) return;
