@@ -26,9 +26,14 @@
  * Speed: the set-up runs on the thread pool by chunks, four triangles at a
  * time in SSE4.1 where every corner lies beyond the near plane (setup_four:
  * the scalar functions' operations in their order, lane by lane, so the
- * grid is the same bit for bit); the binning's two passes are serial. */
+ * grid is the same bit for bit), its records streamed past the cache on
+ * more than one thread (setup_group); the binning's two passes by chunks
+ * on the pool when the drawing order is the global one (bin_by_chunks),
+ * else serial (by pieces of the sorted order on two threads was slower:
+ * ctf_inyard's build 0.67 -> 0.77 ms). */
 #include <immintrin.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -322,6 +327,7 @@ typedef struct setup_job {
      * no back face is dropped this frame */
     const int8_t *outward;
     const uint8_t *mesh_culled;
+    bool stream;            /* the records streamed: the set-up runs on more than one thread (setup_group) */
 } setup_job;
 
 /* ---- back faces ----
@@ -386,8 +392,37 @@ static inline void corners_of(const rtt_vec3 (*tri)[3], v3x4 corners[3])
                             _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
 }
 
+/* The four lanes of rows r[0..3] (lane-major: r[i][l]) as four rows
+ * (r[l] = (r0[l], r1[l], r2[l], r3[l])): records written whole. */
+static inline void lanes_to_rows(__m128 r[4])
+{
+    _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+}
+_Static_assert(offsetof(pgrid_triangle, det) == 48 && offsetof(pgrid_triangle, prim) == 52 &&
+                   offsetof(pgrid_triangle, x0) == 56 && offsetof(pgrid_triangle, y0) == 58 &&
+                   offsetof(pgrid_triangle, x1) == 60 && offsetof(pgrid_triangle, y1) == 62,
+               "setup_group streams pgrid_triangle's last row as det, prim, x0 y0, x1 y1");
+_Static_assert(offsetof(pgrid_surface, m_u) == 12 && offsetof(pgrid_surface, m_v) == 24 &&
+                   offsetof(pgrid_surface, prim) == 36,
+               "setup_group streams pgrid_surface as three rows");
+
 /* Up to four triangles (prim, their corners tri) transformed, clipped and
- * set up, the kept ones written from slot *kept on. */
+ * set up, the kept ones written from slot *kept on, the common lanes'
+ * records as whole 16-byte rows.  Streamed (non-temporal) when the set-up
+ * runs on more than one thread: the slots' lines were last read by the
+ * other core, in the frame before's cells, and a plain store's ownership
+ * request for each took as long as the set-up (the same set-up run twice
+ * in one frame took half as long the second time: bench/results/pgrid.md,
+ * eighteenth session); the caller fences.  On one thread they are stored
+ * (still in this core's cache for the binning and the cells). */
+static inline void put_row(float *to, __m128 row, bool stream)
+{
+    if (stream)
+        _mm_stream_ps(to, row);
+    else
+        _mm_store_ps(to, row);
+}
+
 static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_vec3 (*tri)[3], uint32_t n,
                         uint32_t *kept, uint32_t *near_count)
 {
@@ -400,20 +435,38 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
     for (int k = 0; k < 3; k++) rel[k] = v4_scale(v4_sub(rel[k], eye), scale);
     setup4 four;
     setup_four(&job->p, job->frame, rel, &four);
+    /* each lane's pgrid_triangle rows a, b, c and pgrid_surface's three rows */
+    __m128 ta[4], tb[4], tc[4], s0[4], s1[4], s2[4];
+    for (int e = 0; e < 4; e++)
+        ta[e] = _mm_load_ps(four.a[e]), tb[e] = _mm_load_ps(four.b[e]), tc[e] = _mm_load_ps(four.c[e]);
+    s0[0] = _mm_load_ps(four.origin[0]), s0[1] = _mm_load_ps(four.origin[1]), s0[2] = _mm_load_ps(four.origin[2]);
+    s0[3] = _mm_load_ps(four.m_u[0]);
+    s1[0] = _mm_load_ps(four.m_u[1]), s1[1] = _mm_load_ps(four.m_u[2]), s1[2] = _mm_load_ps(four.m_v[0]);
+    s1[3] = _mm_load_ps(four.m_v[1]);
+    s2[0] = _mm_load_ps(four.m_v[2]), s2[1] = _mm_castsi128_ps(_mm_setr_epi32((int)prim[0], (int)prim[1], (int)prim[2],
+                                                                               (int)prim[3]));
+    s2[2] = s2[3] = _mm_setzero_ps(); /* the surface's pad */
+    lanes_to_rows(ta), lanes_to_rows(tb), lanes_to_rows(tc), lanes_to_rows(s0), lanes_to_rows(s1), lanes_to_rows(s2);
     for (uint32_t l = 0; l < n; l++) {
         pgrid_triangle *t = &g->triangles[*kept];
         pgrid_surface *sf = &g->surfaces[*kept];
         if (four.zmin[l] >= job->p.z_near) {
             /* beyond the near plane: the vector lane's projection and set-up */
-            if (!pixel_range(four.box[0][l], four.box[1][l], g->width, &t->x0, &t->x1) ||
-                !pixel_range(four.box[2][l], four.box[3][l], g->height, &t->y0, &t->y1))
+            uint16_t x0, x1, y0, y1;
+            if (!pixel_range(four.box[0][l], four.box[1][l], g->width, &x0, &x1) ||
+                !pixel_range(four.box[2][l], four.box[3][l], g->height, &y0, &y1))
                 continue;
-            for (int e = 0; e < 4; e++) t->a[e] = four.a[e][l], t->b[e] = four.b[e][l], t->c[e] = four.c[e][l];
-            t->det = four.det[l];
+            float det = four.det[l];
+            int32_t det_bits;
+            memcpy(&det_bits, &det, sizeof det_bits);
+            const __m128 last = _mm_castsi128_ps(_mm_setr_epi32(det_bits, (int)prim[l], (int)(x0 | (uint32_t)y0 << 16),
+                                                                (int)(x1 | (uint32_t)y1 << 16)));
+            const bool stream = job->stream;
+            put_row(t->a, ta[l], stream), put_row(t->b, tb[l], stream), put_row(t->c, tc[l], stream);
+            put_row(&t->det, last, stream);
+            put_row(sf->origin, s0[l], stream), put_row(sf->origin + 4, s1[l], stream);
+            put_row(sf->origin + 8, s2[l], stream);
             g->nearest[*kept] = four.zmin[l];
-            *sf = (pgrid_surface){{four.origin[0][l], four.origin[1][l], four.origin[2][l]},
-                                  {four.m_u[0][l], four.m_u[1][l], four.m_u[2][l]},
-                                  {four.m_v[0][l], four.m_v[1][l], four.m_v[2][l]}, 0, {0}};
         } else {
             /* behind the eye or crossing the near plane: the scalar path */
             rtt_vec3 r[3];
@@ -425,8 +478,8 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
             float nearest = INFINITY;
             for (int k = 0; k < 3; k++) nearest = min_float(nearest, rtt_v3_dot(r[k], job->p.forward));
             g->nearest[*kept] = nearest;
+            t->prim = sf->prim = prim[l];
         }
-        t->prim = sf->prim = prim[l];
         (*kept)++;
     }
 }
@@ -487,6 +540,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
         for (uint32_t l = grouped; l < 4; l++) memset(group_tri[l], 0, sizeof group_tri[0]); /* lanes past n zero */
         setup_group(job, group_prim, (const rtt_vec3(*)[3])group_tri, grouped, &kept, &near_count);
     }
+    if (job->stream) _mm_sfence(); /* setup_group's streamed records before the chunk is done */
     job->g->chunk_kept[3 * task] = kept - first;
     job->g->chunk_kept[3 * task + 1] = near_count;
     job->g->chunk_kept[3 * task + 2] = culled;
@@ -667,7 +721,8 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         g->chunk_kept = bigger;
         g->chunk_capacity = 3 * chunks + 1;
     }
-    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL, NULL};
+    setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL, NULL,
+                     chunks > 1 && rtt_thread_count(g->threads) > 1};
     if (!frame_outward(g, scene, degenerate, frame->eye, &job.outward))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     job.mesh_culled = g->mesh_culled; /* allocated there for a new scene */
