@@ -1,0 +1,1 @@
+build/cli/rtt bench ~/.cache/rtt-data/maps/oa_dm4.bsp --views bench/views.json --accel pgrid --only soft --size 512 --threads 1,2 --frames 3 --warmup 1 --json  # at 649aa5d, 2026-12-08T03:57:23Z
