@@ -445,8 +445,8 @@ static void test_pgrid_build_same_at_any_thread_count(void **state)
     /* each chunk's kept triangles at its slots (pgrid_eye) */
     uint32_t kept = 0;
     for (uint32_t c = 0; c * PGRID_SETUP_CHUNK < s->triangle_count; c++) {
-        const uint32_t first = c * PGRID_SETUP_CHUNK, n = one.chunk_kept[3 * c];
-        assert_int_equal(n, three.chunk_kept[3 * c]);
+        const uint32_t first = c * PGRID_SETUP_CHUNK, n = one.chunk_kept[PGRID_CHUNK_FIELDS * c];
+        assert_int_equal(n, three.chunk_kept[PGRID_CHUNK_FIELDS * c]);
         assert_memory_equal(one.triangles + first, three.triangles + first, n * sizeof *one.triangles);
         assert_memory_equal(one.surfaces + first, three.surfaces + first, n * sizeof *one.surfaces);
         kept += n;

@@ -392,6 +392,16 @@ static inline void corners_of(const rtt_vec3 (*tri)[3], v3x4 corners[3])
                             _mm_setr_ps(tri[0][k].z, tri[1][k].z, tri[2][k].z, tri[3][k].z)};
 }
 
+/* A kept triangle's references (pixel rectangle x0..x1, y0..y1) in cells
+ * of PGRID_EYE_CELL_DEFAULT (refs[0]) and of twice that (refs[1]), for
+ * the cell rule (pgrid_eye_cell_rule). */
+static inline void refs_in_cells(uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1, uint32_t refs[2])
+{
+    const uint32_t small = PGRID_EYE_CELL_DEFAULT, big = 2u * PGRID_EYE_CELL_DEFAULT;
+    refs[0] += (x1 / small - x0 / small + 1u) * (y1 / small - y0 / small + 1u);
+    refs[1] += (x1 / big - x0 / big + 1u) * (y1 / big - y0 / big + 1u);
+}
+
 /* The four lanes of rows r[0..3] (lane-major: r[i][l]) as four rows
  * (r[l] = (r0[l], r1[l], r2[l], r3[l])): records written whole. */
 static inline void lanes_to_rows(__m128 r[4])
@@ -424,7 +434,7 @@ static inline void put_row(float *to, __m128 row, bool stream)
 }
 
 static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_vec3 (*tri)[3], uint32_t n,
-                        uint32_t *kept, uint32_t *near_count)
+                        uint32_t *kept, uint32_t *near_count, uint32_t refs[2])
 {
     pgrid_eye *g = job->g;
     const v3x4 eye = v4_splat(job->frame->eye);
@@ -461,6 +471,7 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
             memcpy(&det_bits, &det, sizeof det_bits);
             const __m128 last = _mm_castsi128_ps(_mm_setr_epi32(det_bits, (int)prim[l], (int)(x0 | (uint32_t)y0 << 16),
                                                                 (int)(x1 | (uint32_t)y1 << 16)));
+            refs_in_cells(x0, x1, y0, y1, refs);
             const bool stream = job->stream;
             put_row(t->a, ta[l], stream), put_row(t->b, tb[l], stream), put_row(t->c, tc[l], stream);
             put_row(&t->det, last, stream);
@@ -473,6 +484,7 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
             for (int k = 0; k < 3; k++) r[k] = rtt_v3_scale(rtt_v3_sub(tri[l][k], job->frame->eye), job->p.scale);
             bool near;
             if (!triangle_rect(&job->p, r, g->width, g->height, t, &near)) continue;
+            refs_in_cells(t->x0, t->x1, t->y0, t->y1, refs);
             triangle_setup(t, sf, job->frame, r);
             *near_count += near;
             float nearest = INFINITY;
@@ -486,7 +498,8 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
 
 /* Task: the triangles of chunk `task` transformed, clipped and set up, the
  * kept ones packed from the chunk's first slot in global order; the
- * chunk's kept, near and dropped counts in chunk_kept[3 task] .. [3 task + 2].
+ * chunk's kept, near and dropped counts and its references in cells of
+ * two sizes in chunk_kept[PGRID_CHUNK_FIELDS task ..].
  * The back faces are found four at a time first and the rest gathered
  * into groups of four for the set-up, so a dropped face costs no set-up
  * (a solid seen from outside drops about half its triangles). */
@@ -497,7 +510,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
     const rtt_scene *scene = job->scene;
     const uint32_t first = task * SETUP_CHUNK,
                    end = first + SETUP_CHUNK < scene->triangle_count ? first + SETUP_CHUNK : scene->triangle_count;
-    uint32_t kept = first, near_count = 0, culled = 0;
+    uint32_t kept = first, near_count = 0, culled = 0, refs[2] = {0, 0};
     uint32_t group_prim[4], grouped = 0;
     rtt_vec3 group_tri[4][3] = {{{0}}};
     for (uint32_t i = first; i < end;) {
@@ -520,7 +533,7 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
             }
         }
         if (!away && !grouped) { /* the common case without culling: the four as they are */
-            setup_group(job, prim, (const rtt_vec3(*)[3])tri, n, &kept, &near_count);
+            setup_group(job, prim, (const rtt_vec3(*)[3])tri, n, &kept, &near_count, refs);
             continue;
         }
         for (uint32_t l = 0; l < n; l++) {
@@ -531,23 +544,25 @@ static void setup_chunk(void *context, uint32_t thread, uint32_t task)
             group_prim[grouped] = prim[l];
             memcpy(group_tri[grouped], tri[l], sizeof group_tri[0]);
             if (++grouped == 4) {
-                setup_group(job, group_prim, (const rtt_vec3(*)[3])group_tri, 4, &kept, &near_count);
+                setup_group(job, group_prim, (const rtt_vec3(*)[3])group_tri, 4, &kept, &near_count, refs);
                 grouped = 0;
             }
         }
     }
     if (grouped) {
         for (uint32_t l = grouped; l < 4; l++) memset(group_tri[l], 0, sizeof group_tri[0]); /* lanes past n zero */
-        setup_group(job, group_prim, (const rtt_vec3(*)[3])group_tri, grouped, &kept, &near_count);
+        setup_group(job, group_prim, (const rtt_vec3(*)[3])group_tri, grouped, &kept, &near_count, refs);
     }
     if (job->stream) _mm_sfence(); /* setup_group's streamed records before the chunk is done */
-    job->g->chunk_kept[3 * task] = kept - first;
-    job->g->chunk_kept[3 * task + 1] = near_count;
-    job->g->chunk_kept[3 * task + 2] = culled;
+    uint32_t *counts = job->g->chunk_kept + (size_t)PGRID_CHUNK_FIELDS * task;
+    counts[0] = kept - first, counts[1] = near_count, counts[2] = culled, counts[3] = refs[0], counts[4] = refs[1];
 }
 
 /* The end of chunk c's kept slots (pgrid_eye: they start at c * SETUP_CHUNK). */
-static inline uint32_t chunk_end(const pgrid_eye *g, uint32_t c) { return c * SETUP_CHUNK + g->chunk_kept[3 * c]; }
+static inline uint32_t chunk_end(const pgrid_eye *g, uint32_t c)
+{
+    return c * SETUP_CHUNK + g->chunk_kept[PGRID_CHUNK_FIELDS * c];
+}
 
 /* The frame's side of the culling: the scene's solids (worked out once per
  * scene) and the meshes whose box the eye is outside (g->mesh_culled);
@@ -682,7 +697,8 @@ static bool bin_by_chunks(pgrid_eye *g, uint32_t chunks, uint32_t cells, uint64_
 bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degenerate,
                      const rtt_camera_frame *frame, uint32_t width, uint32_t height, uint32_t cell, rtt_error *err)
 {
-    if (cell == 0) cell = PGRID_EYE_CELL_DEFAULT;
+    const bool by_rule = cell == 0 && g->cell_rule_bytes; /* chosen after the set-up */
+    if (cell == 0 && !by_rule) cell = PGRID_EYE_CELL_DEFAULT;
     if (cell % 4u || cell > PGRID_EYE_CELL_MAX || width == 0 || height == 0 || width > PGRID_IMAGE_MAX ||
         height > PGRID_IMAGE_MAX)
         return rtt_error_set(err,
@@ -691,15 +707,10 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
                              cell, width, height, PGRID_EYE_CELL_MAX, PGRID_IMAGE_MAX);
     g->width = width;
     g->height = height;
-    g->cell = cell;
-    g->cells_x = (width + cell - 1) / cell;
-    g->cells_y = (height + cell - 1) / cell;
     g->frame = *frame;
-    const uint32_t cells = g->cells_x * g->cells_y;
-    size_t cap = g->cell_capacity, tcap = g->triangle_capacity, scap = g->triangle_capacity;
+    size_t tcap = g->triangle_capacity, scap = g->triangle_capacity;
     const size_t triangles = scene->triangle_count ? scene->triangle_count : 1;
-    if (!grow((void **)&g->cell_first, &cap, (size_t)cells + 1, sizeof(uint32_t)) ||
-        !grow((void **)&g->triangles, &tcap, triangles, sizeof(pgrid_triangle)) ||
+    if (!grow((void **)&g->triangles, &tcap, triangles, sizeof(pgrid_triangle)) ||
         !grow((void **)&g->surfaces, &scap, triangles, sizeof(pgrid_surface)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     size_t ncap = g->order_capacity, ocap = g->order_capacity, kcap = g->order_capacity;
@@ -708,18 +719,17 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         !grow((void **)&g->order_keys, &kcap, 2 * triangles, sizeof(uint64_t)))
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     g->order_capacity = (uint32_t)triangles;
-    g->cell_capacity = (uint32_t)cap;
     g->triangle_capacity = (uint32_t)tcap;
 
     /* transform, clip against the near plane, set up (by chunks on the
      * thread pool, each chunk's kept triangles packed at its own start,
      * where they stay: pgrid_eye's slots), then each cell's references counted */
     const uint32_t chunks = (scene->triangle_count + SETUP_CHUNK - 1) / SETUP_CHUNK;
-    if (3 * chunks + 1 > g->chunk_capacity) {
-        uint32_t *bigger = realloc(g->chunk_kept, (3 * (size_t)chunks + 1) * sizeof *bigger);
+    if (PGRID_CHUNK_FIELDS * chunks + 1 > g->chunk_capacity) {
+        uint32_t *bigger = realloc(g->chunk_kept, (PGRID_CHUNK_FIELDS * (size_t)chunks + 1) * sizeof *bigger);
         if (!bigger) return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
         g->chunk_kept = bigger;
-        g->chunk_capacity = 3 * chunks + 1;
+        g->chunk_capacity = PGRID_CHUNK_FIELDS * chunks + 1;
     }
     setup_job job = {g, scene, degenerate, frame, projection_make(frame, scene), NULL, NULL,
                      chunks > 1 && rtt_thread_count(g->threads) > 1};
@@ -727,14 +737,26 @@ bool pgrid_eye_build(pgrid_eye *g, const rtt_scene *scene, const uint8_t *degene
         return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
     job.mesh_culled = g->mesh_culled; /* allocated there for a new scene */
     rtt_parallel_run(chunks, g->threads, setup_chunk, &job);
-    const uint64_t inv_cell = cell_reciprocal(cell);
     uint32_t kept = 0, near_count = 0;
+    uint64_t refs_default = 0, refs_big = 0;
     g->culled_count = 0;
     for (uint32_t c = 0; c < chunks; c++) {
-        kept += g->chunk_kept[3 * c];
-        near_count += g->chunk_kept[3 * c + 1];
-        g->culled_count += g->chunk_kept[3 * c + 2];
+        const uint32_t *counts = g->chunk_kept + (size_t)PGRID_CHUNK_FIELDS * c;
+        kept += counts[0], near_count += counts[1], g->culled_count += counts[2];
+        refs_default += counts[3], refs_big += counts[4];
     }
+    if (by_rule)
+        cell = pgrid_eye_cell_rule(width, height, rtt_thread_count(g->threads), g->cell_rule_bytes, refs_default,
+                                   refs_big);
+    g->cell = cell;
+    g->cells_x = (width + cell - 1) / cell;
+    g->cells_y = (height + cell - 1) / cell;
+    const uint32_t cells = g->cells_x * g->cells_y;
+    size_t cap = g->cell_capacity;
+    if (!grow((void **)&g->cell_first, &cap, (size_t)cells + 1, sizeof(uint32_t)))
+        return rtt_error_set(err, "%s: out of memory building the perspective grid", scene->path);
+    g->cell_capacity = (uint32_t)cap;
+    const uint64_t inv_cell = cell_reciprocal(cell);
     g->triangle_count = kept;
     g->inv_scale = 1.0f / job.p.scale;
     g->near_count = near_count;

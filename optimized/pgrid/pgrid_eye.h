@@ -79,13 +79,15 @@ typedef struct pgrid_surface {
 _Static_assert(sizeof(pgrid_surface) == 48, "pgrid_surface: three rows of 16 bytes");
 _Static_assert(sizeof(pgrid_triangle) == 64, "pgrid_triangle is one cache line");
 
+#define PGRID_CHUNK_FIELDS 5u
+
 /* The grid of one frame.  Arrays grow and are kept from frame to frame. */
 typedef struct pgrid_eye {
     uint32_t width, height, cell, cells_x, cells_y;
     rtt_camera_frame frame;
     /* The triangles whose rectangle is not empty, in global order, by
      * chunks of the scene's (PGRID_SETUP_CHUNK): chunk c's kept ones at
-     * [c * PGRID_SETUP_CHUNK, + chunk_kept[3 c]), the rest of its slots
+     * [c * PGRID_SETUP_CHUNK, + chunk_kept[PGRID_CHUNK_FIELDS c]), the rest of its slots
      * unused (left where the parallel set-up wrote them, not moved
      * together: that copy was a third of a mesh's serial build) */
     pgrid_triangle *triangles;
@@ -98,8 +100,13 @@ typedef struct pgrid_eye {
     uint32_t near_count;       /* triangles reaching in front of the near plane: every cell holds them */
     float inv_scale;           /* the build works on corners scaled by 1 / inv_scale (a power of two) */
     uint32_t threads;          /* the build's threads, set by the caller (0 or 1: the caller's alone) */
-    uint32_t *chunk_kept;      /* the build's: per chunk of triangles, how many it kept, how many are near
-                                * and how many it dropped as back faces */
+    /* set by the caller: with cell 0, the build takes pgrid_eye_cell_rule's
+     * cell for cells keeping this many bytes a pixel, from its set-up's
+     * references; 0: PGRID_EYE_CELL_DEFAULT */
+    uint32_t cell_rule_bytes;
+    uint32_t *chunk_kept;      /* the build's: per chunk of triangles (PGRID_CHUNK_FIELDS each), how many it
+                                * kept, how many are near, how many it dropped as back faces, and its kept
+                                * ones' references in cells of PGRID_EYE_CELL_DEFAULT and of twice that */
     uint32_t chunk_capacity;
     uint32_t *chunk_cells;     /* the build's: per chunk and cell, its references' count, then first slot */
     size_t chunk_cells_capacity;
@@ -203,20 +210,26 @@ const char *pgrid_kernel_name_at(uint32_t i);
 const pgrid_kernel *pgrid_kernel_row_at(uint32_t i);
 
 /* The cell side for a frame of width x height on `threads` threads whose
- * cells keep `bytes_per_pixel` each in the cache while they are traced: 256
- * when a cell's bytes fit in a quarter of the L2 (rtt_cpu_l2_bytes; the
- * rest for the triangle records and the surfaces the resolve reads) and the
- * image has 4 cells a thread or more (the threads' balance); else
- * PGRID_EYE_CELL_DEFAULT.  A frame whose hits are streamed keeps 8 bytes a
- * pixel (depth, triangle): 256 on a 2 MiB L2, 128 on 1 MiB; a tile shaded
- * next keeps its 16-byte hits too (24). */
-uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel);
+ * cells keep `bytes_per_pixel` each in the cache while they are traced,
+ * its kept triangles making refs_default references in cells of
+ * PGRID_EYE_CELL_DEFAULT and refs_big in cells of twice that: the big cell
+ * when the image has 4 of them a thread or more (the threads' balance) and
+ * a cell's bytes fit in a quarter of the L2 (rtt_cpu_l2_bytes; the rest
+ * for the triangle records and the surfaces the resolve reads), or in half
+ * of it when the big cells cut the references by a fifth or more (a map's
+ * large triangles set up again in every cell they straddle: 5-15% of
+ * their frame on a 1 MiB L2, bench/results/pgrid.md, eighteenth session;
+ * a mesh's small ones straddle few); else PGRID_EYE_CELL_DEFAULT.  A frame
+ * whose hits are streamed keeps 8 bytes a pixel (depth, triangle); a tile
+ * shaded next keeps its 16-byte hits too (24). */
+uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel,
+                             uint64_t refs_default, uint64_t refs_big);
 
 /* One frame of eye rays alone (the bench and the tests): build, every cell
  * through `kernel` on `threads` threads, each pixel's hit into hits[py *
  * width + px], streamed (pgrid_resolve_fn: a whole frame of hits; give a
  * 64-byte aligned buffer to get it).  `cell` 0 takes pgrid_eye_cell_rule's
- * for streamed hits.  build_seconds (may be NULL) gets the build's share. */
+ * for streamed hits (grid->cell_rule_bytes 8).  build_seconds (may be NULL) gets the build's share. */
 bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rtt_scene *scene,
                            const uint8_t *degenerate, const rtt_camera_frame *frame, uint32_t width,
                            uint32_t height, uint32_t cell, uint32_t threads, rtt_hit *hits, double *build_seconds,

@@ -49,12 +49,15 @@ static void trace_cell(void *context, uint32_t thread, uint32_t cell)
     job->kernel->resolve_cell(g, cell, &job->buffers[thread], job->hits + (size_t)Y0 * g->width + X0, g->width, true);
 }
 
-uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel)
+uint32_t pgrid_eye_cell_rule(uint32_t width, uint32_t height, uint32_t threads, uint32_t bytes_per_pixel,
+                             uint64_t refs_default, uint64_t refs_big)
 {
     const uint32_t big = 2u * PGRID_EYE_CELL_DEFAULT;
     const uint64_t cells = (uint64_t)((width + big - 1u) / big) * ((height + big - 1u) / big);
-    const bool fits = (uint64_t)big * big * bytes_per_pixel <= rtt_cpu_l2_bytes() / 4u;
-    return fits && cells >= 4u * (uint64_t)(threads ? threads : 1u) ? big : PGRID_EYE_CELL_DEFAULT;
+    const uint64_t bytes = (uint64_t)big * big * bytes_per_pixel, l2 = rtt_cpu_l2_bytes();
+    if (cells < 4u * (uint64_t)(threads ? threads : 1u)) return PGRID_EYE_CELL_DEFAULT;
+    if (bytes <= l2 / 4u || (bytes <= l2 / 2u && 5u * refs_big <= 4u * refs_default)) return big;
+    return PGRID_EYE_CELL_DEFAULT;
 }
 
 void pgrid_eye_frame_buffers_free(pgrid_eye *grid)
@@ -88,7 +91,7 @@ bool pgrid_eye_trace_frame(pgrid_eye *grid, const pgrid_kernel *kernel, const rt
     const uint64_t t0 = rtt_clock_ns();
     grid->threads = threads;
     threads = rtt_thread_count(threads);
-    if (cell == 0) cell = pgrid_eye_cell_rule(width, height, threads, 8u); /* streamed hits: depth and triangle */
+    grid->cell_rule_bytes = 8u; /* cell 0: the build's rule for streamed hits (depth and triangle) */
     if (!pgrid_eye_build(grid, scene, degenerate, frame, width, height, cell, err)) return false;
     if (build_seconds) *build_seconds = 1e-9 * (double)(rtt_clock_ns() - t0);
     const bool ok = frame_buffers_ready(grid, threads);
