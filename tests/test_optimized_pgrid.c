@@ -459,6 +459,28 @@ static void test_pgrid_build_same_at_any_thread_count(void **state)
     rtt_scene_free(s);
 }
 
+/* The cell rule: 256 when its buffers fit in a quarter of the L2; in half
+ * of it only when 256 cuts the references to four fifths or fewer; never
+ * with fewer than 4 big cells a thread.  bytes_per_pixel is chosen so that
+ * a 256-pixel cell's buffers take an eighth of this machine's L2 (eighth),
+ * between a quarter and a half of it (mid), more than half (3 mid). */
+static void test_pgrid_cell_rule_by_references(void **state)
+{
+    (void)state;
+    const size_t l2 = rtt_cpu_l2_bytes(), cell_pixels = 256u * 256u;
+    const uint32_t mid = (uint32_t)(l2 * 3u / 8u / cell_pixels), eighth = (uint32_t)(l2 / 8u / cell_pixels);
+    if (eighth == 0 || mid * cell_pixels <= l2 / 4u) {
+        print_message("L2 of %zu bytes: too small to place a 256-pixel cell's bytes: skipped\n", l2);
+        skip();
+    }
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 1, eighth, 100, 100), 256);      /* a quarter: always */
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 1, mid, 100, 80), 256);          /* half, refs cut by a fifth */
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 1, mid, 100, 81), PGRID_EYE_CELL_DEFAULT);
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 1, 3u * mid, 100, 10), PGRID_EYE_CELL_DEFAULT); /* over half */
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 5, eighth, 100, 10), PGRID_EYE_CELL_DEFAULT);   /* 16 cells */
+    assert_int_equal(pgrid_eye_cell_rule(1024, 1024, 4, eighth, 100, 10), 256);
+}
+
 /* A degenerate triangle never hits, even where it would cover the view. */
 static void test_pgrid_skips_degenerate(void **state)
 {
@@ -560,6 +582,7 @@ int main(void)
         cmocka_unit_test(test_cell_buffers_equal_a_plain_z_buffer),
         cmocka_unit_test(test_pgrid_frames_on_one_grid_equal_fresh_ones),
         cmocka_unit_test(test_pgrid_build_same_at_any_thread_count),
+        cmocka_unit_test(test_pgrid_cell_rule_by_references),
         cmocka_unit_test(test_pgrid_skips_degenerate),
         cmocka_unit_test(test_pgrid_refuses_bad_cells),
         cmocka_unit_test(test_pgrid_render_matches_reference),
