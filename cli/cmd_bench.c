@@ -70,7 +70,7 @@ static const cli_option bench_options[] = {
      .help = "only our rows of this acceleration structure (default: every one's):", .kind = CLI_CUSTOM,
      CLI_FIELD(bench_args, config.accel), .parse = cli_parse_accel, .help_more = cli_help_accels},
     {.name = "--pgrid-cell", .value_name = "N",
-     .help = "the perspective grid's cell side in pixels, a multiple of 4 from 4 to 512 (default: 256 when a cell's depth and triangle buffers fit in a quarter of the L2 and the image has 4 cells a thread, else 128)",
+     .help = "the perspective grid's cell side in pixels, a multiple of 4 from 4 to 512 (default: 256 when the image has 4 such cells a thread and a cell's depth and triangle buffers fit in a quarter of the L2, or in half of it when 256 cuts the triangles' references to 4/5, else 128)",
      .kind = CLI_U32, CLI_FIELD(bench_args, config.pgrid_cell), .lo = 4, .hi = 512},
     {.name = "--pgrid-light-res", .value_name = "LIST",
      .help = "the pgrid shadow rows' light grid: N x N cells per face, 1 to 2048, a row pair per N (default: by the scene's triangle count)",
