@@ -408,11 +408,12 @@ static inline void lanes_to_rows(__m128 r[4])
 {
     _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
 }
-_Static_assert(offsetof(pgrid_triangle, det) == 48 && offsetof(pgrid_triangle, prim) == 52 &&
+_Static_assert(offsetof(pgrid_triangle, a) == 0 && offsetof(pgrid_triangle, b) == 16 && offsetof(pgrid_triangle, c) == 32 &&
+                   offsetof(pgrid_triangle, det) == 48 && offsetof(pgrid_triangle, prim) == 52 &&
                    offsetof(pgrid_triangle, x0) == 56 && offsetof(pgrid_triangle, y0) == 58 &&
                    offsetof(pgrid_triangle, x1) == 60 && offsetof(pgrid_triangle, y1) == 62,
                "setup_group streams pgrid_triangle's last row as det, prim, x0 y0, x1 y1");
-_Static_assert(offsetof(pgrid_surface, m_u) == 12 && offsetof(pgrid_surface, m_v) == 24 &&
+_Static_assert(offsetof(pgrid_surface, origin) == 0 && offsetof(pgrid_surface, m_u) == 12 && offsetof(pgrid_surface, m_v) == 24 &&
                    offsetof(pgrid_surface, prim) == 36,
                "setup_group streams pgrid_surface as three rows");
 
@@ -425,8 +426,9 @@ _Static_assert(offsetof(pgrid_surface, m_u) == 12 && offsetof(pgrid_surface, m_v
  * in one frame took half as long the second time: bench/results/pgrid.md,
  * eighteenth session); the caller fences.  On one thread they are stored
  * (still in this core's cache for the binning and the cells). */
-static inline void put_row(float *to, __m128 row, bool stream)
+static inline void put_row(void *record, size_t offset, __m128 row, bool stream)
 {
+    float *to = (float *)((char *)record + offset); /* the record's bytes, not one member's array */
     if (stream)
         _mm_stream_ps(to, row);
     else
@@ -473,10 +475,9 @@ static void setup_group(const setup_job *job, const uint32_t prim[4], const rtt_
                                                                 (int)(x1 | (uint32_t)y1 << 16)));
             refs_in_cells(x0, x1, y0, y1, refs);
             const bool stream = job->stream;
-            put_row(t->a, ta[l], stream), put_row(t->b, tb[l], stream), put_row(t->c, tc[l], stream);
-            put_row(&t->det, last, stream);
-            put_row(sf->origin, s0[l], stream), put_row(sf->origin + 4, s1[l], stream);
-            put_row(sf->origin + 8, s2[l], stream);
+            put_row(t, 0, ta[l], stream), put_row(t, 16, tb[l], stream), put_row(t, 32, tc[l], stream);
+            put_row(t, 48, last, stream);
+            put_row(sf, 0, s0[l], stream), put_row(sf, 16, s1[l], stream), put_row(sf, 32, s2[l], stream);
             g->nearest[*kept] = four.zmin[l];
         } else {
             /* behind the eye or crossing the near plane: the scalar path */
