@@ -408,14 +408,15 @@ static inline void lanes_to_rows(__m128 r[4])
 {
     _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
 }
-_Static_assert(offsetof(pgrid_triangle, a) == 0 && offsetof(pgrid_triangle, b) == 16 && offsetof(pgrid_triangle, c) == 32 &&
-                   offsetof(pgrid_triangle, det) == 48 && offsetof(pgrid_triangle, prim) == 52 &&
-                   offsetof(pgrid_triangle, x0) == 56 && offsetof(pgrid_triangle, y0) == 58 &&
-                   offsetof(pgrid_triangle, x1) == 60 && offsetof(pgrid_triangle, y1) == 62,
-               "setup_group streams pgrid_triangle's last row as det, prim, x0 y0, x1 y1");
-_Static_assert(offsetof(pgrid_surface, origin) == 0 && offsetof(pgrid_surface, m_u) == 12 && offsetof(pgrid_surface, m_v) == 24 &&
-                   offsetof(pgrid_surface, prim) == 36,
-               "setup_group streams pgrid_surface as three rows");
+_Static_assert(offsetof(pgrid_triangle, a) == 0 && offsetof(pgrid_triangle, b) == 16 &&
+                   offsetof(pgrid_triangle, c) == 32 && offsetof(pgrid_triangle, det) == 48 &&
+                   offsetof(pgrid_triangle, prim) == 52 && offsetof(pgrid_triangle, x0) == 56 &&
+                   offsetof(pgrid_triangle, y0) == 58 && offsetof(pgrid_triangle, x1) == 60 &&
+                   offsetof(pgrid_triangle, y1) == 62,
+               "setup_group writes pgrid_triangle as rows a, b, c and det, prim, x0 y0, x1 y1");
+_Static_assert(offsetof(pgrid_surface, origin) == 0 && offsetof(pgrid_surface, m_u) == 12 &&
+                   offsetof(pgrid_surface, m_v) == 24 && offsetof(pgrid_surface, prim) == 36,
+               "setup_group writes pgrid_surface as three rows");
 
 /* Up to four triangles (prim, their corners tri) transformed, clipped and
  * set up, the kept ones written from slot *kept on, the common lanes'
